@@ -1,0 +1,16 @@
+// Display previews through OpenColorIO: scene-linear Rec.709 → sRGB display, 8-bit PNG.
+// Uses the config in $OCIO when it is set, else OCIO's built-in sRGB display transform.
+#pragma once
+
+#include "io/image.h"
+
+#include <string>
+
+namespace dacrt {
+
+// Converts to the display's encoded values in [0, 1], interleaved RGB.
+std::vector<float> to_display(const Image& image);
+// Writes a PNG preview (temporary name, then rename). Throws dacrt::Error on failure.
+void write_preview_png(const std::string& path, const Image& image);
+
+}  // namespace dacrt

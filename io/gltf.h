@@ -1,0 +1,17 @@
+// glTF 2.0 loading (.gltf and .glb) into a Scene. Throws dacrt::Error with a one-line message
+// naming the file and the element at fault for anything malformed.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <string>
+
+namespace dacrt {
+
+struct GltfOptions {
+  int scene = -1;  // which scene of the file; -1 = the file's default scene (or scene 0)
+};
+
+Scene load_gltf(const std::string& path, const GltfOptions& options = {});
+
+}  // namespace dacrt

@@ -1,0 +1,58 @@
+// Scene: what a glTF file becomes. Immutable once loaded: world-space triangles (Geometry), their
+// shading data, a material table, and cameras. Elements refer to each other by index.
+#pragma once
+
+#include "tracer/geometry.h"
+
+#include <glm/glm.hpp>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace dacrt {
+
+// The glTF material, as far as this version renders it: a Lambert albedo and an emitter.
+struct Material {
+  std::string name;
+  glm::vec3 base_color{1.f};  // baseColorFactor.rgb, the Lambert albedo
+  glm::vec3 emission{0.f};    // emissiveFactor × KHR_materials_emissive_strength (radiance)
+  bool double_sided = false;  // emitters emit from their back face too
+
+  bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
+};
+
+// A pinhole camera in glTF's convention: it looks down its local -Z with +Y up.
+struct Camera {
+  std::string name;
+  glm::mat4 to_world{1.f};  // camera-to-world, rigid (scale removed)
+  float yfov = 0.7f;        // vertical field of view, radians
+  float aspect = 0.f;       // width / height; 0 when the file does not say
+  float znear = 0.f;
+
+  glm::vec3 position() const { return glm::vec3(to_world[3]); }
+};
+
+struct Scene {
+  std::string path;   // the file it came from, for messages
+  Geometry geometry;  // world space; geometry.material indexes `materials`
+  // Per-corner shading normals, 3 per triangle (corner-major: tri*3 + corner), world space and
+  // normalised. Empty when no primitive had NORMAL; primitives without it get geometric normals.
+  std::vector<glm::vec3> normals;
+  std::vector<Material> materials;  // never empty: the glTF default material is appended if used
+  std::vector<Camera> cameras;      // never empty after loading: see `cameras_from_file`
+  size_t cameras_from_file = 0;     // if 0, cameras[0] was made to frame the scene's bounds
+
+  // Counts from the file, for `dacrt info`.
+  size_t mesh_count = 0;
+  size_t primitive_count = 0;
+  size_t node_count = 0;
+
+  Box bounds() const { return geometry.bounds(); }
+};
+
+// A camera that looks at the whole box from the +Z side (glTF's front), slightly above, with the
+// given vertical field of view; used when a file has no camera.
+Camera frame_bounds(const Box& bounds, float aspect, float yfov = 0.7f);
+
+}  // namespace dacrt
