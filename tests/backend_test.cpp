@@ -1,0 +1,191 @@
+// The DACRT backends against the brute-force oracle: same closest hit (triangle, bit-identical t,
+// u, v) and same occlusion answer for every ray, over several kinds of geometry and rays.
+#include "test_geometry.h"
+#include "tracer/backend.h"
+
+#include <doctest/doctest.h>
+
+#include <cstring>
+
+using namespace dacrt;
+using namespace dacrt::test;
+
+namespace {
+
+bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+HitBatch brute_hits(const Geometry& g, const RayBatch& rays) {
+  HitBatch hits;
+  Backend::create("brute", g)->intersect(rays, hits);
+  return hits;
+}
+
+// Compares a backend with the oracle's answers; returns the number of rays compared.
+size_t compare(const Geometry& g, const RayBatch& rays, const HitBatch& expected,
+               const char* backend, const Options& options = {}) {
+  auto tested = Backend::create(backend, g, options);
+  HitBatch got;
+  tested->intersect(rays, got);
+  REQUIRE(got.size() == rays.size());
+  size_t mismatches = 0, hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    hits += expected.hit(i);
+    bool same = expected.prim[i] == got.prim[i] && same_bits(expected.t[i], got.t[i]) &&
+                (!expected.hit(i) ||
+                 (same_bits(expected.u[i], got.u[i]) && same_bits(expected.v[i], got.v[i])));
+    if (!same && ++mismatches <= 5)
+      FAIL_CHECK(backend << " ray " << i << ": prim " << got.prim[i] << " t " << got.t[i]
+                         << ", brute: prim " << expected.prim[i] << " t " << expected.t[i]);
+  }
+  CHECK(mismatches == 0);
+
+  // A ray is occluded exactly when it has a closest hit in [tmin, tmax]: the oracle's closest hits
+  // are the oracle for occlusion (brute's own occluded is checked against them elsewhere).
+  std::vector<uint8_t> occ_got(rays.size(), 7);
+  tested->occluded(rays, occ_got);
+  size_t occ_mismatches = 0;
+  for (size_t i = 0; i < rays.size(); ++i) occ_mismatches += occ_got[i] != uint8_t(expected.hit(i));
+  CHECK(occ_mismatches == 0);
+  MESSAGE(backend << ": " << rays.size() << " rays, " << hits << " hits, " << g.size()
+                  << " triangles");
+  return rays.size();
+}
+
+size_t compare_with_brute(const Geometry& g, const RayBatch& rays, const char* backend,
+                          const Options& options = {}) {
+  return compare(g, rays, brute_hits(g, rays), backend, options);
+}
+
+struct Case {
+  const char* name;
+  Geometry geometry;
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> c;
+  c.push_back({"random soup", random_soup(1500, 11)});
+  c.push_back({"closed sphere", sphere(24, 48, glm::vec3(0.5f), 0.5f)});
+  c.push_back({"quad grid", quad_grid(24, 1.f / 24.f)});
+  c.push_back({"long thin triangles", slivers(1200, 12)});
+  c.push_back({"one centroid", one_centroid(400, 13)});
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("dacrt returns the brute-force closest hit and occlusion on a million rays") {
+  size_t total = 0;
+  uint64_t seed = 100;
+  for (auto& c : cases()) {
+    INFO(c.name);
+    for (size_t n : {size_t(0), size_t(1), size_t(2), size_t(1000), size_t(100000)})
+      total += compare_with_brute(c.geometry, random_rays(c.geometry, n, ++seed, RayType::bounce),
+                                  "dacrt");
+    total += compare_with_brute(c.geometry, surface_rays(c.geometry, 60000, ++seed), "dacrt");
+    total += compare_with_brute(c.geometry, axis_rays(c.geometry, 40000, ++seed), "dacrt");
+  }
+  MESSAGE("rays compared: " << total);
+  CHECK(total >= 1000000);
+}
+
+TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-naive") {
+  Geometry g = random_soup(3000, 21);
+  RayBatch rays = random_rays(g, 30000, 22, RayType::bounce);
+  const HitBatch expected = brute_hits(g, rays);
+  std::vector<std::vector<std::pair<const char*, const char*>>> settings = {
+      {{"bins", "2"}},
+      {{"bins", "64"}, {"leaf_rays", "1"}, {"leaf_triangles", "1"}},
+      {{"filter_skip", "0"}},    // never filter
+      {{"filter_skip", "1.5"}},  // always filter
+      {{"sample_size", "1"}, {"sample_threshold", "1"}},
+      {{"max_depth", "3"}},
+      {{"cost_traversal", "1000"}},  // leaves everywhere
+  };
+  for (const auto& s : settings) {
+    Options o;
+    std::string label;
+    for (auto [k, v] : s) o.set(k, v), label += std::string(k) + "=" + v + " ";
+    INFO(label);
+    compare(g, rays, expected, "dacrt", o);
+  }
+  compare(g, rays, expected, "dacrt-naive");
+  compare_with_brute(sphere(24, 48, glm::vec3(0.5f), 0.5f), surface_rays(g, 20000, 23),
+                     "dacrt-naive");
+}
+
+TEST_CASE("brute's occlusion agrees with its closest hit") {
+  for (auto& c : cases()) {
+    INFO(c.name);
+    RayBatch rays = surface_rays(c.geometry, 3000, 41);
+    auto brute = Backend::create("brute", c.geometry);
+    HitBatch hits;
+    brute->intersect(rays, hits);
+    std::vector<uint8_t> occ(rays.size());
+    brute->occluded(rays, occ);
+    size_t mismatches = 0;
+    for (size_t i = 0; i < rays.size(); ++i) mismatches += occ[i] != uint8_t(hits.hit(i));
+    CHECK(mismatches == 0);
+  }
+}
+
+TEST_CASE("backends are created by name and reject what they do not know") {
+  Geometry g = quad_grid(2);
+  for (const char* name : {"dacrt", "dacrt-naive", "brute"}) CHECK(Backend::create(name, g));
+  CHECK_THROWS_AS(Backend::create("no-such-backend", g), Error);
+  Options bad;
+  bad.set("binz", "4");
+  CHECK_THROWS_WITH_AS(Backend::create("dacrt", g, bad), doctest::Contains("binz"), Error);
+  Options nan;
+  nan.set("bins", "many");
+  CHECK_THROWS_AS(Backend::create("dacrt", g, nan), Error);
+}
+
+TEST_CASE("an empty scene misses every ray") {
+  Geometry empty;
+  RayBatch rays = random_rays(quad_grid(2), 100, 3, RayType::primary);
+  for (const char* name : {"dacrt", "brute"}) {
+    auto b = Backend::create(name, empty);
+    HitBatch hits;
+    b->intersect(rays, hits);
+    std::vector<uint8_t> occ(rays.size(), 1);
+    b->occluded(rays, occ);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      CHECK_FALSE(hits.hit(i));
+      CHECK(occ[i] == 0);
+    }
+  }
+}
+
+TEST_CASE("NaN, inf, zero-direction and inactive rays miss without harm") {
+  Geometry g = quad_grid(8, 0.125f);
+  RayBatch rays;
+  const float nan = std::nanf(""), inf = INFINITY;
+  glm::vec3 o(0.5f, 0.5f, 1.f), down(0.f, 0.f, -1.f);
+  rays.push(o, down, 0.f, inf, 0);                          // a good ray: hits
+  rays.push(glm::vec3(nan, 0.5f, 1.f), down, 0.f, inf, 1);  // NaN origin
+  rays.push(o, glm::vec3(0.f, nan, -1.f), 0.f, inf, 2);     // NaN direction
+  rays.push(glm::vec3(inf, 0.5f, 1.f), down, 0.f, inf, 3);  // inf origin
+  rays.push(o, glm::vec3(0.f, 0.f, -inf), 0.f, inf, 4);     // inf direction
+  rays.push(o, glm::vec3(0.f), 0.f, inf, 5);                // zero direction
+  rays.push(o, down, 2.f, 1.f, 6);                          // tmin > tmax
+  rays.push(o, down, nan, inf, 7);                          // NaN tmin
+  rays.push(o, down, 0.f, nan, 8);                          // NaN tmax
+  rays.push(o, down, 0.f, 0.5f, 9);                         // ends before the plane
+  rays.push(o, down, 1.f, 1.f, 10);                         // tmin == tmax == the hit: hits
+  for (const char* name : {"dacrt", "dacrt-naive", "brute"}) {
+    INFO(name);
+    auto b = Backend::create(name, g);
+    HitBatch hits;
+    b->intersect(rays, hits);
+    std::vector<uint8_t> occ(rays.size());
+    b->occluded(rays, occ);
+    CHECK(hits.hit(0));
+    CHECK(hits.t[0] == 1.f);
+    for (size_t i = 1; i < 10; ++i) {
+      CHECK_FALSE(hits.hit(i));
+      CHECK(occ[i] == 0);
+    }
+    CHECK(hits.hit(10));
+    CHECK(occ[0] == 1);
+  }
+}

@@ -1,0 +1,160 @@
+// Geometry and ray generators shared by the backend tests: the five kinds of triangle sets the
+// oracle comparison runs on, and rays that stress them.
+#pragma once
+
+#include "tracer/geometry.h"
+#include "tracer/ray_batch.h"
+#include "util/random.h"
+
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
+
+#include <cmath>
+
+namespace dacrt::test {
+
+inline glm::vec3 random_in(Pcg32& rng, const glm::vec3& lo, const glm::vec3& hi) {
+  return lo + (hi - lo) * glm::vec3(rng.uniform(), rng.uniform(), rng.uniform());
+}
+
+inline glm::vec3 random_direction(Pcg32& rng) {
+  float z = 1.f - 2.f * rng.uniform(), phi = 2.f * glm::pi<float>() * rng.uniform();
+  float r = std::sqrt(std::max(0.f, 1.f - z * z));
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+// Random triangles of random sizes in the unit cube.
+inline Geometry random_soup(size_t n, uint64_t seed) {
+  Pcg32 rng(seed);
+  Geometry g;
+  for (size_t i = 0; i < n; ++i) {
+    glm::vec3 c = random_in(rng, glm::vec3(0.f), glm::vec3(1.f));
+    float s = 0.02f + 0.1f * rng.uniform();
+    g.add(c + s * random_direction(rng), c + s * random_direction(rng), c + s * random_direction(rng),
+          uint32_t(i % 3));
+  }
+  return g;
+}
+
+// A closed UV sphere: shared edges and vertices everywhere, optionally jittered radially (the
+// jitter moves shared vertices consistently, so the mesh stays closed).
+inline Geometry sphere(int rings, int segments, const glm::vec3& center, float radius,
+                       float jitter = 0.f, uint64_t seed = 1) {
+  auto vertex = [&](int ring, int seg) {
+    if (ring == 0) return center + glm::vec3(0, radius, 0);
+    if (ring == rings) return center - glm::vec3(0, radius, 0);
+    seg %= segments;
+    float theta = glm::pi<float>() * ring / rings, phi = 2.f * glm::pi<float>() * seg / segments;
+    float r = radius * (1.f + jitter * (uniform_float(seed, ring, seg) - 0.5f));
+    return center + r * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                  std::sin(theta) * std::sin(phi));
+  };
+  Geometry g;
+  for (int ring = 0; ring < rings; ++ring)
+    for (int seg = 0; seg < segments; ++seg) {
+      glm::vec3 a = vertex(ring, seg), b = vertex(ring, seg + 1);
+      glm::vec3 c = vertex(ring + 1, seg), d = vertex(ring + 1, seg + 1);
+      if (ring != 0) g.add(a, b, c, 0);
+      if (ring != rings - 1) g.add(b, d, c, 0);
+    }
+  return g;
+}
+
+// An n × n grid of unit quads in the z = 0 plane, two triangles each.
+inline Geometry quad_grid(int n, float cell = 1.f) {
+  Geometry g;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      glm::vec3 a(x * cell, y * cell, 0), b((x + 1) * cell, y * cell, 0);
+      glm::vec3 c(x * cell, (y + 1) * cell, 0), d((x + 1) * cell, (y + 1) * cell, 0);
+      g.add(a, b, d, 0);
+      g.add(a, d, c, 0);
+    }
+  return g;
+}
+
+// Long, thin triangles spanning the unit cube in random directions (poor boxes, many overlaps).
+inline Geometry slivers(size_t n, uint64_t seed) {
+  Pcg32 rng(seed);
+  Geometry g;
+  for (size_t i = 0; i < n; ++i) {
+    glm::vec3 a = random_in(rng, glm::vec3(0.f), glm::vec3(1.f));
+    glm::vec3 b = random_in(rng, glm::vec3(0.f), glm::vec3(1.f));
+    glm::vec3 w = 0.002f * random_direction(rng);
+    g.add(a, b, a + w, 0);
+  }
+  return g;
+}
+
+// Triangles of different shapes that all share one centroid exactly: corners c+u, c+v, c-u-v on a
+// 1/64 lattice, so every sum is exact and binning cannot separate them.
+inline Geometry one_centroid(size_t n, uint64_t seed) {
+  Pcg32 rng(seed);
+  Geometry g;
+  const glm::vec3 c(0.5f);
+  auto lattice = [&] {
+    return glm::vec3(float(int(rng.below(51)) - 25), float(int(rng.below(51)) - 25),
+                     float(int(rng.below(51)) - 25)) / 64.f;
+  };
+  for (size_t i = 0; i < n; ++i) {
+    glm::vec3 u = lattice(), v = lattice();
+    g.add(c + u, c + v, c - u - v, 0);
+  }
+  return g;
+}
+
+// Random rays: origins in the box grown by half its size, uniform directions.
+inline RayBatch random_rays(const Geometry& g, size_t n, uint64_t seed, RayType type) {
+  Pcg32 rng(seed);
+  Box b = g.bounds();
+  glm::vec3 grow = 0.5f * b.extent() + glm::vec3(0.1f);
+  RayBatch rays;
+  rays.type = type;
+  rays.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    float tmax = rng.uniform() < 0.2f ? 0.3f + rng.uniform() : INFINITY;
+    rays.set(i, random_in(rng, b.lo - grow, b.hi + grow), random_direction(rng), 0.f, tmax,
+             uint32_t(i));
+  }
+  return rays;
+}
+
+// Rays that start exactly on a triangle (a random point by barycentrics), tmin 0.
+inline RayBatch surface_rays(const Geometry& g, size_t n, uint64_t seed) {
+  Pcg32 rng(seed);
+  RayBatch rays;
+  rays.type = RayType::bounce;
+  rays.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t tri = rng.below(uint32_t(g.size()));
+    float u = rng.uniform(), v = rng.uniform();
+    if (u + v > 1.f) u = 1.f - u, v = 1.f - v;
+    glm::vec3 p = (1.f - u - v) * g.vertex(tri, 0) + u * g.vertex(tri, 1) + v * g.vertex(tri, 2);
+    rays.set(i, p, random_direction(rng), 0.f, INFINITY, uint32_t(i));
+  }
+  return rays;
+}
+
+// Rays along ±x, ±y, ±z (zero direction components), from a grid of origins around the box.
+inline RayBatch axis_rays(const Geometry& g, size_t n, uint64_t seed) {
+  Pcg32 rng(seed);
+  Box b = g.bounds();
+  RayBatch rays;
+  rays.type = RayType::primary;
+  rays.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    int axis = int(rng.below(3));
+    float sign = rng.below(2) ? 1.f : -1.f;
+    glm::vec3 d(0.f);
+    d[axis] = sign;
+    glm::vec3 o = random_in(rng, b.lo, b.hi);
+    // Snap some origins onto box and grid coordinates so rays run exactly along faces and edges.
+    if (rng.below(4) == 0)
+      for (int k = 0; k < 3; ++k) o[k] = std::round(o[k] * 4.f) / 4.f;
+    o[axis] = sign > 0 ? b.lo[axis] - 1.f : b.hi[axis] + 1.f;
+    rays.set(i, o, d, 0.f, INFINITY, uint32_t(i));
+  }
+  return rays;
+}
+
+}  // namespace dacrt::test

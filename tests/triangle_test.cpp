@@ -1,0 +1,188 @@
+// The shared ray/triangle test and the origin offset: watertightness on shared edges and vertices,
+// no self-intersection of spawned rays, degenerate triangles, huge and tiny coordinates.
+#include "test_geometry.h"
+#include "tracer/backend.h"
+#include "tracer/triangle.h"
+
+#include <doctest/doctest.h>
+
+using namespace dacrt;
+using namespace dacrt::test;
+
+namespace {
+
+// Rays from points inside a closed mesh must all hit it.
+void check_closed_from_inside(const Geometry& g, const glm::vec3& center, float radius) {
+  RayBatch rays;
+  Pcg32 rng(5);
+  for (int i = 0; i < 20000; ++i)
+    rays.push(center + 0.25f * radius * random_in(rng, glm::vec3(-1.f), glm::vec3(1.f)),
+              random_direction(rng), 0.f, INFINITY, uint32_t(i));
+  for (const char* name : {"brute", "dacrt"}) {
+    auto b = Backend::create(name, g);
+    HitBatch hits;
+    b->intersect(rays, hits);
+    size_t misses = 0;
+    for (size_t i = 0; i < rays.size(); ++i) misses += !hits.hit(i);
+    INFO(name);
+    CHECK(misses == 0);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("a jittered closed sphere is watertight from inside, near the origin and far from it") {
+  for (glm::vec3 center : {glm::vec3(0.f), glm::vec3(1e5f, -1e5f, 1e5f)}) {
+    INFO("center " << center.x);
+    check_closed_from_inside(sphere(40, 80, center, 1.f, 0.3f, 7), center, 1.f);
+    check_closed_from_inside(sphere(7, 9, center, 1.f, 0.5f, 8), center, 1.f);
+  }
+}
+
+TEST_CASE("rays exactly through shared edges and vertices of a grid hit") {
+  const int n = 16;
+  Geometry g = quad_grid(n, 0.25f);  // edges and vertices at multiples of 0.25: exact in float
+  RayBatch rays;
+  uint32_t id = 0;
+  for (int y = 0; y <= 4 * n; ++y)
+    for (int x = 0; x <= 4 * n; ++x) {
+      glm::vec3 p(x * 0.0625f, y * 0.0625f, 0.f);  // vertices, edge midpoints, quad diagonals
+      if (p.x <= 0.f || p.y <= 0.f || p.x >= n * 0.25f || p.y >= n * 0.25f) continue;
+      rays.push(p + glm::vec3(0, 0, 1), glm::vec3(0, 0, -1), 0.f, INFINITY, id++);
+      rays.push(p + glm::vec3(0.3f, -0.2f, 1), glm::vec3(-0.3f, 0.2f, -1), 0.f, INFINITY, id++);
+    }
+  for (const char* name : {"brute", "dacrt"}) {
+    auto b = Backend::create(name, g);
+    HitBatch hits;
+    b->intersect(rays, hits);
+    size_t misses = 0;
+    for (size_t i = 0; i < rays.size(); ++i) misses += !hits.hit(i);
+    INFO(name << ", " << rays.size() << " rays");
+    CHECK(misses == 0);
+  }
+}
+
+TEST_CASE("a ray spawned from a hit never hits its own triangle again") {
+  // Scale and placement: tiny, unit and large triangles near the origin, and far from it (where a
+  // float's ulp is 1/128, so the triangles there must stay much larger than that).
+  for (auto [scale, offset] : {std::pair{1e-3f, glm::vec3(0.f)}, std::pair{1.f, glm::vec3(0.f)},
+                               std::pair{1e4f, glm::vec3(0.f)}, std::pair{1.f, glm::vec3(1e5f)},
+                               std::pair{1e3f, glm::vec3(-1e5f, 1e5f, 3e5f)}}) {
+    {
+      Geometry g = random_soup(500, 31);
+      for (size_t i = 0; i < g.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+          for (int a = 0; a < 3; ++a) g.p[c][a][i] = g.p[c][a][i] * scale + offset[a];
+      RayBatch rays = surface_rays(g, 20000, 32);
+      // Re-derive each origin as a hit: trace towards the surface point, then spawn from it.
+      auto b = Backend::create("dacrt", g);
+      Pcg32 rng(33);
+      RayBatch spawned;
+      std::vector<uint32_t> from;
+      RayBatch probe = rays;
+      for (size_t i = 0; i < probe.size(); ++i) {
+        glm::vec3 d = random_direction(rng);
+        probe.set(i, rays.origin(i) - d * scale, d, 0.f, INFINITY, uint32_t(i));
+      }
+      HitBatch hits;
+      b->intersect(probe, hits);
+      for (size_t i = 0; i < probe.size(); ++i) {
+        if (!hits.hit(i)) continue;
+        uint32_t tri = hits.prim[i];
+        glm::vec3 p = (1.f - hits.u[i] - hits.v[i]) * g.vertex(tri, 0) +
+                      hits.u[i] * g.vertex(tri, 1) + hits.v[i] * g.vertex(tri, 2);
+        glm::vec3 n = glm::normalize(g.normal(tri));
+        glm::vec3 d = random_direction(rng);
+        if (glm::dot(d, n) < 0.f) n = -n;  // leave on the side the new ray goes to
+        if (std::abs(glm::dot(d, n)) < 1e-3f) continue;
+        spawned.push(offset_ray_origin(p, n), d, 0.f, INFINITY, uint32_t(spawned.size()));
+        from.push_back(tri);
+      }
+      REQUIRE(spawned.size() > 10000);
+      HitBatch again;
+      b->intersect(spawned, again);
+      size_t self = 0;
+      for (size_t i = 0; i < spawned.size(); ++i) self += again.prim[i] == from[i];
+      INFO("scale " << scale << " offset " << offset.x);
+      CHECK(self == 0);
+    }
+  }
+}
+
+TEST_CASE("degenerate triangles never hit; barycentrics and t are right") {
+  Ray r = Ray::prepare(glm::vec3(0.25f, 0.25f, 1.f), glm::vec3(0, 0, -1), 1.f);
+  TriangleHit h;
+  glm::vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  REQUIRE(intersect_triangle(r, a, b, c, 0.f, INFINITY, h));
+  CHECK(h.t == 1.f);
+  CHECK(h.u == doctest::Approx(0.25f));
+  CHECK(h.v == doctest::Approx(0.25f));
+  // Back faces hit as well.
+  CHECK(intersect_triangle(r, a, c, b, 0.f, INFINITY, h));
+  // Outside [tmin, tmax].
+  CHECK_FALSE(intersect_triangle(r, a, b, c, 0.f, 0.99f, h));
+  CHECK_FALSE(intersect_triangle(r, a, b, c, 1.01f, 2.f, h));
+  // Degenerate: a point, a segment, collinear corners, a triangle seen edge-on.
+  CHECK_FALSE(intersect_triangle(r, a, a, a, 0.f, INFINITY, h));
+  CHECK_FALSE(intersect_triangle(r, a, b, b, 0.f, INFINITY, h));
+  CHECK_FALSE(intersect_triangle(r, a, b, 2.f * b, 0.f, INFINITY, h));
+  CHECK_FALSE(intersect_triangle(r, glm::vec3(0.25f, 0, 0), glm::vec3(0.25f, 1, 0),
+                                 glm::vec3(0.25f, 0, 2), 0.f, INFINITY, h));
+  Geometry g;
+  g.add(a, a, a, 0);
+  g.add(a, b, 2.f * b, 0);
+  g.add(glm::vec3(0.25f, 0.25f, 0), glm::vec3(0.25f, 0.25f, 0), glm::vec3(0.25f, 0.25f, 0), 0);
+  RayBatch rays;
+  rays.push(glm::vec3(0.25f, 0.25f, 1.f), glm::vec3(0, 0, -1), 0.f, INFINITY, 0);
+  rays.push(glm::vec3(0.5f, 0.f, 1.f), glm::vec3(0, 0, -1), 0.f, INFINITY, 1);
+  for (const char* name : {"brute", "dacrt"}) {
+    HitBatch hits;
+    Backend::create(name, g)->intersect(rays, hits);
+    CHECK_FALSE(hits.hit(0));
+    CHECK_FALSE(hits.hit(1));
+  }
+}
+
+TEST_CASE("huge and tiny coordinates") {
+  for (float s : {1e-6f, 1e-3f, 1e3f, 1e6f}) {
+    Geometry g = quad_grid(8, s);
+    RayBatch rays;
+    Pcg32 rng(9);
+    for (int i = 0; i < 2000; ++i) {
+      glm::vec3 p = random_in(rng, glm::vec3(0.f), glm::vec3(8.f * s, 8.f * s, 0.f));
+      rays.push(p + glm::vec3(0, 0, s), glm::vec3(0.1f, -0.1f, -1.f), 0.f, INFINITY, uint32_t(i));
+    }
+    for (const char* name : {"brute", "dacrt"}) {
+      HitBatch hits;
+      Backend::create(name, g)->intersect(rays, hits);
+      size_t misses = 0;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        glm::vec3 p = rays.origin(i) + hits.t[i] * rays.direction(i);
+        bool inside = p.x > 0 && p.y > 0 && p.x < 8 * s && p.y < 8 * s;
+        misses += inside && !hits.hit(i);
+        if (hits.hit(i)) CHECK(hits.t[i] == doctest::Approx(s).epsilon(1e-5));
+      }
+      INFO(name << " scale " << s);
+      CHECK(misses == 0);
+    }
+  }
+}
+
+TEST_CASE("overlapping coplanar triangles: the lower index wins, in every backend") {
+  Geometry g;
+  for (int i = 0; i < 50; ++i)
+    g.add(glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), uint32_t(i));
+  RayBatch rays;
+  Pcg32 rng(3);
+  for (int i = 0; i < 5000; ++i)
+    rays.push(glm::vec3(0.3f * rng.uniform(), 0.3f * rng.uniform(), 1.f),
+              glm::vec3(0, 0, -1), 0.f, INFINITY, uint32_t(i));
+  for (const char* name : {"brute", "dacrt", "dacrt-naive"}) {
+    HitBatch hits;
+    Backend::create(name, g)->intersect(rays, hits);
+    size_t wrong = 0;
+    for (size_t i = 0; i < rays.size(); ++i) wrong += hits.prim[i] != 0;
+    INFO(name);
+    CHECK(wrong == 0);
+  }
+}

@@ -1,0 +1,351 @@
+// The DACRT kernel (see dacrt.h for what it is and where it comes from).
+#include "tracer/dacrt.h"
+
+#include "tracer/backend.h"
+#include "tracer/triangle.h"
+#include "util/random.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <numeric>
+
+namespace dacrt {
+
+const std::set<std::string, std::less<>>& DacrtParams::keys() {
+  static const std::set<std::string, std::less<>> k = {
+      "bins", "leaf_rays", "leaf_triangles", "sample_size", "sample_threshold", "filter_skip",
+      "cost_traversal", "cost_intersect", "seed", "max_depth"};
+  return k;
+}
+
+DacrtParams DacrtParams::from(const Options& o, bool sampling) {
+  DacrtParams p;
+  p.sampling = sampling;
+  p.bins = o.get("bins", p.bins);
+  p.leaf_rays = o.get("leaf_rays", p.leaf_rays);
+  p.leaf_triangles = o.get("leaf_triangles", p.leaf_triangles);
+  p.sample_size = o.get("sample_size", p.sample_size);
+  p.sample_threshold = o.get("sample_threshold", p.sample_threshold);
+  std::string skip = o.get("filter_skip", std::string("paper"));
+  p.filter_skip_alpha = skip == "paper" ? -1.0 : o.get("filter_skip", 0.0);
+  p.cost_traversal = o.get("cost_traversal", p.cost_traversal);
+  p.cost_intersect = o.get("cost_intersect", p.cost_intersect);
+  p.seed = uint64_t(o.get("seed", int(p.seed)));
+  p.max_depth = o.get("max_depth", p.max_depth);
+  if (p.bins < 2 || p.bins > 256) throw Error("option bins must be in [2, 256]");
+  if (p.leaf_rays < 1 || p.leaf_triangles < 1) throw Error("leaf sizes must be at least 1");
+  if (p.sample_size < 1 || p.sample_threshold < p.sample_size)
+    throw Error("option sample_size must be >= 1 and <= sample_threshold");
+  if (p.max_depth < 1) throw Error("option max_depth must be at least 1");
+  return p;
+}
+
+namespace {
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+
+// Per-triangle data computed once at create(): boxes and centroids, structure-of-arrays.
+struct TriangleBounds {
+  std::array<std::vector<float>, 3> lo, hi, centroid;
+};
+
+class Dacrt;
+
+// One traversal over a contiguous chunk of the batch's rays. Owns nothing: index arrays are
+// partitioned in place, so a call's memory is known before it starts.
+struct Traversal {
+  const Dacrt& k;
+  const RayBatch& batch;
+  const Ray* rays;       // prepared, indexed by batch index
+  float* far;            // running tmax per ray: the closest hit so far, or -inf once occluded
+  HitBatch* hits;        // closest-hit mode; null for occlusion
+  uint8_t* occluded;     // occlusion mode; null for closest hit
+  uint32_t* ray_ids;     // this chunk's rays, partitioned in place
+  uint32_t* tri_ids;     // every triangle, partitioned in place
+  Pcg32 rng;
+  Stats stats;
+
+  void node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re, int depth);
+  void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
+  uint32_t filter(const Box& box, uint32_t rb, uint32_t re);
+};
+
+class Dacrt final : public Backend {
+ public:
+  Dacrt(const Geometry& g, const Options& options, bool sampling)
+      : geometry_(g), params_(DacrtParams::from(options, sampling)) {
+    options.check_known(sampling ? "backend dacrt" : "backend dacrt-naive", DacrtParams::keys());
+    auto start = std::chrono::steady_clock::now();
+    size_t n = g.size();
+    for (int a = 0; a < 3; ++a) {
+      tb_.lo[a].resize(n), tb_.hi[a].resize(n), tb_.centroid[a].resize(n);
+    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](auto range) {
+      for (size_t i = range.begin(); i != range.end(); ++i)
+        for (int a = 0; a < 3; ++a) {
+          float p0 = g.p[0][a][i], p1 = g.p[1][a][i], p2 = g.p[2][a][i];
+          tb_.lo[a][i] = std::min({p0, p1, p2});
+          tb_.hi[a][i] = std::max({p0, p1, p2});
+          tb_.centroid[a][i] = (p0 + p1 + p2) * (1.f / 3.f);
+        }
+    });
+    for (size_t i = 0; i < n; ++i)
+      for (int a = 0; a < 3; ++a) bounds_.lo[a] = std::min(bounds_.lo[a], tb_.lo[a][i]),
+                                  bounds_.hi[a] = std::max(bounds_.hi[a], tb_.hi[a][i]);
+    magnitude_ = bounds_.magnitude();
+    build_seconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  void intersect(const RayBatch& rays, HitBatch& hits) override {
+    hits.resize(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+      hits.prim[i] = HitBatch::miss;
+      hits.t[i] = rays.tmax[i];
+      hits.u[i] = hits.v[i] = 0.f;
+    }
+    trace(rays, hits.t.data(), &hits, nullptr);
+  }
+
+  void occluded(const RayBatch& rays, std::span<uint8_t> occluded) override {
+    std::fill_n(occluded.begin(), rays.size(), uint8_t(0));
+    std::vector<float> far(rays.tmax);
+    trace(rays, far.data(), nullptr, occluded.data());
+  }
+
+  Stats stats() const override {
+    std::lock_guard lock(stats_mutex_);
+    Stats s = stats_;
+    s.build_seconds = build_seconds_;
+    return s;
+  }
+
+  const Geometry& geometry_;
+  const DacrtParams params_;
+  TriangleBounds tb_;
+
+ private:
+  void trace(const RayBatch& batch, float* far, HitBatch* hits, uint8_t* occluded) {
+    const size_t n = batch.size();
+    // Prepare the live rays; the rest never enter the recursion.
+    std::vector<Ray> rays(n);
+    std::vector<uint32_t> ids;
+    ids.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+      if (!Ray::valid(batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i])) continue;
+      rays[i] = Ray::prepare(batch, i, magnitude_);
+      ids.push_back(uint32_t(i));
+    }
+    // Chunks of the batch run as independent traversals, one per thread at a time.
+    const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+    const size_t chunks = ids.size() >= 8192 * threads ? threads : 1;
+    tbb::enumerable_thread_specific<std::vector<uint32_t>> tri_scratch;
+    std::atomic<size_t> peak_chunks{0}, running{0};
+    Stats total;
+    std::mutex total_mutex;
+    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+      size_t now = ++running;
+      size_t seen = peak_chunks.load();
+      while (now > seen && !peak_chunks.compare_exchange_weak(seen, now)) {}
+      auto& tri_ids = tri_scratch.local();
+      tri_ids.resize(geometry_.size());
+      std::iota(tri_ids.begin(), tri_ids.end(), 0u);
+      uint32_t rb = uint32_t(ids.size() * c / chunks), re = uint32_t(ids.size() * (c + 1) / chunks);
+      Traversal t{*this, batch, rays.data(), far, hits, occluded, ids.data(), tri_ids.data(),
+                  Pcg32(hash(params_.seed, calls_, c)), {}};
+      if (!bounds_.empty() && rb < re)
+        t.node(bounds_, 0, uint32_t(geometry_.size()), rb, re, 0);
+      --running;
+      std::lock_guard lock(total_mutex);
+      total += t.stats;
+    });
+    total.rays = n;
+    uint64_t bytes = n * (sizeof(Ray) + sizeof(uint32_t)) + (occluded ? n * sizeof(float) : 0) +
+                     peak_chunks.load() * geometry_.size() * sizeof(uint32_t);
+    std::lock_guard lock(stats_mutex_);
+    stats_ += total;
+    stats_.peak_bytes = std::max(stats_.peak_bytes, bytes);
+    ++calls_;
+  }
+
+  Box bounds_;
+  float magnitude_ = 0.f;
+  double build_seconds_ = 0.0;
+  uint64_t calls_ = 0;
+  mutable std::mutex stats_mutex_;
+  Stats stats_;
+};
+
+void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
+  ++stats.leaves;
+  const Geometry& g = k.geometry_;
+  for (uint32_t r = rb; r < re; ++r) {
+    const uint32_t i = ray_ids[r];
+    const float tmin = batch.tmin[i];
+    for (uint32_t j = tb; j < te && far[i] >= tmin; ++j) {
+      const uint32_t tri = tri_ids[j];
+      ++stats.triangle_tests;
+      TriangleHit h;
+      if (!intersect_triangle(rays[i], g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2), tmin,
+                              far[i], h))
+        continue;
+      if (occluded) {
+        occluded[i] = 1;
+        far[i] = -inf;  // drops out of every later box test and leaf
+      } else if (closer(h.t, tri, far[i], hits->prim[i])) {
+        far[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
+      }
+    }
+  }
+}
+
+// Moves the rays of [rb, re) that may touch `box` to the front; returns the end of that range.
+uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
+  stats.box_tests += re - rb;
+  uint32_t* mid = std::partition(ray_ids + rb, ray_ids + re, [&](uint32_t i) {
+    return rays[i].hits(box, batch.tmin[i], far[i]);
+  });
+  return uint32_t(mid - ray_ids);
+}
+
+void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
+                     int depth) {
+  const DacrtParams& p = k.params_;
+  const uint32_t nt = te - tb, nr = re - rb;
+  if (nr <= uint32_t(p.leaf_rays) || nt <= uint32_t(p.leaf_triangles) || depth >= p.max_depth)
+    return leaf(tb, te, rb, re);
+
+  // Binning on triangle centroids along the longest axis of the centroids' box (Wald 2007).
+  const auto& tbd = k.tb_;
+  Box cbox;
+  for (uint32_t j = tb; j < te; ++j) {
+    uint32_t tri = tri_ids[j];
+    cbox.extend(glm::vec3(tbd.centroid[0][tri], tbd.centroid[1][tri], tbd.centroid[2][tri]));
+  }
+  const int axis = cbox.longest_axis();
+  const float lo = cbox.lo[axis], extent = cbox.hi[axis] - cbox.lo[axis];
+  const int K = p.bins;
+  const float scale = float(K) / extent;
+  if (!(extent > 0.f) || !std::isfinite(scale)) return leaf(tb, te, rb, re);  // one centroid
+  const std::vector<float>& cent = tbd.centroid[axis];
+  auto bin_of = [&](uint32_t tri) { return std::min(K - 1, int((cent[tri] - lo) * scale)); };
+
+  std::array<Box, 256> bin_box;
+  std::array<uint32_t, 256> bin_count{};
+  for (uint32_t j = tb; j < te; ++j) {
+    uint32_t tri = tri_ids[j];
+    int b = bin_of(tri);
+    ++bin_count[b];
+    Box& bb = bin_box[b];
+    for (int a = 0; a < 3; ++a)
+      bb.lo[a] = std::min(bb.lo[a], tbd.lo[a][tri]), bb.hi[a] = std::max(bb.hi[a], tbd.hi[a][tri]);
+  }
+  // Split s puts bins [0, s) left and [s, K) right.
+  std::array<Box, 256> left_box, right_box;
+  std::array<uint32_t, 256> left_n{}, right_n{};
+  {
+    Box acc;
+    uint32_t n = 0;
+    for (int s = 1; s < K; ++s) {
+      acc.extend(bin_box[s - 1]), n += bin_count[s - 1];
+      left_box[s] = acc, left_n[s] = n;
+    }
+    acc = Box();
+    n = 0;
+    for (int s = K - 1; s >= 1; --s) {
+      acc.extend(bin_box[s]), n += bin_count[s];
+      right_box[s] = acc, right_n[s] = n;
+    }
+  }
+
+  // Ray sampling: α of each side of each split from a random subset of the active rays. The
+  // sample is drawn by a partial Fisher-Yates shuffle of the ray range itself (order is free).
+  uint32_t samples = nr;
+  if (p.sampling && nr > uint32_t(p.sample_threshold)) {
+    samples = uint32_t(p.sample_size);
+    for (uint32_t s = 0; s < samples; ++s) std::swap(ray_ids[rb + s], ray_ids[rb + s + rng.below(nr - s)]);
+  }
+  std::array<uint32_t, 256> hit_left{}, hit_right{}, left_first{}, right_first{};
+  if (p.sampling) {
+    for (uint32_t s = 0; s < samples; ++s) {
+      const uint32_t i = ray_ids[rb + s];
+      const Ray& r = rays[i];
+      for (int split = 1; split < K; ++split) {
+        if (!left_n[split] || !right_n[split]) continue;
+        float tl, tr;
+        bool l = r.hits(left_box[split], batch.tmin[i], far[i], &tl);
+        bool rr = r.hits(right_box[split], batch.tmin[i], far[i], &tr);
+        hit_left[split] += l, hit_right[split] += rr;
+        left_first[split] += l && (!rr || tl <= tr);
+        right_first[split] += rr && (!l || tr < tl);
+      }
+    }
+    stats.box_tests += uint64_t(samples) * 2 * (K - 1);
+  }
+
+  // C = C_T + C_I (α_L N_L + α_R N_R) with sampling; the SAH's area ratios without.
+  const double leaf_cost = p.cost_intersect * nt;
+  double best_cost = leaf_cost;
+  int best = 0;
+  const double parent_area = box.half_area();
+  for (int split = 1; split < K; ++split) {
+    if (!left_n[split] || !right_n[split]) continue;
+    double al, ar;
+    if (p.sampling) {
+      al = double(hit_left[split]) / samples, ar = double(hit_right[split]) / samples;
+    } else {
+      al = parent_area > 0 ? left_box[split].half_area() / parent_area : 1.0;
+      ar = parent_area > 0 ? right_box[split].half_area() / parent_area : 1.0;
+    }
+    double cost = p.cost_traversal + p.cost_intersect * (al * left_n[split] + ar * right_n[split]);
+    if (cost < best_cost) best_cost = cost, best = split;
+  }
+  if (best == 0) return leaf(tb, te, rb, re);
+  ++stats.nodes;
+
+  uint32_t* tri_mid = std::partition(tri_ids + tb, tri_ids + te,
+                                     [&](uint32_t tri) { return bin_of(tri) < best; });
+  const uint32_t tm = uint32_t(tri_mid - tri_ids);
+
+  struct Child {
+    Box box;
+    uint32_t tb, te;
+    double alpha;
+  };
+  std::array<Child, 2> children = {
+      Child{left_box[best], tb, tm, p.sampling ? double(hit_left[best]) / samples : 1.0},
+      Child{right_box[best], tm, te, p.sampling ? double(hit_right[best]) / samples : 1.0}};
+  // Traversal order: first the child that more sampled rays enter first.
+  if (p.sampling && right_first[best] > left_first[best]) std::swap(children[0], children[1]);
+  for (const Child& c : children) {
+    const uint32_t n = c.te - c.tb;
+    // Filtering costs one box test per ray; it pays only if enough rays miss the child.
+    double threshold = p.filter_skip_alpha >= 0
+                           ? p.filter_skip_alpha
+                           : 1.0 - p.cost_traversal / (double(n) * p.cost_intersect);
+    uint32_t end = re;
+    if (p.sampling && c.alpha > threshold) {
+      ++stats.filter_skips;
+    } else {
+      end = filter(c.box, rb, re);
+    }
+    if (end > rb) node(c.box, c.tb, c.te, rb, end, depth + 1);
+  }
+}
+
+const Backend::Registration dacrt_registration{
+    "dacrt", [](const Geometry& g, const Options& o) { return std::make_unique<Dacrt>(g, o, true); }};
+const Backend::Registration naive_registration{
+    "dacrt-naive",
+    [](const Geometry& g, const Options& o) { return std::make_unique<Dacrt>(g, o, false); }};
+
+}  // namespace
+}  // namespace dacrt

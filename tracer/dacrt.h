@@ -1,0 +1,37 @@
+// DACRT: divide-and-conquer ray tracing. No acceleration structure is stored: each batch of rays
+// and the triangles are partitioned together, recursively, until a leaf tests every ray against
+// every triangle. Ray sampling (Nabata, Iwasaki, Dobashi, Nishita, "Efficient Divide-And-Conquer
+// Ray Tracing using Ray Sampling", HPG 2013) picks the split, the traversal order, and when ray
+// filtering cannot pay. Without sampling (dacrt-naive) the split is by the surface area heuristic,
+// every child filters, and the left child goes first, as in Mora 2011 and Áfra 2012.
+#pragma once
+
+#include "tracer/options.h"
+
+#include <cstdint>
+#include <set>
+#include <string>
+
+namespace dacrt {
+
+struct DacrtParams {
+  bool sampling = true;       // false: dacrt-naive
+  int bins = 16;              // K, binned split candidates per node (Wald 2007)
+  int leaf_rays = 16;         // a node with at most this many rays is a leaf
+  int leaf_triangles = 8;     // a node with at most this many triangles is a leaf
+  int sample_size = 100;      // rays drawn to estimate α
+  int sample_threshold = 1000;  // sample only above this many active rays; else use them all
+  // Skip filtering a child when α exceeds this; negative = the paper's rule
+  // α > 1 − C_T / (N_child · C_I).
+  double filter_skip_alpha = -1.0;
+  double cost_traversal = 1.0;  // C_T, relative cost of the box tests of one split
+  double cost_intersect = 1.0;  // C_I, relative cost of one ray/triangle test
+  uint64_t seed = 1;            // ray sampling's random stream
+  int max_depth = 512;          // recursion bound; deeper nodes become leaves
+
+  static const std::set<std::string, std::less<>>& keys();
+  // Reads every key of keys() from the options (filter_skip=paper or a number).
+  static DacrtParams from(const Options& options, bool sampling);
+};
+
+}  // namespace dacrt

@@ -1,0 +1,38 @@
+// Options: key=value settings for a plugin (backend or integrator), as given on the command line
+// with --backend-option. Each plugin reads the keys it knows; unknown keys are an error, so a typo
+// never silently falls back to a default.
+#pragma once
+
+#include "util/error.h"
+
+#include <charconv>
+#include <map>
+#include <set>
+#include <string>
+#include <string_view>
+
+namespace dacrt {
+
+class Options {
+ public:
+  Options() = default;
+
+  void set(std::string key, std::string value) { values_[std::move(key)] = std::move(value); }
+  // Parses "key=value"; throws Error on anything else.
+  void parse(std::string_view assignment);
+  bool has(std::string_view key) const { return values_.count(std::string(key)) != 0; }
+
+  std::string get(std::string_view key, std::string fallback) const;
+  double get(std::string_view key, double fallback) const;
+  int get(std::string_view key, int fallback) const;
+
+  // Throws Error naming `owner` if a key outside `known` was given.
+  void check_known(std::string_view owner, const std::set<std::string, std::less<>>& known) const;
+
+  int threads = 0;  // 0 = every core; not a key=value option (it has its own flag)
+
+ private:
+  std::map<std::string, std::string, std::less<>> values_;
+};
+
+}  // namespace dacrt
