@@ -1,0 +1,359 @@
+// dacrt: the command-line front end. `dacrt render` path-traces a glTF scene to OpenEXR (plus an
+// sRGB PNG preview), `dacrt info` describes a scene. Exit codes: 0 success, 1 error (one line on
+// stderr naming the file and what is wrong), 2 usage error.
+#include "integrators/integrator.h"
+#include "io/color.h"
+#include "io/exr.h"
+#include "io/gltf.h"
+#include "tracer/backend.h"
+#include "util/error.h"
+#include "util/progress.h"
+
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace dacrt;
+
+namespace {
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer ray tracing
+
+Usage:
+  dacrt render SCENE [options]   render a glTF 2.0 scene (.gltf or .glb) to OpenEXR
+  dacrt info SCENE               triangles, meshes, materials, lights, cameras, bounds
+  dacrt --help                   this text; `dacrt render --help` lists the render options
+)";
+
+constexpr const char* render_help = R"(Usage: dacrt render SCENE [options]
+
+Output
+  -o, --output OUT.exr       the image: float RGB, scene-linear Rec.709 (default: SCENE's name .exr)
+  --preview OUT.png          also an sRGB display preview through OpenColorIO ($OCIO if set)
+  --stats OUT.json           render statistics: time and rays/s per ray type and bounce
+Image
+  --width W, --height H      resolution (default 512 × 512, or the camera's aspect ratio)
+  --spp N                    samples per pixel (default 64)
+  --camera INDEX             which of the scene's cameras (default 0; without one, the scene is framed)
+Light transport
+  --integrator NAME          path (default)
+  --max-depth D              scattering events per path (default 64; Russian roulette after 3)
+  --environment R,G,B        uniform environment radiance (default 0, or 1 when the scene has no emitters)
+  --seed S                   random seed (default 0)
+Ray tracing
+  --backend NAME             dacrt (default), dacrt-naive, brute
+  --backend-option KEY=VALUE backend setting, repeatable (dacrt: bins, leaf_rays, leaf_triangles,
+                             sample_size, sample_threshold, filter_skip, cost_traversal, cost_intersect)
+  --wavefront N              live paths per wavefront (default 524288)
+  --threads T                worker threads (default: all cores)
+Other
+  --quiet                    no progress bar or summary on stderr
+  -h, --help                 this text
+)";
+
+struct RenderArgs {
+  std::string scene, output, preview, stats;
+  std::optional<int> width, height;
+  std::optional<glm::vec3> environment;
+  std::string backend = "dacrt", integrator = "path";
+  Options backend_options;
+  int threads = 0;
+  bool quiet = false;
+  RenderSettings settings;
+};
+
+long parse_int(const std::string& flag, const std::string& text, long lo, long hi) {
+  char* end = nullptr;
+  errno = 0;
+  long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno != 0 || v < lo || v > hi)
+    throw UsageError(flag + " wants an integer in [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "], got '" + text + "'");
+  return v;
+}
+
+glm::vec3 parse_rgb(const std::string& flag, const std::string& text) {
+  glm::vec3 c;
+  std::string rest = text;
+  for (int k = 0; k < 3; ++k) {
+    size_t comma = rest.find(',');
+    std::string part = rest.substr(0, comma);
+    char* end = nullptr;
+    float v = std::strtof(part.c_str(), &end);
+    if (part.empty() || *end != '\0' || !std::isfinite(v) || v < 0.f ||
+        (k < 2) != (comma != std::string::npos))
+      throw UsageError(flag + " wants R,G,B with three finite non-negative numbers, got '" +
+                       text + "'");
+    c[k] = v;
+    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+  }
+  return c;
+}
+
+RenderArgs parse_render(const std::vector<std::string>& args) {
+  RenderArgs r;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
+      return args[++i];
+    };
+    if (a == "-h" || a == "--help") {
+      std::fputs(render_help, stdout);
+      std::exit(0);
+    } else if (a == "-o" || a == "--output") r.output = value();
+    else if (a == "--preview") r.preview = value();
+    else if (a == "--stats") r.stats = value();
+    else if (a == "--spp") r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
+    else if (a == "--width") r.width = int(parse_int(a, value(), 1, 1 << 15));
+    else if (a == "--height") r.height = int(parse_int(a, value(), 1, 1 << 15));
+    else if (a == "--camera") r.settings.camera = int(parse_int(a, value(), 0, 1 << 20));
+    else if (a == "--backend") r.backend = value();
+    else if (a == "--backend-option") {
+      try {
+        r.backend_options.parse(value());
+      } catch (const Error& e) {
+        throw UsageError(std::string("--backend-option: ") + e.what());
+      }
+    } else if (a == "--integrator") r.integrator = value();
+    else if (a == "--environment") r.environment = parse_rgb(a, value());
+    else if (a == "--max-depth") r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
+    else if (a == "--seed") r.settings.seed = uint64_t(parse_int(a, value(), 0, LONG_MAX));
+    else if (a == "--threads") r.threads = int(parse_int(a, value(), 1, 1024));
+    else if (a == "--wavefront") r.settings.wavefront = size_t(parse_int(a, value(), 1, 1L << 26));
+    else if (a == "--quiet") r.quiet = true;
+    else if (!a.empty() && a[0] == '-') throw UsageError("unknown option " + a);
+    else if (r.scene.empty()) r.scene = a;
+    else throw UsageError("unexpected argument '" + a + "' (one scene at a time)");
+  }
+  if (r.scene.empty()) throw UsageError("render needs a SCENE");
+  if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
+  return r;
+}
+
+// Fails early, before any rendering, if an output file could not be written.
+void check_writable(const std::string& path) {
+  if (path.empty()) return;
+  fs::path dir = fs::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw Error(path + ": cannot write: directory " + dir.string() + " does not exist");
+  if (fs::is_directory(path, ec)) throw Error(path + ": cannot write: it is a directory");
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw Error(path + ": cannot write: directory " + dir.string() + " is not writable");
+}
+
+void write_text_atomically(const std::string& path, const std::string& text) {
+  std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw Error(path + ": cannot write");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error(path + ": cannot write: " + ec.message());
+  }
+}
+
+bool has_emitters(const Scene& scene) {
+  for (uint32_t m : scene.geometry.material)
+    if (scene.materials[m].emissive()) return true;
+  return false;
+}
+
+nlohmann::json to_json(const RayTypeStats& s) {
+  return {{"rays", s.rays}, {"seconds", s.seconds}, {"rays_per_second", s.rays_per_second()}};
+}
+
+int render(const std::vector<std::string>& args) {
+  RenderArgs r = parse_render(args);
+  for (const auto& p : {r.output, r.preview, r.stats}) check_writable(p);
+
+  std::unique_ptr<tbb::global_control> threads;
+  if (r.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    size_t(r.threads));
+
+  auto t_load = std::chrono::steady_clock::now();
+  Scene scene = load_gltf(r.scene);
+  double load_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+
+  RenderSettings& s = r.settings;
+  if (s.camera >= int(scene.cameras.size()))
+    throw Error(r.scene + ": camera " + std::to_string(s.camera) + " does not exist (the scene has " +
+                std::to_string(scene.cameras_from_file) + ")");
+  const float aspect = scene.cameras[s.camera].aspect;
+  if (r.width && r.height) {
+    s.width = *r.width, s.height = *r.height;
+  } else if (aspect > 0.f) {
+    if (r.width) s.width = *r.width, s.height = std::max(1, int(std::lround(*r.width / aspect)));
+    else if (r.height) s.height = *r.height, s.width = std::max(1, int(std::lround(*r.height * aspect)));
+    else if (aspect >= 1.f) s.width = 512, s.height = std::max(1, int(std::lround(512 / aspect)));
+    else s.height = 512, s.width = std::max(1, int(std::lround(512 * aspect)));
+  } else {
+    s.width = r.width.value_or(r.height.value_or(512));
+    s.height = r.height.value_or(r.width.value_or(512));
+  }
+  if (r.environment) {
+    s.environment = *r.environment;
+  } else if (!has_emitters(scene)) {
+    s.environment = glm::vec3(1.f);
+    if (!r.quiet)
+      std::fprintf(stderr, "%s: the scene has no emitters: lighting it with a uniform environment of 1\n",
+                   r.scene.c_str());
+  }
+  if (!r.quiet && scene.cameras_from_file == 0)
+    std::fprintf(stderr, "%s: no camera in the file: framing the scene's bounds\n", r.scene.c_str());
+
+  r.backend_options.threads = r.threads;
+  auto backend = Backend::create(r.backend, scene.geometry, r.backend_options);
+  auto integrator = Integrator::create(r.integrator, scene, *backend, s);
+  Film film(s.width, s.height);
+  Progress progress("render", uint64_t(s.width) * s.height * s.spp, !r.quiet);
+  integrator->render(film, progress);
+  const RenderStats& stats = integrator->stats();
+  Image image = film.resolve();
+
+  ExrMetadata meta;
+  meta.spp = s.spp;
+  meta.backend = r.backend;
+  meta.integrator = r.integrator;
+  meta.render_seconds = stats.seconds;
+  meta.extra = {{"scene", r.scene}, {"software", "dacrt"}};
+  write_exr(r.output, image, meta);
+  if (!r.preview.empty()) write_preview_png(r.preview, image);
+
+  if (!r.stats.empty()) {
+    Stats b = backend->stats();
+    nlohmann::json j = {
+        {"scene", r.scene}, {"triangles", scene.geometry.size()}, {"width", s.width},
+        {"height", s.height}, {"spp", s.spp}, {"backend", r.backend}, {"integrator", r.integrator},
+        {"threads", tbb::this_task_arena::max_concurrency()}, {"load_seconds", load_seconds},
+        {"render_seconds", stats.seconds}, {"paths", stats.paths},
+        {"dropped_samples", stats.dropped_samples}, {"skipped", stats.skipped},
+        {"backend_stats",
+         {{"rays", b.rays}, {"triangle_tests", b.triangle_tests}, {"box_tests", b.box_tests},
+          {"nodes", b.nodes}, {"leaves", b.leaves}, {"filter_skips", b.filter_skips},
+          {"build_seconds", b.build_seconds}, {"peak_bytes", b.peak_bytes}}}};
+    for (int t = 0; t < ray_type_count; ++t)
+      j["rays"][std::string(to_string(RayType(t)))] = to_json(stats.by_type[t]);
+    j["bounces"] = nlohmann::json::array();
+    for (const auto& bounce : stats.by_bounce) j["bounces"].push_back(to_json(bounce));
+    write_text_atomically(r.stats, j.dump(2) + "\n");
+  }
+
+  if (!r.quiet) {
+    std::fprintf(stderr, "%s: %d×%d, %d spp, %s/%s, %.2f s\n", r.output.c_str(), s.width, s.height,
+                 s.spp, r.backend.c_str(), r.integrator.c_str(), stats.seconds);
+    for (int t = 0; t < ray_type_count; ++t) {
+      const RayTypeStats& rt = stats.by_type[t];
+      if (rt.rays)
+        std::fprintf(stderr, "  %-8s %12llu rays  %8.2f s  %7.2f Mrays/s\n",
+                     std::string(to_string(RayType(t))).c_str(), (unsigned long long)rt.rays,
+                     rt.seconds, rt.rays_per_second() * 1e-6);
+    }
+    for (const auto& skipped : stats.skipped) std::fprintf(stderr, "  skipped: %s\n", skipped.c_str());
+    if (stats.dropped_samples)
+      std::fprintf(stderr, "  warning: %llu samples were NaN or inf and were dropped\n",
+                   (unsigned long long)stats.dropped_samples);
+  }
+  return 0;
+}
+
+int info(const std::vector<std::string>& args) {
+  if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help")) {
+    std::puts("Usage: dacrt info SCENE");
+    return 0;
+  }
+  if (args.size() != 1) throw UsageError("info needs exactly one SCENE");
+  Scene scene = load_gltf(args[0]);
+  const Geometry& g = scene.geometry;
+  size_t emissive_triangles = 0, emissive_materials = 0;
+  for (uint32_t m : g.material) emissive_triangles += scene.materials[m].emissive();
+  for (const auto& m : scene.materials) emissive_materials += m.emissive();
+  Box b = scene.bounds();
+  std::printf("scene      %s\n", args[0].c_str());
+  std::printf("triangles  %zu\n", g.size());
+  std::printf("meshes     %zu (%zu triangle primitives, %zu nodes)\n", scene.mesh_count,
+              scene.primitive_count, scene.node_count);
+  std::printf("materials  %zu (%zu emissive)\n", scene.materials.size(), emissive_materials);
+  std::printf("lights     %zu emissive triangles\n", emissive_triangles);
+  std::printf("cameras    %zu%s\n", scene.cameras_from_file,
+              scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
+  for (size_t c = 0; c < scene.cameras.size(); ++c) {
+    const Camera& cam = scene.cameras[c];
+    glm::vec3 p = cam.position();
+    std::printf("  camera %zu %s: position (%g, %g, %g), yfov %.1f°, aspect %s\n", c,
+                cam.name.empty() ? "(unnamed)" : cam.name.c_str(), p.x, p.y, p.z,
+                cam.yfov * 180.0 / M_PI, cam.aspect > 0 ? std::to_string(cam.aspect).c_str() : "from image");
+  }
+  if (b.empty())
+    std::printf("bounds     empty\n");
+  else
+    std::printf("bounds     (%g, %g, %g) to (%g, %g, %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y,
+                b.hi.z);
+  std::printf("skips      %s\n", emissive_triangles ? "nothing" : "shadow rays (no emitters)");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  try {
+    if (args.empty()) {
+      std::fputs(main_help, stderr);
+      return 2;
+    }
+    const std::string command = args[0];
+    args.erase(args.begin());
+    if (command == "-h" || command == "--help" || command == "help") {
+      std::fputs(main_help, stdout);
+      return 0;
+    }
+    if (command == "render") return render(args);
+    if (command == "info") return info(args);
+    throw UsageError("unknown command '" + command + "'");
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "dacrt: %s (see dacrt --help)\n", e.what());
+    return 2;
+  } catch (const Error& e) {
+    std::fprintf(stderr, "dacrt: error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "dacrt: error: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dacrt: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,48 @@
+#include "integrators/integrator.h"
+
+#include "util/error.h"
+
+#include <cmath>
+#include <map>
+
+namespace dacrt {
+
+namespace {
+std::map<std::string, Integrator::Factory, std::less<>>& registry() {
+  static std::map<std::string, Integrator::Factory, std::less<>> r;
+  return r;
+}
+}  // namespace
+
+Integrator::Registration::Registration(std::string name, Factory factory) {
+  registry()[std::move(name)] = std::move(factory);
+}
+
+std::vector<std::string> Integrator::names() {
+  std::vector<std::string> out;
+  for (const auto& [name, factory] : registry()) out.push_back(name);
+  return out;
+}
+
+std::unique_ptr<Integrator> Integrator::create(std::string_view name, const Scene& scene,
+                                               Backend& backend, const RenderSettings& settings) {
+  auto it = registry().find(name);
+  if (it == registry().end()) {
+    std::string list;
+    for (const auto& n : names()) list += (list.empty() ? "" : ", ") + n;
+    throw Error("unknown integrator '" + std::string(name) + "' (available: " + list + ")");
+  }
+  return it->second(scene, backend, settings);
+}
+
+void camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
+                glm::vec3& direction) {
+  const float aspect = float(width) / float(height);
+  const float tan_half = std::tan(0.5f * camera.yfov);
+  glm::vec3 local((2.f * x / width - 1.f) * tan_half * aspect, (1.f - 2.f * y / height) * tan_half,
+                  -1.f);
+  origin = camera.position();
+  direction = glm::normalize(glm::vec3(camera.to_world * glm::vec4(local, 0.f)));
+}
+
+}  // namespace dacrt

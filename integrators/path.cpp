@@ -1,0 +1,261 @@
+// path: a wavefront path tracer. Each wavefront holds up to RenderSettings::wavefront live paths;
+// every bounce runs the same short list of stages on whole batches:
+//   camera rays → intersect → shade (escaped rays, emitters hit, Russian roulette, next-event
+//   estimation, BSDF sampling) → occluded(shadow rays) → intersect(bounce rays) → …
+// Materials are Lambertian (the glTF base colour) for now. Next-event estimation samples emissive
+// triangles by power and is combined with BSDF sampling by multiple importance sampling (power
+// heuristic), so emitters of any size converge well. Scenes without emitters trace no shadow rays.
+#include "integrators/integrator.h"
+#include "integrators/lights.h"
+#include "materials/sampling.h"
+#include "tracer/ray.h"
+#include "util/random.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+
+namespace dacrt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Random dimensions of one path vertex, for the counter-based generator.
+enum Dimension : uint32_t { pixel_x, pixel_y, roulette, light_pick, light_u, light_v, bsdf_u, bsdf_v };
+
+class PathTracer final : public Integrator {
+ public:
+  PathTracer(const Scene& scene, Backend& backend, const RenderSettings& settings)
+      : scene_(scene), backend_(backend), s_(settings), lights_(scene) {
+    if (s_.camera < 0 || size_t(s_.camera) >= scene.cameras.size())
+      throw Error("camera " + std::to_string(s_.camera) + " does not exist (the scene has " +
+                  std::to_string(scene.cameras.size()) + ")");
+    if (lights_.empty()) stats_.skipped.push_back("shadow rays (the scene has no emitters)");
+  }
+
+  const RenderStats& stats() const override { return stats_; }
+
+  void render(Film& film, Progress& progress) override {
+    auto start_time = Clock::now();
+    const uint64_t pixels = uint64_t(s_.width) * s_.height;
+    const uint64_t total = pixels * uint64_t(s_.spp);
+    const size_t wavefront = std::max<size_t>(1, s_.wavefront);
+    for (uint64_t first = 0; first < total; first += wavefront) {
+      const size_t n = size_t(std::min<uint64_t>(wavefront, total - first));
+      generate_camera_rays(first, n);
+      for (int depth = 0; rays_.size() > 0; ++depth) {
+        trace(rays_, depth);
+        shade(depth);
+        trace_shadows();
+        std::swap(rays_, next_);
+      }
+      for (size_t j = 0; j < n; ++j) film.add(pixel_[j], radiance_[j]);
+      stats_.paths += n;
+      progress.update(first + n, stats_.total_rays());
+    }
+    progress.finish();
+    stats_.dropped_samples = film.dropped();
+    stats_.seconds = std::chrono::duration<double>(Clock::now() - start_time).count();
+  }
+
+ private:
+  float random(size_t path, int depth, Dimension dim) const {
+    return uniform_float(s_.seed, pixel_[path], sample_[path], uint64_t(depth), uint64_t(dim));
+  }
+
+  void generate_camera_rays(uint64_t first, size_t n) {
+    const uint64_t pixels = uint64_t(s_.width) * s_.height;
+    const Camera& camera = scene_.cameras[s_.camera];
+    throughput_.assign(n, glm::vec3(1.f));
+    radiance_.assign(n, glm::vec3(0.f));
+    bsdf_pdf_.assign(n, 0.f);
+    pixel_.resize(n);
+    sample_.resize(n);
+    rays_.type = RayType::primary;
+    rays_.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](auto range) {
+      for (size_t j = range.begin(); j != range.end(); ++j) {
+        uint64_t id = first + j;
+        pixel_[j] = uint32_t(id % pixels);
+        sample_[j] = uint32_t(id / pixels);
+        float x = float(pixel_[j] % uint32_t(s_.width)) + random(j, 0, pixel_x);
+        float y = float(pixel_[j] / uint32_t(s_.width)) + random(j, 0, pixel_y);
+        glm::vec3 o, d;
+        camera_ray(camera, s_.width, s_.height, x, y, o, d);
+        rays_.set(j, o, d, 0.f, INFINITY, uint32_t(j));
+      }
+    });
+  }
+
+  void trace(const RayBatch& rays, int depth) {
+    auto t0 = Clock::now();
+    backend_.intersect(rays, hits_);
+    double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    auto& by_type = stats_.by_type[size_t(rays.type)];
+    by_type.rays += rays.size(), by_type.seconds += seconds;
+    if (rays.type == RayType::bounce) {
+      if (stats_.by_bounce.size() < size_t(depth)) stats_.by_bounce.resize(depth);
+      stats_.by_bounce[depth - 1].rays += rays.size();
+      stats_.by_bounce[depth - 1].seconds += seconds;
+    }
+  }
+
+  // Shading writes at most one shadow ray and one bounce ray per incoming ray, each into the
+  // incoming ray's slot; the slots are compacted afterwards.
+  void shade(int depth) {
+    const size_t n = rays_.size();
+    shadow_.type = RayType::shadow;
+    shadow_.resize(n);
+    next_.type = RayType::bounce;
+    next_.resize(n);
+    shadow_contribution_.resize(n);
+    has_shadow_.assign(n, 0);
+    has_next_.assign(n, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](auto range) {
+      for (size_t i = range.begin(); i != range.end(); ++i) shade_one(i, depth);
+    });
+    compact(shadow_, has_shadow_, &shadow_contribution_);
+    compact(next_, has_next_, nullptr);
+  }
+
+  void shade_one(size_t i, int depth) {
+    const uint32_t path = rays_.path[i];
+    const glm::vec3 d = rays_.direction(i);
+    glm::vec3& beta = throughput_[path];
+    if (!hits_.hit(i)) {
+      radiance_[path] += beta * s_.environment;
+      return;
+    }
+    const Geometry& g = scene_.geometry;
+    const uint32_t tri = hits_.prim[i];
+    const Material& m = scene_.materials[g.material[tri]];
+    glm::vec3 ng = g.normal(tri);
+    const float area2 = glm::length(ng);
+    ng /= area2;
+    const bool front = glm::dot(ng, d) < 0.f;
+
+    if (m.emissive() && (front || m.double_sided)) {
+      float weight = 1.f;
+      if (depth > 0) {
+        float t = hits_.t[i];
+        float light_pdf = lights_.pmf(tri) * t * t / (std::abs(glm::dot(ng, d)) * 0.5f * area2);
+        weight = power_heuristic(bsdf_pdf_[path], light_pdf);
+      }
+      radiance_[path] += beta * m.emission * weight;
+    }
+    if (depth >= s_.max_depth) return;
+    if (depth >= s_.roulette_depth) {
+      float q = std::min(1.f, std::max({beta.x, beta.y, beta.z}));
+      if (random(path, depth, roulette) >= q) return;
+      beta /= q;
+    }
+
+    // The surface point, and normals on the side the ray arrived from.
+    const float u = hits_.u[i], v = hits_.v[i];
+    const glm::vec3 p = (1.f - u - v) * g.vertex(tri, 0) + u * g.vertex(tri, 1) + v * g.vertex(tri, 2);
+    if (!front) ng = -ng;
+    glm::vec3 ns = ng;
+    if (!scene_.normals.empty()) {
+      const glm::vec3* n3 = &scene_.normals[3 * size_t(tri)];
+      glm::vec3 interpolated = (1.f - u - v) * n3[0] + u * n3[1] + v * n3[2];
+      float len = glm::length(interpolated);
+      if (len > 0.f) ns = interpolated / len;
+      if (glm::dot(ns, ng) < 0.f) ns = -ns;
+    }
+    const glm::vec3 f = m.base_color * glm::one_over_pi<float>();  // Lambert
+    const glm::vec3 origin = offset_ray_origin(p, ng);
+
+    if (!lights_.empty()) next_event(i, path, depth, p, ng, ns, f, origin);
+
+    // BSDF sampling: cosine-weighted around the shading normal, kept above the surface.
+    glm::vec3 local = sample_cosine_hemisphere(random(path, depth, bsdf_u), random(path, depth, bsdf_v));
+    glm::vec3 wi = Frame(ns).to_world(local);
+    float pdf = cosine_hemisphere_pdf(local.z);
+    if (!(pdf > 0.f) || glm::dot(wi, ng) <= 0.f) return;
+    beta *= f * local.z / pdf;
+    if (beta.x <= 0.f && beta.y <= 0.f && beta.z <= 0.f) return;
+    bsdf_pdf_[path] = pdf;
+    next_.set(i, origin, wi, 0.f, INFINITY, path);
+    has_next_[i] = 1;
+  }
+
+  void next_event(size_t i, uint32_t path, int depth, const glm::vec3& p, const glm::vec3& ng,
+                  const glm::vec3& ns, const glm::vec3& f, const glm::vec3& origin) {
+    const Geometry& g = scene_.geometry;
+    LightSampler::Sample ls = lights_.sample(random(path, depth, light_pick),
+                                             random(path, depth, light_u), random(path, depth, light_v));
+    const Material& light = scene_.materials[g.material[ls.triangle]];
+    glm::vec3 to = ls.point - p;
+    float dist2 = glm::dot(to, to);
+    if (!(dist2 > 0.f)) return;
+    glm::vec3 wi = to / std::sqrt(dist2);
+    glm::vec3 nl = g.normal(ls.triangle);
+    float light_area = 0.5f * glm::length(nl);
+    nl = glm::normalize(nl);
+    float cos_light = -glm::dot(wi, nl);
+    if (light.double_sided) cos_light = std::abs(cos_light);
+    float cos_surface = glm::dot(wi, ns);
+    if (cos_light <= 0.f || cos_surface <= 0.f || glm::dot(wi, ng) <= 0.f) return;
+    float light_pdf = ls.pmf * dist2 / (cos_light * light_area);
+    float weight = power_heuristic(light_pdf, cosine_hemisphere_pdf(cos_surface));
+    glm::vec3 c = throughput_[path] * f * light.emission * (cos_surface * weight / light_pdf);
+    if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
+    // The segment runs between the two offset points, so neither surface can occlude it.
+    glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);
+    shadow_.set(i, origin, target - origin, 0.f, 1.f, path);
+    shadow_contribution_[i] = c;
+    has_shadow_[i] = 1;
+  }
+
+  void trace_shadows() {
+    if (shadow_.size() == 0) return;
+    occluded_.resize(shadow_.size());
+    auto t0 = Clock::now();
+    backend_.occluded(shadow_, occluded_);
+    auto& by_type = stats_.by_type[size_t(RayType::shadow)];
+    by_type.rays += shadow_.size();
+    by_type.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    for (size_t k = 0; k < shadow_.size(); ++k)
+      if (!occluded_[k]) radiance_[shadow_.path[k]] += shadow_contribution_[k];
+  }
+
+  // Keeps the slots whose flag is set, in order.
+  static void compact(RayBatch& rays, const std::vector<uint8_t>& keep,
+                      std::vector<glm::vec3>* payload) {
+    size_t out = 0;
+    for (size_t i = 0; i < keep.size(); ++i) {
+      if (!keep[i]) continue;
+      if (out != i) {
+        rays.set(out, rays.origin(i), rays.direction(i), rays.tmin[i], rays.tmax[i], rays.path[i]);
+        if (payload) (*payload)[out] = (*payload)[i];
+      }
+      ++out;
+    }
+    rays.resize(out);
+    if (payload) payload->resize(out);
+  }
+
+  const Scene& scene_;
+  Backend& backend_;
+  const RenderSettings s_;
+  const LightSampler lights_;
+  RenderStats stats_;
+
+  // The wavefront's paths, indexed by RayBatch::path.
+  std::vector<glm::vec3> throughput_, radiance_;
+  std::vector<uint32_t> pixel_, sample_;
+  std::vector<float> bsdf_pdf_;  // solid-angle pdf of the direction the path's last ray took
+  // The batches of the current bounce.
+  RayBatch rays_, next_, shadow_;
+  HitBatch hits_;
+  std::vector<glm::vec3> shadow_contribution_;
+  std::vector<uint8_t> has_shadow_, has_next_, occluded_;
+};
+
+const Integrator::Registration registration{
+    "path", [](const Scene& scene, Backend& backend, const RenderSettings& settings) {
+      return std::make_unique<PathTracer>(scene, backend, settings);
+    }};
+
+}  // namespace
+}  // namespace dacrt

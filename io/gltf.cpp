@@ -1,0 +1,701 @@
+// glTF 2.0 loading: tinygltf parses the file (Debian ships it compiled in libtinygltf.so, so no
+// TINYGLTF_IMPLEMENTATION here), then the chosen scene's node tree is flattened into world-space
+// triangles, a material table and cameras. Everything read from the file is validated first, so a
+// malformed file gives one dacrt::Error line and never a crash or an out-of-bounds read.
+//
+// Supported: .gltf (external .bin or data URIs) and .glb; TRS and matrix nodes; triangle lists,
+// indexed (u8/u16/u32) or not; sparse accessors and accessors without a bufferView (zeros);
+// NORMAL; baseColorFactor, emissiveFactor × KHR_materials_emissive_strength, doubleSided;
+// perspective cameras.
+// Skipped with one warning line each: primitives of other modes (strips and fans come later),
+// primitives without POSITION (the spec says to skip them), orthographic cameras.
+// Ignored: images and textures (a no-op image loader accepts anything), skins, morph targets,
+// animations, and extensions that are only "used" (the spec says the asset renders without them).
+// Rejected: files that *require* compressed, quantised or GPU-instanced meshes.
+// Normals that are NaN, infinite or zero are replaced by the triangle's geometric normal: they are
+// only shading hints. A non-finite position is an error, since the triangle has no place.
+#include "io/gltf.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <glm/gtc/quaternion.hpp>
+#include <iostream>
+#include <limits>
+#include <new>
+#include <string_view>
+
+#include "util/error.h"
+
+namespace dacrt {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "glTF buffers are little-endian");
+
+using Bytes = std::vector<unsigned char>;
+
+// tinygltf converts `extras` and `extensions` to its Value type recursively; bounding the JSON
+// nesting keeps a hostile file from overflowing the stack there.
+constexpr int kMaxJsonDepth = 512;
+// Accessors without a bufferView (all zeros, maybe sparse-patched) are materialised; their size is
+// not bounded by any buffer, so bound it here.
+constexpr size_t kMaxSynthesisedBytes = size_t(1) << 30;
+// Hits report the triangle as a uint32_t with ~0u meaning "miss".
+constexpr size_t kMaxTriangles = std::numeric_limits<uint32_t>::max() - 1;
+
+template <class Number>
+std::string str(Number n) {
+  return std::to_string(n);
+}
+
+// tinygltf's messages are multi-line and may quote a whole data URI: make them one short line.
+std::string one_line(std::string_view text, size_t max_chars = 400) {
+  std::string out;
+  for (char c : text) {
+    bool newline = c == '\n' || c == '\r';
+    if (!newline)
+      out += c;
+    else if (!out.empty() && out.back() != ' ')
+      out += "; ";
+  }
+  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+  if (out.size() > max_chars) out = out.substr(0, max_chars) + "...";
+  return out;
+}
+
+// a + b for messages, saturating instead of wrapping.
+size_t sat_add(size_t a, size_t b) {
+  return a > SIZE_MAX - b ? SIZE_MAX : a + b;
+}
+
+bool finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Normalised n, or `fallback` when n has no usable direction (zero, NaN, inf).
+glm::vec3 unit_or(const glm::vec3& n, const glm::vec3& fallback) {
+  float len = glm::length(n);
+  if (!(len > 0.f) || !std::isfinite(len)) return fallback;
+  glm::vec3 u = n / len;
+  return finite(u) ? u : fallback;
+}
+
+glm::vec3 geometric_normal(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  return unit_or(glm::cross(b - a, c - a), glm::vec3(0.f, 0.f, 1.f));
+}
+
+Bytes read_file(const std::string& path) {
+  std::error_code ec;
+  auto status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) throw Error(path + ": file does not exist");
+  if (!std::filesystem::is_regular_file(status)) throw Error(path + ": is not a regular file");
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw Error(path + ": file cannot be opened: " + std::strerror(errno));
+  std::streamoff size = in.tellg();
+  // tinygltf takes sizes as unsigned int (and GLB lengths are 32-bit).
+  if (size < 0 || uint64_t(size) > std::numeric_limits<uint32_t>::max())
+    throw Error(path + ": file is larger than 4 GiB");
+  Bytes data(static_cast<size_t>(size));
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(data.data()), size))
+    throw Error(path + ": file cannot be read");
+  if (data.empty()) throw Error(path + ": file is empty");
+  return data;
+}
+
+uint32_t le32(const unsigned char* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// tinygltf 2.7 lets the BIN chunk end 8 bytes past the data (its bounds check forgets the chunk
+// header), so the GLB container is checked here first. Returns the JSON chunk's size.
+size_t check_glb(const std::string& path, const Bytes& data) {
+  auto bad = [&](const std::string& what) { throw Error(path + ": GLB " + what); };
+  if (data.size() < 20) bad("header is truncated (" + str(data.size()) + " bytes)");
+  uint32_t version = le32(&data[4]), length = le32(&data[8]);
+  if (version != 2) bad("version " + str(version) + " is not 2");
+  if (length > data.size())
+    bad("length " + str(length) + " exceeds the file size " + str(data.size()));
+  uint64_t json_size = le32(&data[12]), json_end = 20 + json_size;
+  if (le32(&data[16]) != 0x4E4F534Au) bad("chunk 0 is not JSON");
+  if (json_end > length) bad("JSON chunk overruns the file (ends at " + str(json_end) + ")");
+  if (json_end < length) {  // a BIN chunk follows
+    if (json_end + 8 > length) bad("BIN chunk header is truncated");
+    uint64_t bin_end = json_end + 8 + le32(&data[json_end]);
+    if (bin_end > length)
+      bad("BIN chunk overruns the file (ends at " + str(bin_end) + ", file has " + str(length) +
+          " bytes)");
+  }
+  return static_cast<size_t>(json_size);
+}
+
+int json_depth(const unsigned char* s, size_t n) {
+  int depth = 0, deepest = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < n; ++i) {
+    unsigned char c = s[i];
+    if (in_string) {
+      i += c == '\\';  // skip the escaped character
+      in_string = c != '"';
+    } else {
+      in_string = c == '"';
+      depth += (c == '[' || c == '{') - (c == ']' || c == '}');
+      deepest = std::max(deepest, depth);
+    }
+  }
+  return deepest;
+}
+
+// Images are not used in this version: accept and drop them, so odd textures never fail a load.
+bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                  const unsigned char*, int, void*) {
+  return true;
+}
+
+// Buffer and image URIs may name any path. tinygltf tests existence with fopen, which blocks
+// forever on a FIFO: accept only regular files.
+bool regular_file_exists(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
+// tinygltf reports failures as text only. Buffers are parsed first and in order, so a file or
+// data-URI failure is about buffer number model.buffers.size() (the ones before it succeeded).
+[[noreturn]] void parse_failed(const std::string& path, const tinygltf::Model& model,
+                               const std::string& err, const std::string& warn) {
+  std::string why = one_line(err.empty() ? warn : err);
+  if (why.empty()) why = "tinygltf gives no reason";
+  if (err.find("json.exception") != std::string::npos || err.find("JSON string too short") == 0)
+    throw Error(path + ": JSON does not parse: " + why);
+  for (const char* buffer_error : {"File not found", "File read error", "File is empty",
+                                   "File size mismatch", "in Buffer", "`Buffer'", "binary size"})
+    if (err.find(buffer_error) != std::string::npos)
+      throw Error(path + ": buffer " + str(model.buffers.size()) + " cannot be read: " + why);
+  throw Error(path + ": is not valid glTF: " + why);
+}
+
+tinygltf::Model parse(const std::string& path, const Bytes& data) {
+  bool binary = data.size() >= 4 && std::memcmp(data.data(), "glTF", 4) == 0;
+  std::string ext = std::filesystem::path(path).extension().string();
+  if (!binary && (ext == ".glb" || ext == ".GLB"))
+    throw Error(path + ": GLB magic \"glTF\" is missing");
+
+  size_t json_size = binary ? check_glb(path, data) : data.size();
+  if (json_depth(data.data() + (binary ? 20 : 0), json_size) > kMaxJsonDepth)
+    throw Error(path + ": JSON nests deeper than " + str(kMaxJsonDepth) + " levels");
+
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(&ignore_image, nullptr);
+  loader.SetFsCallbacks({&regular_file_exists, &tinygltf::ExpandFilePath, &tinygltf::ReadWholeFile,
+                         &tinygltf::WriteWholeFile, nullptr});
+  tinygltf::Model model;
+  std::string err, warn;  // warnings only concern images, which this version ignores
+  std::string base_dir = std::filesystem::path(path).parent_path().string();
+  auto size = static_cast<unsigned int>(data.size());
+  bool ok =
+      binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data.data(), size, base_dir)
+             : loader.LoadASCIIFromString(
+                   &model, &err, &warn, reinterpret_cast<const char*>(data.data()), size, base_dir);
+  if (!ok) parse_failed(path, model, err, warn);
+  return model;
+}
+
+// A validated strided window onto an accessor's elements: element i is the `components` values of
+// `component_type` at data + i * stride. Accessors that are sparse or have no bufferView are
+// materialised into `owned` (which `data` then points into, so a View is move-only).
+struct View {
+  const unsigned char* data = nullptr;
+  size_t count = 0, stride = 0;
+  int component_type = 0, components = 0;
+  std::vector<unsigned char> owned;
+
+  View() = default;
+  View(View&&) = default;
+  View(const View&) = delete;
+};
+
+// Bytes per component; 0 for INT (5124) and DOUBLE, which glTF 2.0 accessors do not allow.
+size_t component_size(int type) {
+  static constexpr size_t sizes[] = {1, 1, 2, 2, 0, 4, 4};  // BYTE ... FLOAT = 5120 ... 5126
+  return type >= 5120 && type <= 5126 ? sizes[type - 5120] : 0;
+}
+
+bool unsigned_index_type(int type) {
+  return type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+         type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+         type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+}
+
+// An unsigned index of 1, 2 or 4 bytes (little-endian, like the host: the low bytes come first).
+uint32_t read_uint(const unsigned char* p, size_t size) {
+  uint32_t v = 0;
+  std::memcpy(&v, p, size);
+  return v;
+}
+
+// The part of a node's world transform that positions, normals and winding need.
+struct Transform {
+  glm::mat4 world;
+  glm::mat3 normal;  // inverse-transpose of world's 3x3, up to a positive factor
+  bool flips;        // negative determinant: mirrored, so the winding must be swapped back
+  int node;
+};
+
+class Loader {
+ public:
+  Loader(const std::string& path, const tinygltf::Model& model) : path_(path), model_(model) {}
+
+  Scene run(int scene) {
+    scene_.path = path_;
+    for (const std::string& ext : model_.extensionsRequired)
+      if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
+          ext == "KHR_mesh_quantization" || ext == "EXT_mesh_gpu_instancing")
+        fail("requires extension " + ext + ", which is not supported");
+
+    bool by_default = scene == -1;
+    if (by_default) scene = model_.defaultScene == -1 ? 0 : model_.defaultScene;
+    size_t count = model_.scenes.size();
+    // A file without scenes (a library of meshes) gives an empty scene, unless one was asked for.
+    if ((scene < 0 || size_t(scene) >= count) && !(count == 0 && by_default && scene == 0))
+      fail(std::string(by_default ? "default " : "") + "scene " + str(scene) + " does not exist (" +
+           str(count) + " scenes)");
+    load_materials();
+    mesh_seen_.assign(model_.meshes.size(), false);
+    if (count > 0) traverse(scene);
+
+    if (keep_normals_) scene_.normals = std::move(normals_);
+    if (scene_.materials.empty()) scene_.materials.push_back(Material{"default"});
+    scene_.cameras_from_file = scene_.cameras.size();
+    if (scene_.cameras.empty()) scene_.cameras.push_back(frame_bounds(scene_.bounds(), 0.f));
+
+    auto warn = [&](size_t n, const char* what) {
+      if (n > 0) std::cerr << "warning: " << path_ << ": skipped " << n << " " << what << "\n";
+    };
+    warn(skipped_modes_, "primitives that are not triangle lists");
+    warn(skipped_unpositioned_, "primitives without POSITION");
+    warn(skipped_cameras_, "orthographic cameras");
+    return std::move(scene_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
+
+  struct Span {
+    const unsigned char* data;
+    size_t size;
+    size_t stride;
+  };
+
+  Span buffer_view(int index, const std::string& user) const {
+    if (index < 0 || size_t(index) >= model_.bufferViews.size())
+      fail(user + " refers to bufferView " + str(index) + ", which does not exist");
+    const tinygltf::BufferView& bv = model_.bufferViews[size_t(index)];
+    if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size())
+      fail("bufferView " + str(index) + " refers to buffer " + str(bv.buffer) +
+           ", which does not exist");
+    const Bytes& buffer = model_.buffers[size_t(bv.buffer)].data;
+    if (bv.byteOffset > buffer.size() || bv.byteLength > buffer.size() - bv.byteOffset)
+      fail("bufferView " + str(index) + " overruns buffer " + str(bv.buffer) + " (needs " +
+           str(sat_add(bv.byteOffset, bv.byteLength)) + " bytes, has " + str(buffer.size()) + ")");
+    return {buffer.data() + bv.byteOffset, bv.byteLength, bv.byteStride};
+  }
+
+  // `bytes` tightly packed bytes at `offset` in bufferView `view` (sparse indices and values).
+  const unsigned char* region(int view, int offset, size_t bytes, const std::string& what) const {
+    Span span = buffer_view(view, what);
+    if (offset < 0) fail(what + " has a negative byteOffset");
+    if (size_t(offset) > span.size || bytes > span.size - size_t(offset))
+      fail(what + " overruns bufferView " + str(view) + " (needs " +
+           str(sat_add(size_t(offset), bytes)) + " bytes, has " + str(span.size) + ")");
+    return span.data + offset;
+  }
+
+  View view(int index, const std::string& role) const {
+    if (index < 0 || size_t(index) >= model_.accessors.size())
+      fail(role + " refers to accessor " + str(index) + ", which does not exist");
+    const tinygltf::Accessor& a = model_.accessors[size_t(index)];
+    std::string what = "accessor " + str(index) + " (" + role + ")";
+    View v;
+    v.count = a.count;
+    v.component_type = a.componentType;
+    v.components = a.type == TINYGLTF_TYPE_SCALAR ? 1 : (a.type >= 2 && a.type <= 4 ? a.type : 0);
+    size_t csize = component_size(a.componentType);
+    if (csize == 0)
+      fail(what + " has componentType " + str(a.componentType) + ", which glTF 2.0 does not allow");
+    if (v.components == 0) fail(what + " has a matrix type, which no vertex attribute uses");
+    size_t element = csize * size_t(v.components);
+    v.stride = element;
+
+    if (a.bufferView != -1) {
+      Span span = buffer_view(a.bufferView, what);
+      if (span.stride != 0) {
+        if (span.stride < element)
+          fail(what + " has " + str(element) + "-byte elements but bufferView " +
+               str(a.bufferView) + " has byteStride " + str(span.stride));
+        v.stride = span.stride;
+      }
+      // byteOffset + (count - 1) * stride + element, without wrapping: a huge count must fail
+      // here as an overrun, not allocate or read.
+      size_t needed = 0;
+      if (v.count > 0 && (__builtin_mul_overflow(v.count - 1, v.stride, &needed) ||
+                          __builtin_add_overflow(needed, element, &needed) ||
+                          __builtin_add_overflow(needed, a.byteOffset, &needed)))
+        needed = SIZE_MAX;
+      if (needed > span.size)
+        fail(what + " overruns bufferView " + str(a.bufferView) + " (needs " + str(needed) +
+             " bytes, has " + str(span.size) + ")");
+      v.data = span.data + (v.count > 0 ? a.byteOffset : 0);
+    } else {
+      // No bufferView: the spec says zeros (then patched by `sparse`). Nothing bounds the count.
+      size_t bytes = 0;
+      bool overflows = __builtin_mul_overflow(v.count, element, &bytes);
+      if (overflows || bytes > kMaxSynthesisedBytes)
+        fail(what + " has no bufferView and count " + str(v.count) + ": it would need " +
+             (overflows ? std::string("more than 2^64") : str(bytes)) + " bytes");
+      v.owned.assign(bytes, 0);
+      v.data = v.owned.data();
+    }
+    if (a.sparse.isSparse) apply_sparse(a, v, what);
+    return v;
+  }
+
+  void apply_sparse(const tinygltf::Accessor& a, View& v, const std::string& what) const {
+    const auto& s = a.sparse;
+    if (s.count < 0 || size_t(s.count) > v.count)
+      fail(what + " has sparse count " + str(s.count) + ", outside [0, " + str(v.count) + "]");
+    size_t element = component_size(v.component_type) * size_t(v.components);
+    if (a.bufferView != -1) {
+      // Patch a packed copy, never the file's buffer (other accessors may share it). The copy is no
+      // bigger than the bufferView, which was bounds-checked above.
+      Bytes dense(v.count * element);
+      for (size_t i = 0; i < v.count; ++i)
+        std::memcpy(&dense[i * element], v.data + i * v.stride, element);
+      v.owned = std::move(dense);
+      v.data = v.owned.data();
+      v.stride = element;
+    }
+    size_t index_size = component_size(s.indices.componentType);
+    if (!unsigned_index_type(s.indices.componentType))
+      fail(what + " has sparse indices of componentType " + str(s.indices.componentType) +
+           " (must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT)");
+    size_t n = size_t(s.count);
+    const unsigned char* indices = region(s.indices.bufferView, s.indices.byteOffset,
+                                          n * index_size, "the sparse index array of " + what);
+    const unsigned char* values = region(s.values.bufferView, s.values.byteOffset, n * element,
+                                         "the sparse value array of " + what);
+    for (size_t k = 0; k < n; ++k) {
+      uint32_t i = read_uint(indices + k * index_size, index_size);
+      if (i >= v.count)
+        fail(what + " has sparse index " + str(i) + ", past its count " + str(v.count));
+      std::memcpy(&v.owned[i * element], values + k * element, element);
+    }
+  }
+
+  // POSITION and NORMAL: FLOAT VEC3, copied out of their (possibly strided) view.
+  std::vector<glm::vec3> read_vec3(int accessor, const std::string& role) const {
+    View v = view(accessor, role);
+    if (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || v.components != 3)
+      fail("accessor " + str(accessor) + " (" + role + ") must be FLOAT VEC3 (componentType " +
+           str(v.component_type) + ", " + str(v.components) + " components)");
+    std::vector<glm::vec3> out(v.count);
+    for (size_t i = 0; i < v.count; ++i)
+      std::memcpy(&out[i], v.data + i * v.stride, sizeof(glm::vec3));
+    return out;
+  }
+
+  void load_materials() {
+    for (size_t i = 0; i < model_.materials.size(); ++i) {
+      const tinygltf::Material& src = model_.materials[i];
+      std::string what = "material " + str(i);
+      Material m;
+      m.name = src.name;
+      m.double_sided = src.doubleSided;
+      const auto& base = src.pbrMetallicRoughness.baseColorFactor;
+      const auto& emissive = src.emissiveFactor;
+      if (base.size() != 4)
+        fail(what + ": baseColorFactor has " + str(base.size()) + " numbers, not 4");
+      if (emissive.size() != 3)
+        fail(what + ": emissiveFactor has " + str(emissive.size()) + " numbers, not 3");
+      // The spec bounds the factors to [0, 1]; clamping keeps the albedo energy-conserving.
+      m.base_color = glm::clamp(glm::vec3(base[0], base[1], base[2]), 0.f, 1.f);
+      glm::vec3 emission = glm::clamp(glm::vec3(emissive[0], emissive[1], emissive[2]), 0.f, 1.f);
+      double strength = 1.0;
+      auto ext = src.extensions.find("KHR_materials_emissive_strength");
+      if (ext != src.extensions.end() && ext->second.IsObject() &&
+          ext->second.Has("emissiveStrength")) {
+        const tinygltf::Value& value = ext->second.Get("emissiveStrength");
+        strength = value.IsNumber() ? value.GetNumberAsDouble() : -1.0;
+        if (!(strength >= 0.0) || !std::isfinite(float(strength)))
+          fail(what +
+               ": KHR_materials_emissive_strength.emissiveStrength is not a finite number >= 0");
+      }
+      m.emission = emission * float(strength);
+      if (!finite(m.base_color) || !finite(m.emission))
+        fail(what + ": a colour factor is not finite");
+      scene_.materials.push_back(m);
+    }
+  }
+
+  uint32_t material_for(int index, const std::string& where) {
+    if (index == -1) {  // the glTF default material, appended once, only if used
+      if (default_material_ < 0) {
+        default_material_ = int(scene_.materials.size());
+        scene_.materials.push_back(Material{"default"});
+      }
+      return uint32_t(default_material_);
+    }
+    if (index < 0 || size_t(index) >= model_.materials.size())
+      fail(where + " refers to material " + str(index) + ", which does not exist (" +
+           str(model_.materials.size()) + " materials)");
+    return uint32_t(index);
+  }
+
+  glm::mat4 local_transform(int index) const {
+    const tinygltf::Node& n = model_.nodes[size_t(index)];
+    std::string what = "node " + str(index);
+    auto expect = [&](const std::vector<double>& v, size_t size, const char* name) {
+      if (!v.empty() && v.size() != size)
+        fail(what + ": " + name + " has " + str(v.size()) + " numbers, not " + str(size));
+      return !v.empty();
+    };
+    glm::mat4 m(1.f);
+    if (expect(n.matrix, 16, "matrix")) {
+      for (int i = 0; i < 16; ++i)
+        m[i / 4][i % 4] = float(n.matrix[size_t(i)]);  // both column-major
+      // glTF requires the bottom row to be 0 0 0 1; keep the transform affine whatever the file
+      // says.
+      m[0][3] = m[1][3] = m[2][3] = 0.f;
+      m[3][3] = 1.f;
+    } else {
+      glm::mat4 t(1.f), r(1.f), s(1.f);
+      if (expect(n.translation, 3, "translation"))
+        t[3] = glm::vec4(float(n.translation[0]), float(n.translation[1]), float(n.translation[2]),
+                         1.f);
+      if (expect(n.rotation, 4, "rotation")) {
+        glm::quat q(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]),
+                    float(n.rotation[2]));
+        float len = glm::length(q);
+        if (!(len > 0.f) || !std::isfinite(len))
+          fail(what + ": rotation is not a usable quaternion");
+        r = glm::mat4_cast(q / len);  // files round their unit quaternions; renormalise
+      }
+      if (expect(n.scale, 3, "scale"))
+        for (int axis = 0; axis < 3; ++axis) s[axis][axis] = float(n.scale[size_t(axis)]);
+      m = t * r * s;
+    }
+    for (int c = 0; c < 4; ++c)
+      if (!finite(glm::vec3(m[c]))) fail(what + ": transform is not finite");
+    return m;
+  }
+
+  // Depth-first, pre-order, with an explicit stack: deep trees cannot overflow the call stack, and
+  // a node reached twice (a cycle, two parents, or listed twice) is caught before it is pushed
+  // again.
+  void traverse(int scene) {
+    constexpr int kUnreached = -2, kRoot = -1;
+    std::vector<int> parent(model_.nodes.size(), kUnreached);
+    struct Pending {
+      int node;
+      glm::mat4 parent_world;
+    };
+    std::vector<Pending> stack;
+    auto push = [&](int child, int from, const glm::mat4& parent_world) {
+      std::string by = from == kRoot ? "scene " + str(scene) : "node " + str(from);
+      if (child < 0 || size_t(child) >= model_.nodes.size())
+        fail(by + " refers to node " + str(child) + ", which does not exist");
+      int& p = parent[size_t(child)];
+      if (p != kUnreached) {
+        for (int a = from; a >= 0; a = parent[size_t(a)])
+          if (a == child) fail("node " + str(child) + " is its own ancestor (cycle)");
+        std::string first = p == kRoot ? "scene " + str(scene) : "node " + str(p);
+        fail("node " + str(child) + " has two parents (" + first + " and " + by + ")");
+      }
+      p = from;
+      stack.push_back({child, parent_world});
+    };
+
+    const auto& roots = model_.scenes[size_t(scene)].nodes;
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) push(*it, kRoot, glm::mat4(1.f));
+    while (!stack.empty()) {
+      Pending item = stack.back();
+      stack.pop_back();
+      const tinygltf::Node& node = model_.nodes[size_t(item.node)];
+      ++scene_.node_count;
+      glm::mat4 world = item.parent_world * local_transform(item.node);
+      if (node.mesh != -1) add_mesh(node.mesh, world, item.node);
+      if (node.camera != -1) add_camera(node.camera, world, item.node);
+      for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
+        push(*it, item.node, world);
+    }
+  }
+
+  void add_mesh(int mesh, const glm::mat4& world, int node) {
+    if (mesh < 0 || size_t(mesh) >= model_.meshes.size())
+      fail("node " + str(node) + " refers to mesh " + str(mesh) + ", which does not exist");
+    bool first_instance = !mesh_seen_[size_t(mesh)];
+    mesh_seen_[size_t(mesh)] = true;
+    scene_.mesh_count += first_instance;
+
+    Transform xf{world, glm::mat3(1.f), false, node};
+    glm::mat3 linear(world);
+    // The cofactor matrix is det × inverse-transpose: always finite, even for a zero scale.
+    xf.normal = glm::mat3(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
+                          glm::cross(linear[0], linear[1]));
+    xf.flips = glm::determinant(linear) < 0.f;
+    if (xf.flips) xf.normal = -xf.normal;
+    for (size_t p = 0; p < model_.meshes[size_t(mesh)].primitives.size(); ++p)
+      add_primitive(mesh, int(p), xf, first_instance);
+  }
+
+  // Once one primitive has NORMAL, every triangle needs 3 normals: earlier ones get geometric
+  // normals.
+  void start_normals() {
+    keep_normals_ = true;
+    const Geometry& g = scene_.geometry;
+    normals_.reserve(3 * g.size());
+    for (size_t t = 0; t < g.size(); ++t)
+      normals_.insert(normals_.end(), 3,
+                      geometric_normal(g.vertex(t, 0), g.vertex(t, 1), g.vertex(t, 2)));
+  }
+
+  void add_primitive(int mesh, int index, const Transform& xf, bool first_instance) {
+    const tinygltf::Primitive& prim = model_.meshes[size_t(mesh)].primitives[size_t(index)];
+    std::string where = "mesh " + str(mesh) + " primitive " + str(index);
+    if (prim.mode != TINYGLTF_MODE_TRIANGLES) {
+      skipped_modes_ += first_instance;
+      return;
+    }
+    auto position = prim.attributes.find("POSITION");
+    if (position == prim.attributes.end()) {
+      skipped_unpositioned_ += first_instance;
+      return;
+    }
+    uint32_t material = material_for(prim.material, where);
+
+    std::vector<glm::vec3> points = read_vec3(position->second, "POSITION of " + where);
+    size_t vertex_count = points.size();
+    for (size_t i = 0; i < vertex_count; ++i) {
+      if (!finite(points[i]))
+        fail("accessor " + str(position->second) + " (POSITION of " + where + ") vertex " + str(i) +
+             " is not finite");
+      points[i] = glm::vec3(xf.world * glm::vec4(points[i], 1.f));
+      if (!finite(points[i]))
+        fail("node " + str(xf.node) + " puts vertex " + str(i) + " of " + where +
+             " at a non-finite position");
+    }
+
+    std::vector<glm::vec3> normals;
+    if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
+      normals = read_vec3(normal->second, "NORMAL of " + where);
+      if (normals.size() != vertex_count)
+        fail("accessor " + str(normal->second) + " (NORMAL of " + where + ") has " +
+             str(normals.size()) + " elements but POSITION has " + str(vertex_count));
+      for (glm::vec3& n : normals) n = xf.normal * n;  // normalised per corner below
+      if (!keep_normals_) start_normals();
+    }
+
+    std::vector<uint32_t> indices;
+    size_t corner_count = vertex_count;
+    if (prim.indices != -1) {
+      std::string role = "indices of " + where;
+      View v = view(prim.indices, role);
+      size_t size = component_size(v.component_type);
+      if (v.components != 1 || !unsigned_index_type(v.component_type))
+        fail("accessor " + str(prim.indices) + " (" + role +
+             ") must be an UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT SCALAR");
+      indices.resize(v.count);
+      for (size_t k = 0; k < v.count; ++k) {
+        indices[k] = read_uint(v.data + k * v.stride, size);
+        if (indices[k] >= vertex_count)
+          fail("accessor " + str(prim.indices) + " (" + role + ") element " + str(k) +
+               " is index " + str(indices[k]) + ", past the vertex count " + str(vertex_count));
+      }
+      corner_count = v.count;
+    }
+    size_t triangles = corner_count / 3;  // a trailing incomplete triangle is ignored
+    if (triangles > kMaxTriangles - scene_.geometry.size())
+      fail("has more than " + str(kMaxTriangles) + " triangles");
+
+    Geometry& geometry = scene_.geometry;
+    for (size_t t = 0; t < triangles; ++t) {
+      size_t c[3] = {3 * t, 3 * t + 1, 3 * t + 2};
+      if (!indices.empty())
+        for (size_t& k : c) k = indices[k];
+      // A mirrored instance turns counter-clockwise (front) into clockwise: swap back.
+      if (xf.flips) std::swap(c[1], c[2]);
+      const glm::vec3 &a = points[c[0]], &b = points[c[1]], &d = points[c[2]];
+      geometry.add(a, b, d, material);
+      if (keep_normals_) {
+        glm::vec3 g = geometric_normal(a, b, d);
+        for (size_t k : c) normals_.push_back(normals.empty() ? g : unit_or(normals[k], g));
+      }
+    }
+    scene_.primitive_count += first_instance;
+  }
+
+  void add_camera(int index, const glm::mat4& world, int node) {
+    if (index < 0 || size_t(index) >= model_.cameras.size())
+      fail("node " + str(node) + " refers to camera " + str(index) + ", which does not exist");
+    const tinygltf::Camera& src = model_.cameras[size_t(index)];
+    if (src.type != "perspective") {
+      ++skipped_cameras_;
+      return;
+    }
+    std::string what = "camera " + str(index);
+    Camera cam;
+    cam.name = src.name;
+    cam.yfov = float(src.perspective.yfov);
+    cam.aspect = float(src.perspective.aspectRatio);
+    cam.znear = float(src.perspective.znear);
+    if (!(cam.yfov > 0.f && cam.yfov < 3.14159f))
+      fail(what + ": yfov " + str(cam.yfov) + " is not in (0, pi)");
+    if (!(cam.aspect >= 0.f) || !std::isfinite(cam.aspect))
+      fail(what + ": aspectRatio is not a finite number >= 0");
+    if (!(cam.znear >= 0.f) || !std::isfinite(cam.znear))
+      fail(what + ": znear is not a finite number >= 0");
+
+    // Remove scale (and shear) with Gram-Schmidt, keeping the viewing axis (-Z) and then +Y.
+    glm::vec3 z = unit_or(glm::vec3(world[2]), glm::vec3(0.f));
+    glm::vec3 y =
+        unit_or(glm::vec3(world[1]) - glm::dot(glm::vec3(world[1]), z) * z, glm::vec3(0.f));
+    if (z == glm::vec3(0.f) || y == glm::vec3(0.f))
+      fail("node " + str(node) + " gives " + what + " a degenerate transform (zero scale)");
+    cam.to_world = glm::mat4(glm::vec4(glm::cross(y, z), 0.f), glm::vec4(y, 0.f), glm::vec4(z, 0.f),
+                             glm::vec4(glm::vec3(world[3]), 1.f));
+    scene_.cameras.push_back(cam);
+  }
+
+  const std::string& path_;
+  const tinygltf::Model& model_;
+  Scene scene_;
+  std::vector<glm::vec3> normals_;  // per corner; kept once any primitive has NORMAL
+  bool keep_normals_ = false;
+  int default_material_ = -1;
+  std::vector<bool> mesh_seen_;
+  size_t skipped_modes_ = 0, skipped_unpositioned_ = 0, skipped_cameras_ = 0;
+};
+
+}  // namespace
+
+Scene load_gltf(const std::string& path, const GltfOptions& options) {
+  try {
+    Bytes data = read_file(path);
+    tinygltf::Model model = parse(path, data);
+    data = Bytes();  // the GLB's BIN chunk was copied into model.buffers
+    return Loader(path, model).run(options.scene);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw Error(path + ": out of memory while loading");
+  } catch (const std::exception& e) {
+    throw Error(path + ": cannot be loaded: " + one_line(e.what()));
+  }
+}
+
+}  // namespace dacrt

@@ -1,0 +1,62 @@
+// Sampling building blocks: orthonormal frames, cosine-weighted hemisphere directions, uniform
+// points on triangles, and the power heuristic for multiple importance sampling.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
+
+#include <cmath>
+
+namespace dacrt {
+
+// An orthonormal basis around a unit normal (Duff et al., "Building an Orthonormal Basis,
+// Revisited", JCGT 2017): branch-free and continuous except at one pole.
+struct Frame {
+  glm::vec3 s, t, n;
+  explicit Frame(const glm::vec3& normal) : n(normal) {
+    float sign = std::copysign(1.f, n.z);
+    float a = -1.f / (sign + n.z), b = n.x * n.y * a;
+    s = glm::vec3(1.f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    t = glm::vec3(b, sign + n.y * n.y * a, -n.y);
+  }
+  glm::vec3 to_world(const glm::vec3& v) const { return v.x * s + v.y * t + v.z * n; }
+  glm::vec3 to_local(const glm::vec3& v) const {
+    return {glm::dot(v, s), glm::dot(v, t), glm::dot(v, n)};
+  }
+};
+
+// Cosine-weighted direction around +z from two uniforms (concentric disk mapping, Shirley-Chiu).
+inline glm::vec3 sample_cosine_hemisphere(float u1, float u2) {
+  float a = 2.f * u1 - 1.f, b = 2.f * u2 - 1.f;
+  float r = 0.f, phi = 0.f;
+  if (a != 0.f || b != 0.f) {
+    if (std::abs(a) > std::abs(b)) {
+      r = a, phi = glm::quarter_pi<float>() * (b / a);
+    } else {
+      r = b, phi = glm::half_pi<float>() - glm::quarter_pi<float>() * (a / b);
+    }
+  }
+  float x = r * std::cos(phi), y = r * std::sin(phi);
+  return {x, y, std::sqrt(std::max(0.f, 1.f - x * x - y * y))};
+}
+
+inline float cosine_hemisphere_pdf(float cos_theta) {
+  return cos_theta > 0.f ? cos_theta * glm::one_over_pi<float>() : 0.f;
+}
+
+// Barycentric weights (of corners 1 and 2) of a uniform point on a triangle.
+inline glm::vec2 sample_triangle(float u1, float u2) {
+  float s = std::sqrt(u1);
+  return {s * (1.f - u2), s * u2};
+}
+
+inline float power_heuristic(float pdf_a, float pdf_b) {
+  float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  return a + b > 0.f ? a / (a + b) : 0.f;
+}
+
+inline float luminance(const glm::vec3& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;  // Rec.709
+}
+
+}  // namespace dacrt
