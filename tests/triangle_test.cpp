@@ -109,7 +109,7 @@ TEST_CASE("a ray spawned from a hit never hits its own triangle again") {
   }
 }
 
-TEST_CASE("degenerate triangles never hit; barycentrics and t are right") {
+TEST_CASE("degenerate triangles never hit, and barycentrics and t are right") {
   Ray r = Ray::prepare(glm::vec3(0.25f, 0.25f, 1.f), glm::vec3(0, 0, -1), 1.f);
   TriangleHit h;
   glm::vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);

@@ -1,0 +1,165 @@
+// The dacrt command line as a user meets it: exit codes (0 ok, 1 error, 2 usage), one clear line
+// on stderr for bad input, and never an output file (or a temporary one) after a failure.
+#include "gltf_writer.h"
+#include "io/exr.h"
+
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace dacrt;
+using namespace dacrt::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  int code;
+  std::string err, out;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+Run run(const TempDir& dir, const std::string& args) {
+  std::string cmd = std::string(DACRT_CLI) + " " + args + " >" + (dir / "stdout.txt") + " 2>" +
+                    (dir / "stderr.txt") + " </dev/null";
+  int status = std::system(cmd.c_str());
+  Run r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "stderr.txt"),
+        slurp(dir / "stdout.txt")};
+  fs::remove(dir / "stdout.txt");
+  fs::remove(dir / "stderr.txt");
+  return r;
+}
+
+size_t lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
+
+// Nothing but the inputs in `dir`: no image, no preview, no stats, no temporary files.
+void check_no_outputs(const TempDir& dir) {
+  for (const auto& e : fs::directory_iterator(dir.path())) {
+    std::string name = e.path().filename().string();
+    CHECK_MESSAGE(name.find(".gltf") != std::string::npos, "left behind: " << name);
+  }
+}
+
+const std::string cornell = DACRT_SOURCE_DIR "/scenes/cornell-box.gltf";
+
+}  // namespace
+
+TEST_CASE("cli: help and usage errors") {
+  TempDir dir("cli-usage");
+  Run help = run(dir, "--help");
+  CHECK(help.code == 0);
+  CHECK(help.out.find("dacrt render SCENE") != std::string::npos);
+  Run render_help = run(dir, "render --help");
+  CHECK(render_help.code == 0);
+  for (const char* flag : {"--spp", "--backend", "--preview", "--environment", "--max-depth",
+                           "--seed", "--threads", "--quiet", "--stats", "--camera", "--integrator"})
+    CHECK_MESSAGE(render_help.out.find(flag) != std::string::npos, flag);
+  for (const char* args : {"", "frobnicate", "render", "render " DACRT_SOURCE_DIR
+                           "/scenes/cornell-box.gltf --spp many",
+                           "render x.gltf --spp 0", "render x.gltf --width", "render x.gltf --bogus",
+                           "render x.gltf --environment 1,2", "render x.gltf --environment 1,nan,1",
+                           "render a.gltf b.gltf", "info"}) {
+    Run r = run(dir, args);
+    INFO(args << " → " << r.err);
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) >= 1);
+  }
+}
+
+TEST_CASE("cli: bad scenes fail with one line naming the file, and write nothing") {
+  TempDir dir("cli-bad");
+  std::vector<std::pair<std::string, std::string>> cases;  // file, word the message must hold
+  write_text(dir / "not-json.gltf", "{ this is not json");
+  cases.push_back({"not-json.gltf", "JSON"});
+  {
+    GltfWriter w;
+    w.add_triangles({{0, 0, 0}, {1, std::nanf(""), 0}, {0, 1, 0}});
+    w.write_gltf(dir / "nan.gltf");
+    cases.push_back({"nan.gltf", "finite"});
+  }
+  {
+    GltfWriter w;
+    int node = w.add_triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    w.doc["nodes"][node]["children"] = {node};
+    w.write_gltf(dir / "cycle.gltf");
+    cases.push_back({"cycle.gltf", "node"});
+  }
+  {
+    GltfWriter w;
+    w.add_triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    w.write_gltf(dir / "missing-buffer.gltf", false);
+    fs::remove(dir / "missing-buffer.bin");
+    cases.push_back({"missing-buffer.gltf", "buffer"});
+  }
+  cases.push_back({"does-not-exist.gltf", "does-not-exist.gltf"});
+  for (const auto& [file, word] : cases) {
+    Run r = run(dir, "render " + (dir / file) + " -o " + (dir / "out.exr") + " --preview " +
+                         (dir / "out.png") + " --stats " + (dir / "out.json") + " --spp 1");
+    INFO(file << " → " << r.err);
+    CHECK(r.code == 1);
+    CHECK(lines(r.err) == 1);
+    CHECK(r.err.find(file) != std::string::npos);
+    CHECK(r.err.find(word) != std::string::npos);
+    check_no_outputs(dir);
+    Run info = run(dir, "info " + (dir / file));
+    CHECK(info.code == 1);
+    CHECK(lines(info.err) == 1);
+  }
+}
+
+TEST_CASE("cli: an unwritable output fails before rendering, and names the path") {
+  TempDir dir("cli-unwritable");
+  Run r = run(dir, "render " + cornell + " -o " + (dir / "no/such/dir/x.exr") + " --spp 1");
+  CHECK(r.code == 1);
+  CHECK(lines(r.err) == 1);
+  CHECK(r.err.find("no/such/dir") != std::string::npos);
+  Run bad_backend = run(dir, "render " + cornell + " -o " + (dir / "x.exr") + " --backend warp");
+  CHECK(bad_backend.code == 1);
+  CHECK(bad_backend.err.find("warp") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "x.exr"));
+}
+
+TEST_CASE("cli: render writes the EXR, the preview and the statistics") {
+  TempDir dir("cli-render");
+  Run r = run(dir, "render " + cornell + " -o " + (dir / "cb.exr") + " --preview " +
+                       (dir / "cb.png") + " --stats " + (dir / "cb.json") +
+                       " --width 24 --height 20 --spp 4 --quiet --threads 2");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.err.empty());  // --quiet
+  Image img = read_exr(dir / "cb.exr");
+  CHECK(img.width == 24);
+  CHECK(img.height == 20);
+  double sum = 0;
+  for (float v : img.rgb) sum += v;
+  CHECK(sum > 0.0);
+  CHECK(fs::file_size(dir / "cb.png") > 0);
+  auto stats = nlohmann::json::parse(slurp(dir / "cb.json"));
+  CHECK(stats["spp"] == 4);
+  CHECK(stats["backend"] == "dacrt");
+  CHECK(stats["rays"]["primary"]["rays"] == 24 * 20 * 4);
+  CHECK(stats["rays"]["shadow"]["rays"].get<uint64_t>() > 0);
+  CHECK(stats["rays"]["bounce"]["rays"].get<uint64_t>() > 0);
+  // Without --quiet there is a summary with rays/s per ray type.
+  Run loud = run(dir, "render " + cornell + " -o " + (dir / "cb2.exr") + " --width 8 --height 8 --spp 1");
+  CHECK(loud.code == 0);
+  CHECK(loud.err.find("Mrays/s") != std::string::npos);
+  // info describes the scene.
+  Run info = run(dir, "info " + cornell);
+  CHECK(info.code == 0);
+  CHECK(info.out.find("triangles  32") != std::string::npos);
+  CHECK(info.out.find("lights     2 emissive triangles") != std::string::npos);
+}

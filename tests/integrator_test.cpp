@@ -1,0 +1,159 @@
+// The path tracer on scenes with known answers: a closed furnace box and a white sphere under a
+// uniform environment both render 1 everywhere. Checked per pixel against each pixel's own
+// standard error, not against a hand-picked tolerance.
+#include "integrators/integrator.h"
+#include "test_geometry.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+using namespace dacrt;
+using namespace dacrt::test;
+
+namespace {
+
+// An axis-aligned box from -1 to 1, wound so its faces point inwards.
+Geometry inward_box() {
+  Geometry g;
+  const glm::vec3 c[8] = {{-1, -1, -1}, {1, -1, -1}, {-1, 1, -1}, {1, 1, -1},
+                          {-1, -1, 1},  {1, -1, 1},  {-1, 1, 1},  {1, 1, 1}};
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 2, 6, 4},
+                           {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}};
+  for (const auto& f : faces) {
+    g.add(c[f[0]], c[f[1]], c[f[2]], 0);
+    g.add(c[f[0]], c[f[2]], c[f[3]], 0);
+  }
+  return g;
+}
+
+Camera looking_at(const glm::vec3& eye, const glm::vec3& target, float yfov) {
+  Camera cam;
+  cam.yfov = yfov;
+  cam.to_world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
+  return cam;
+}
+
+struct Result {
+  Film film;
+  RenderStats stats;
+};
+
+Result render(const Scene& scene, RenderSettings s, const char* backend = "dacrt") {
+  auto b = Backend::create(backend, scene.geometry);
+  auto integrator = Integrator::create("path", scene, *b, s);
+  Film film(s.width, s.height);
+  Progress quiet("test", 1, false);
+  integrator->render(film, quiet);
+  return {std::move(film), integrator->stats()};
+}
+
+// Every pixel within z standard errors of `expected` (z = 5: a false alarm over a few thousand
+// pixels has probability ~1e-3), and the image mean within 4 of its own standard error.
+void check_renders(const Film& film, double expected, double z = 5.0) {
+  double sum = 0.0, var = 0.0;
+  size_t outliers = 0;
+  for (size_t p = 0; p < film.pixels(); ++p) {
+    glm::dvec2 m = film.mean_and_error(p);
+    sum += m.x;
+    var += m.y * m.y;
+    if (std::abs(m.x - expected) > z * m.y + 1e-5) {
+      if (++outliers <= 3) MESSAGE("pixel " << p << ": " << m.x << " ± " << m.y);
+    }
+  }
+  double mean = sum / film.pixels(), error = std::sqrt(var) / film.pixels();
+  INFO("image mean " << mean << " ± " << error);
+  CHECK(outliers == 0);
+  CHECK(std::abs(mean - expected) <= 4.0 * error + 1e-5);
+}
+
+}  // namespace
+
+TEST_CASE("furnace: inside a closed box of albedo 0.5 and emission 0.5, everything is 1") {
+  Scene scene;
+  scene.geometry = inward_box();
+  Material wall;
+  wall.base_color = glm::vec3(0.5f);
+  wall.emission = glm::vec3(0.5f);
+  scene.materials = {wall};
+  scene.cameras = {looking_at(glm::vec3(0.2f, -0.1f, 0.3f), glm::vec3(1, 0.3f, -1), 1.4f)};
+  RenderSettings s;
+  s.width = 24, s.height = 16, s.spp = 64, s.seed = 3;
+  Result r = render(scene, s);
+  check_renders(r.film, 1.0);
+  CHECK(r.stats.by_type[size_t(RayType::shadow)].rays > 0);
+  CHECK(r.stats.dropped_samples == 0);
+  // Faces pointing away do not emit: from outside, the box is black but for what it reflects of
+  // a black world.
+  scene.cameras = {looking_at(glm::vec3(3, 2, 4), glm::vec3(0), 0.8f)};
+  s.spp = 4;
+  Result outside = render(scene, s);
+  for (size_t p = 0; p < outside.film.pixels(); ++p) CHECK(outside.film.mean_and_error(p).x == 0.0);
+}
+
+TEST_CASE("furnace: a white diffuse sphere under a uniform environment of 1 renders 1") {
+  Scene scene;
+  scene.geometry = sphere(32, 64, glm::vec3(0.f), 1.f);
+  scene.materials = {Material{}};  // base colour 1, not emissive
+  scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
+  RenderSettings s;
+  s.width = 32, s.height = 32, s.spp = 16, s.environment = glm::vec3(1.f);
+  Result r = render(scene, s);
+  check_renders(r.film, 1.0);
+  // Nothing emits: no shadow rays at all, and the render says so.
+  CHECK(r.stats.by_type[size_t(RayType::shadow)].rays == 0);
+  REQUIRE(r.stats.skipped.size() == 1);
+  CHECK(r.stats.skipped[0].find("shadow") != std::string::npos);
+  // An albedo of 0.5 lets through half per bounce: a convex sphere sends every bounce ray to the
+  // sky, so the sphere's pixels are 0.5 and the background 1.
+  scene.materials[0].base_color = glm::vec3(0.5f);
+  Result half = render(scene, s);
+  size_t centre = size_t(16) * 32 + 16;
+  CHECK(half.film.mean_and_error(centre).x == doctest::Approx(0.5).epsilon(1e-5));
+  CHECK(half.film.mean_and_error(0).x == doctest::Approx(1.0));
+}
+
+TEST_CASE("renders are deterministic: same image for any backend and wavefront size") {
+  Scene scene;
+  scene.geometry = inward_box();
+  Material wall;
+  wall.base_color = glm::vec3(0.7f, 0.5f, 0.3f);
+  scene.materials = {wall, wall};
+  scene.materials[1].emission = glm::vec3(2.f);
+  for (size_t i = 0; i < 2; ++i) scene.geometry.material[i] = 1;  // one face emits
+  scene.cameras = {looking_at(glm::vec3(0.f), glm::vec3(0, 0, -1), 1.2f)};
+  RenderSettings s;
+  s.width = 16, s.height = 12, s.spp = 8, s.seed = 9;
+  Result a = render(scene, s, "dacrt");
+  s.wavefront = 100;
+  Result b = render(scene, s, "brute");
+  Image ia = a.film.resolve(), ib = b.film.resolve();
+  CHECK(ia.rgb == ib.rgb);
+  s.seed = 10;
+  Result c = render(scene, s, "dacrt");
+  CHECK(c.film.resolve().rgb != ia.rgb);
+  // The statistics count each ray type.
+  CHECK(a.stats.by_type[size_t(RayType::primary)].rays == 16u * 12u * 8u);
+  CHECK(a.stats.paths == 16u * 12u * 8u);
+  CHECK(a.stats.by_type[size_t(RayType::bounce)].rays > 0);
+}
+
+TEST_CASE("max depth 0 shows emitters only, and unknown integrators and cameras are errors") {
+  Scene scene;
+  scene.geometry = inward_box();
+  Material wall;
+  wall.base_color = glm::vec3(0.9f);
+  wall.emission = glm::vec3(0.25f);
+  scene.materials = {wall};
+  scene.cameras = {looking_at(glm::vec3(0.f), glm::vec3(0, 0, -1), 1.f)};
+  RenderSettings s;
+  s.width = s.height = 8, s.spp = 2, s.max_depth = 0;
+  Result r = render(scene, s);
+  for (size_t p = 0; p < r.film.pixels(); ++p)
+    CHECK(r.film.mean_and_error(p).x == doctest::Approx(0.25));
+  CHECK(r.stats.by_type[size_t(RayType::bounce)].rays == 0);
+  auto b = Backend::create("dacrt", scene.geometry);
+  CHECK_THROWS_AS(Integrator::create("nope", scene, *b, s), Error);
+  s.camera = 1;
+  CHECK_THROWS_AS(Integrator::create("path", scene, *b, s), Error);
+}
