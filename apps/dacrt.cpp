@@ -1,18 +1,8 @@
 // dacrt: the command-line front end. `dacrt render` path-traces a glTF scene to OpenEXR (plus an
 // sRGB PNG preview), `dacrt info` describes a scene. Exit codes: 0 success, 1 error (one line on
 // stderr naming the file and what is wrong), 2 usage error.
-#include "integrators/integrator.h"
-#include "io/color.h"
-#include "io/exr.h"
-#include "io/gltf.h"
-#include "tracer/backend.h"
-#include "util/error.h"
-#include "util/progress.h"
-
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
-
 #include <unistd.h>
 
 #include <chrono>
@@ -23,9 +13,19 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "integrators/integrator.h"
+#include "io/color.h"
+#include "io/exr.h"
+#include "io/gltf.h"
+#include "tracer/backend.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+#include "util/progress.h"
 
 namespace fs = std::filesystem;
 using namespace dacrt;
@@ -101,8 +101,8 @@ glm::vec3 parse_rgb(const std::string& flag, const std::string& text) {
     float v = std::strtof(part.c_str(), &end);
     if (part.empty() || *end != '\0' || !std::isfinite(v) || v < 0.f ||
         (k < 2) != (comma != std::string::npos))
-      throw UsageError(flag + " wants R,G,B with three finite non-negative numbers, got '" +
-                       text + "'");
+      throw UsageError(flag + " wants R,G,B with three finite non-negative numbers, got '" + text +
+                       "'");
     c[k] = v;
     rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
   }
@@ -120,30 +120,48 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
     if (a == "-h" || a == "--help") {
       std::fputs(render_help, stdout);
       std::exit(0);
-    } else if (a == "-o" || a == "--output") r.output = value();
-    else if (a == "--preview") r.preview = value();
-    else if (a == "--stats") r.stats = value();
-    else if (a == "--spp") r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
-    else if (a == "--width") r.width = int(parse_int(a, value(), 1, 1 << 15));
-    else if (a == "--height") r.height = int(parse_int(a, value(), 1, 1 << 15));
-    else if (a == "--camera") r.settings.camera = int(parse_int(a, value(), 0, 1 << 20));
-    else if (a == "--backend") r.backend = value();
+    } else if (a == "-o" || a == "--output")
+      r.output = value();
+    else if (a == "--preview")
+      r.preview = value();
+    else if (a == "--stats")
+      r.stats = value();
+    else if (a == "--spp")
+      r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
+    else if (a == "--width")
+      r.width = int(parse_int(a, value(), 1, 1 << 15));
+    else if (a == "--height")
+      r.height = int(parse_int(a, value(), 1, 1 << 15));
+    else if (a == "--camera")
+      r.settings.camera = int(parse_int(a, value(), 0, 1 << 20));
+    else if (a == "--backend")
+      r.backend = value();
     else if (a == "--backend-option") {
       try {
         r.backend_options.parse(value());
       } catch (const Error& e) {
         throw UsageError(std::string("--backend-option: ") + e.what());
       }
-    } else if (a == "--integrator") r.integrator = value();
-    else if (a == "--environment") r.environment = parse_rgb(a, value());
-    else if (a == "--max-depth") r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
-    else if (a == "--seed") r.settings.seed = uint64_t(parse_int(a, value(), 0, LONG_MAX));
-    else if (a == "--threads") r.threads = int(parse_int(a, value(), 1, 1024));
-    else if (a == "--wavefront") r.settings.wavefront = size_t(parse_int(a, value(), 1, 1L << 26));
-    else if (a == "--quiet") r.quiet = true;
-    else if (!a.empty() && a[0] == '-') throw UsageError("unknown option " + a);
-    else if (r.scene.empty()) r.scene = a;
-    else throw UsageError("unexpected argument '" + a + "' (one scene at a time)");
+    } else if (a == "--integrator")
+      r.integrator = value();
+    else if (a == "--environment")
+      r.environment = parse_rgb(a, value());
+    else if (a == "--max-depth")
+      r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
+    else if (a == "--seed")
+      r.settings.seed = uint64_t(parse_int(a, value(), 0, LONG_MAX));
+    else if (a == "--threads")
+      r.threads = int(parse_int(a, value(), 1, 1024));
+    else if (a == "--wavefront")
+      r.settings.wavefront = size_t(parse_int(a, value(), 1, 1L << 26));
+    else if (a == "--quiet")
+      r.quiet = true;
+    else if (!a.empty() && a[0] == '-')
+      throw UsageError("unknown option " + a);
+    else if (r.scene.empty())
+      r.scene = a;
+    else
+      throw UsageError("unexpected argument '" + a + "' (one scene at a time)");
   }
   if (r.scene.empty()) throw UsageError("render needs a SCENE");
   if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
@@ -161,26 +179,6 @@ void check_writable(const std::string& path) {
   if (fs::is_directory(path, ec)) throw Error(path + ": cannot write: it is a directory");
   if (::access(dir.c_str(), W_OK) != 0)
     throw Error(path + ": cannot write: directory " + dir.string() + " is not writable");
-}
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-  std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw Error(path + ": cannot write");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error(path + ": cannot write: " + ec.message());
-  }
 }
 
 bool has_emitters(const Scene& scene) {
@@ -209,16 +207,20 @@ int render(const std::vector<std::string>& args) {
 
   RenderSettings& s = r.settings;
   if (s.camera >= int(scene.cameras.size()))
-    throw Error(r.scene + ": camera " + std::to_string(s.camera) + " does not exist (the scene has " +
-                std::to_string(scene.cameras_from_file) + ")");
+    throw Error(r.scene + ": camera " + std::to_string(s.camera) +
+                " does not exist (the scene has " + std::to_string(scene.cameras_from_file) + ")");
   const float aspect = scene.cameras[s.camera].aspect;
   if (r.width && r.height) {
     s.width = *r.width, s.height = *r.height;
   } else if (aspect > 0.f) {
-    if (r.width) s.width = *r.width, s.height = std::max(1, int(std::lround(*r.width / aspect)));
-    else if (r.height) s.height = *r.height, s.width = std::max(1, int(std::lround(*r.height * aspect)));
-    else if (aspect >= 1.f) s.width = 512, s.height = std::max(1, int(std::lround(512 / aspect)));
-    else s.height = 512, s.width = std::max(1, int(std::lround(512 * aspect)));
+    if (r.width)
+      s.width = *r.width, s.height = std::max(1, int(std::lround(*r.width / aspect)));
+    else if (r.height)
+      s.height = *r.height, s.width = std::max(1, int(std::lround(*r.height * aspect)));
+    else if (aspect >= 1.f)
+      s.width = 512, s.height = std::max(1, int(std::lround(512 / aspect)));
+    else
+      s.height = 512, s.width = std::max(1, int(std::lround(512 * aspect)));
   } else {
     s.width = r.width.value_or(r.height.value_or(512));
     s.height = r.height.value_or(r.width.value_or(512));
@@ -228,11 +230,13 @@ int render(const std::vector<std::string>& args) {
   } else if (!has_emitters(scene)) {
     s.environment = glm::vec3(1.f);
     if (!r.quiet)
-      std::fprintf(stderr, "%s: the scene has no emitters: lighting it with a uniform environment of 1\n",
+      std::fprintf(stderr,
+                   "%s: the scene has no emitters: lighting it with a uniform environment of 1\n",
                    r.scene.c_str());
   }
   if (!r.quiet && scene.cameras_from_file == 0)
-    std::fprintf(stderr, "%s: no camera in the file: framing the scene's bounds\n", r.scene.c_str());
+    std::fprintf(stderr, "%s: no camera in the file: framing the scene's bounds\n",
+                 r.scene.c_str());
 
   r.backend_options.threads = r.threads;
   auto backend = Backend::create(r.backend, scene.geometry, r.backend_options);
@@ -254,21 +258,33 @@ int render(const std::vector<std::string>& args) {
 
   if (!r.stats.empty()) {
     Stats b = backend->stats();
-    nlohmann::json j = {
-        {"scene", r.scene}, {"triangles", scene.geometry.size()}, {"width", s.width},
-        {"height", s.height}, {"spp", s.spp}, {"backend", r.backend}, {"integrator", r.integrator},
-        {"threads", tbb::this_task_arena::max_concurrency()}, {"load_seconds", load_seconds},
-        {"render_seconds", stats.seconds}, {"paths", stats.paths},
-        {"dropped_samples", stats.dropped_samples}, {"skipped", stats.skipped},
-        {"backend_stats",
-         {{"rays", b.rays}, {"triangle_tests", b.triangle_tests}, {"box_tests", b.box_tests},
-          {"nodes", b.nodes}, {"leaves", b.leaves}, {"filter_skips", b.filter_skips},
-          {"build_seconds", b.build_seconds}, {"peak_bytes", b.peak_bytes}}}};
+    nlohmann::json j = {{"scene", r.scene},
+                        {"triangles", scene.geometry.size()},
+                        {"width", s.width},
+                        {"height", s.height},
+                        {"spp", s.spp},
+                        {"backend", r.backend},
+                        {"integrator", r.integrator},
+                        {"threads", tbb::this_task_arena::max_concurrency()},
+                        {"load_seconds", load_seconds},
+                        {"render_seconds", stats.seconds},
+                        {"paths", stats.paths},
+                        {"dropped_samples", stats.dropped_samples},
+                        {"skipped", stats.skipped},
+                        {"backend_stats",
+                         {{"rays", b.rays},
+                          {"triangle_tests", b.triangle_tests},
+                          {"box_tests", b.box_tests},
+                          {"nodes", b.nodes},
+                          {"leaves", b.leaves},
+                          {"filter_skips", b.filter_skips},
+                          {"build_seconds", b.build_seconds},
+                          {"peak_bytes", b.peak_bytes}}}};
     for (int t = 0; t < ray_type_count; ++t)
       j["rays"][std::string(to_string(RayType(t)))] = to_json(stats.by_type[t]);
     j["bounces"] = nlohmann::json::array();
     for (const auto& bounce : stats.by_bounce) j["bounces"].push_back(to_json(bounce));
-    write_text_atomically(r.stats, j.dump(2) + "\n");
+    write_atomically(r.stats, "statistics", [&](std::ofstream& out) { out << j.dump(2) << "\n"; });
   }
 
   if (!r.quiet) {
@@ -281,7 +297,8 @@ int render(const std::vector<std::string>& args) {
                      std::string(to_string(RayType(t))).c_str(), (unsigned long long)rt.rays,
                      rt.seconds, rt.rays_per_second() * 1e-6);
     }
-    for (const auto& skipped : stats.skipped) std::fprintf(stderr, "  skipped: %s\n", skipped.c_str());
+    for (const auto& skipped : stats.skipped)
+      std::fprintf(stderr, "  skipped: %s\n", skipped.c_str());
     if (stats.dropped_samples)
       std::fprintf(stderr, "  warning: %llu samples were NaN or inf and were dropped\n",
                    (unsigned long long)stats.dropped_samples);
@@ -314,7 +331,8 @@ int info(const std::vector<std::string>& args) {
     glm::vec3 p = cam.position();
     std::printf("  camera %zu %s: position (%g, %g, %g), yfov %.1f°, aspect %s\n", c,
                 cam.name.empty() ? "(unnamed)" : cam.name.c_str(), p.x, p.y, p.z,
-                cam.yfov * 180.0 / M_PI, cam.aspect > 0 ? std::to_string(cam.aspect).c_str() : "from image");
+                cam.yfov * 180.0 / M_PI,
+                cam.aspect > 0 ? std::to_string(cam.aspect).c_str() : "from image");
   }
   if (b.empty())
     std::printf("bounds     empty\n");

@@ -1,38 +1,29 @@
 #include "integrators/integrator.h"
 
-#include "util/error.h"
-
 #include <cmath>
-#include <map>
+
+#include "util/registry.h"
 
 namespace dacrt {
 
 namespace {
-std::map<std::string, Integrator::Factory, std::less<>>& registry() {
-  static std::map<std::string, Integrator::Factory, std::less<>> r;
+Registry<Integrator::Factory>& registry() {
+  static Registry<Integrator::Factory> r("integrator");
   return r;
 }
 }  // namespace
 
 Integrator::Registration::Registration(std::string name, Factory factory) {
-  registry()[std::move(name)] = std::move(factory);
+  registry().add(std::move(name), std::move(factory));
 }
 
 std::vector<std::string> Integrator::names() {
-  std::vector<std::string> out;
-  for (const auto& [name, factory] : registry()) out.push_back(name);
-  return out;
+  return registry().names();
 }
 
 std::unique_ptr<Integrator> Integrator::create(std::string_view name, const Scene& scene,
                                                Backend& backend, const RenderSettings& settings) {
-  auto it = registry().find(name);
-  if (it == registry().end()) {
-    std::string list;
-    for (const auto& n : names()) list += (list.empty() ? "" : ", ") + n;
-    throw Error("unknown integrator '" + std::string(name) + "' (available: " + list + ")");
-  }
-  return it->second(scene, backend, settings);
+  return registry().find(name)(scene, backend, settings);
 }
 
 void camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,

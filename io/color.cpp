@@ -19,6 +19,7 @@
 #include <mutex>
 #include <system_error>
 
+#include "util/atomic_file.h"
 #include "util/error.h"
 
 namespace OCIO = OCIO_NAMESPACE;
@@ -135,44 +136,6 @@ float sanitize_display(float v) {
   return std::clamp(v, 0.f, 1.f);
 }
 
-// Writes `bytes` to `path` through a temporary name in the same directory and a rename.
-void write_file_atomically(const std::string& path, const std::vector<unsigned char>& bytes,
-                           const char* what) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path dir = target.parent_path();
-  std::error_code ec;
-  if (!dir.empty() && !fs::exists(dir, ec))
-    throw Error(std::string("cannot write ") + what + " '" + path + "': directory '" +
-                dir.string() + "' does not exist");
-  if (!dir.empty() && !fs::is_directory(dir, ec))
-    throw Error(std::string("cannot write ") + what + " '" + path + "': '" + dir.string() +
-                "' is not a directory");
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  {
-    errno = 0;
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      const int err = errno;
-      throw Error(std::string("cannot write ") + what + " '" + path + "': cannot create '" + tmp +
-                  "'" + (err ? " (" + std::generic_category().message(err) + ")" : std::string()));
-    }
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    out.close();
-    if (!out) {
-      fs::remove(tmp, ec);
-      throw Error(std::string("cannot write ") + what + " '" + path + "': write to '" + tmp +
-                  "' failed (disk full?)");
-    }
-  }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error(std::string("cannot write ") + what + " '" + path + "': " + ec.message());
-  }
-}
-
 }  // namespace
 
 std::vector<float> to_display(const Image& image) {
@@ -215,7 +178,9 @@ void write_preview_png(const std::string& path, const Image& image) {
   if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, pixels.data(),
                               3 * image.width))
     throw Error("cannot write PNG '" + path + "': encoding failed");
-  write_file_atomically(path, png, "PNG");
+  write_atomically(path, "PNG", [&](std::ofstream& out) {
+    out.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
+  });
 }
 
 }  // namespace dacrt

@@ -23,6 +23,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "util/atomic_file.h"
 #include "util/error.h"
 
 namespace dacrt {
@@ -82,40 +83,10 @@ void write_exr(const std::string& path, const Image& image, const ExrMetadata& m
                                 std::to_string(image.width) + "x" + std::to_string(image.height) +
                                 " pixels");
 
-  const fs::path target(path);
-  const fs::path dir = target.parent_path();
-  std::error_code ec;
-  if (!dir.empty() && !fs::exists(dir, ec))
-    throw write_error(path, "directory '" + dir.string() + "' does not exist");
-  if (!dir.empty() && !fs::is_directory(dir, ec))
-    throw write_error(path, "'" + dir.string() + "' is not a directory");
-
   const Imf::Header header = make_header(path, image, metadata);
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  auto fail = [&](const std::string& reason) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    return write_error(path, reason);
-  };
-
-  errno = 0;
-  std::ofstream stream(tmp, std::ios::binary | std::ios::trunc);
-  if (!stream) {
-    const int err = errno;
-    throw write_error(path, "cannot create '" + tmp + "'" +
-                                (err ? " (" + std::generic_category().message(err) + ")" : ""));
-  }
-  try {
-    write_scanlines(stream, tmp, header, image);  // OutputFile's destructor writes the offsets
-  } catch (const std::exception& e) {
-    stream.close();
-    throw fail(one_line(e.what()));
-  }
-  stream.close();
-  if (!stream) throw fail("writing '" + tmp + "' failed (disk full?)");
-
-  fs::rename(tmp, target, ec);
-  if (ec) throw fail(ec.message());
+  // OutputFile's destructor writes the line offsets; the stream is checked after that.
+  write_atomically(path, "EXR",
+                   [&](std::ofstream& stream) { write_scanlines(stream, path, header, image); });
 }
 
 Image read_exr(const std::string& path) {
