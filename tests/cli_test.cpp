@@ -1,6 +1,7 @@
 // The dacrt command line as a user meets it: exit codes (0 ok, 1 error, 2 usage), one clear line
 // on stderr for bad input, and never an output file (or a temporary one) after a failure.
 #include "gltf_writer.h"
+#include "test_geometry.h"
 #include "io/exr.h"
 
 #include <doctest/doctest.h>
@@ -162,4 +163,32 @@ TEST_CASE("cli: render writes the EXR, the preview and the statistics") {
   CHECK(info.code == 0);
   CHECK(info.out.find("triangles  32") != std::string::npos);
   CHECK(info.out.find("lights     2 emissive triangles") != std::string::npos);
+}
+
+TEST_CASE("cli: a white sphere under --environment 1,1,1 renders 1 everywhere") {
+  TempDir dir("cli-furnace");
+  Geometry g = sphere(24, 48, glm::vec3(0.f), 1.f);
+  std::vector<glm::vec3> positions;
+  for (size_t i = 0; i < g.size(); ++i)
+    for (int c = 0; c < 3; ++c) positions.push_back(g.vertex(i, c));
+  GltfWriter w;
+  w.add_triangles(positions);
+  w.write_glb(dir / "sphere.glb");
+  Run r = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "sphere.exr") +
+                       " --environment 1,1,1 --width 16 --height 16 --spp 4 --quiet");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  Image img = read_exr(dir / "sphere.exr");
+  size_t off = 0;
+  for (float v : img.rgb) off += std::abs(v - 1.f) > 1e-5f;
+  CHECK(off == 0);
+  // Without --environment the same scene is black where nothing emits: the default is 1 only
+  // because the scene has no emitters, and the render says so.
+  Run loud = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "sphere2.exr") +
+                          " --width 4 --height 4 --spp 1");
+  CHECK(loud.err.find("no emitters") != std::string::npos);
+  Run black = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "sphere3.exr") +
+                           " --environment 0,0,0 --width 4 --height 4 --spp 1 --quiet");
+  REQUIRE(black.code == 0);
+  for (float v : read_exr(dir / "sphere3.exr").rgb) CHECK(v == 0.f);
 }
