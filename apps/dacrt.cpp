@@ -61,7 +61,7 @@ Light transport
   --seed S                   random seed (default 0)
 Ray tracing
   --backend NAME             dacrt (default), dacrt-naive, brute
-  --backend-option KEY=VALUE backend setting, repeatable (dacrt: bins, leaf_rays, leaf_triangles,
+  --backend-option KEY=VALUE backend setting, repeatable (dacrt: bins, leaf_rays, leaf_work, leaf_triangles,
                              sample_size, sample_threshold, filter_skip, cost_traversal, cost_intersect)
   --wavefront N              live paths per wavefront (default 524288)
   --threads T                worker threads (default: all cores)

@@ -95,6 +95,8 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
   std::vector<std::vector<std::pair<const char*, const char*>>> settings = {
       {{"bins", "2"}},
       {{"bins", "64"}, {"leaf_rays", "1"}, {"leaf_triangles", "1"}},
+      {{"leaf_rays", "100000"}, {"leaf_work", "1"}},         // split down to single triangles
+      {{"leaf_rays", "64"}, {"leaf_work", "100000000"}},     // few-ray leaves of any size
       {{"filter_skip", "0"}},    // never filter
       {{"filter_skip", "1.5"}},  // always filter
       {{"sample_size", "1"}, {"sample_threshold", "1"}},

@@ -21,7 +21,7 @@ namespace dacrt {
 
 const std::set<std::string, std::less<>>& DacrtParams::keys() {
   static const std::set<std::string, std::less<>> k = {
-      "bins", "leaf_rays", "leaf_triangles", "sample_size", "sample_threshold", "filter_skip",
+      "bins", "leaf_rays", "leaf_work", "leaf_triangles", "sample_size", "sample_threshold", "filter_skip",
       "cost_traversal", "cost_intersect", "seed", "max_depth"};
   return k;
 }
@@ -31,6 +31,7 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.sampling = sampling;
   p.bins = o.get("bins", p.bins);
   p.leaf_rays = o.get("leaf_rays", p.leaf_rays);
+  p.leaf_work = o.get("leaf_work", p.leaf_work);
   p.leaf_triangles = o.get("leaf_triangles", p.leaf_triangles);
   p.sample_size = o.get("sample_size", p.sample_size);
   p.sample_threshold = o.get("sample_threshold", p.sample_threshold);
@@ -41,7 +42,8 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.seed = uint64_t(o.get("seed", int(p.seed)));
   p.max_depth = o.get("max_depth", p.max_depth);
   if (p.bins < 2 || p.bins > 256) throw Error("option bins must be in [2, 256]");
-  if (p.leaf_rays < 1 || p.leaf_triangles < 1) throw Error("leaf sizes must be at least 1");
+  if (p.leaf_rays < 1 || p.leaf_triangles < 1 || p.leaf_work < 1)
+    throw Error("options leaf_rays, leaf_triangles and leaf_work must be at least 1");
   if (p.sample_size < 1 || p.sample_threshold < p.sample_size)
     throw Error("option sample_size must be >= 1 and <= sample_threshold");
   if (p.max_depth < 1) throw Error("option max_depth must be at least 1");
@@ -220,7 +222,8 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
                      int depth) {
   const DacrtParams& p = k.params_;
   const uint32_t nt = te - tb, nr = re - rb;
-  if (nr <= uint32_t(p.leaf_rays) || nt <= uint32_t(p.leaf_triangles) || depth >= p.max_depth)
+  if (nt <= uint32_t(p.leaf_triangles) || depth >= p.max_depth ||
+      (nr <= uint32_t(p.leaf_rays) && uint64_t(nr) * nt <= uint64_t(p.leaf_work)))
     return leaf(tb, te, rb, re);
 
   // Binning on triangle centroids along the longest axis of the centroids' box (Wald 2007).

@@ -17,8 +17,12 @@ namespace dacrt {
 struct DacrtParams {
   bool sampling = true;       // false: dacrt-naive
   int bins = 16;              // K, binned split candidates per node (Wald 2007)
-  int leaf_rays = 16;         // a node with at most this many rays is a leaf
   int leaf_triangles = 8;     // a node with at most this many triangles is a leaf
+  // A node with at most leaf_rays rays is a leaf if its leaf_rays × triangles tests stay under
+  // leaf_work: with few rays and many triangles, splitting (O(triangles)) is far cheaper than a
+  // leaf (O(rays × triangles)).
+  int leaf_rays = 16;
+  int leaf_work = 4096;
   int sample_size = 100;      // rays drawn to estimate α
   int sample_threshold = 1000;  // sample only above this many active rays; else use them all
   // Skip filtering a child when α exceeds this; negative = the paper's rule
