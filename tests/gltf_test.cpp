@@ -528,7 +528,7 @@ TEST_CASE("gltf errors: nodes, meshes, materials and cameras") {
 // ---------------------------------------------------------------------------------------------
 // Real scenes (made by others, validator-clean), when the shared folder is there.
 
-TEST_CASE("gltf: real scenes from /work/shared/scenes") {
+TEST_CASE("gltf: real scenes from ../shared/scenes") {
   std::filesystem::path root = DACRT_SOURCE_DIR "/../shared/scenes";
   if (!std::filesystem::is_directory(root)) {
     MESSAGE("skipped: " << root.string() << " does not exist");
