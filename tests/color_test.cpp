@@ -2,6 +2,8 @@
 // bad pixels, the PNG preview's 8-bit values, and $OCIO handling (a valid config, a missing one).
 #include "io/color.h"
 
+#include "temp_dir.h"
+
 #include <doctest/doctest.h>
 #include <stb_image.h>
 
@@ -16,6 +18,7 @@
 #include "util/error.h"
 
 namespace fs = std::filesystem;
+using dacrt::test::TempDir;
 
 namespace {
 
@@ -37,18 +40,6 @@ struct ScopedOcioEnv {
   }
 };
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "dacrt-color-XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
 
 // One grey pixel per value.
 dacrt::Image greys(const std::vector<float>& values) {
@@ -126,7 +117,7 @@ TEST_CASE("to_display of primaries keeps them saturated") {
 TEST_CASE("write_preview_png writes rounded 8-bit sRGB that stb_image reads back") {
   ScopedOcioEnv env(nullptr);
   TempDir dir;
-  const std::string path = (dir.path / "preview.png").string();
+  const std::string path = (dir.path() / "preview.png").string();
   // 0.18 → 0.4613 → 117.6 → 118 rounded (truncation would give 117); 0.5 → 0.7354 → 187.5 → 188.
   const dacrt::Image image = greys({0.f, 0.18f, 0.5f, 1.f, 7.f, -1.f});
   dacrt::write_preview_png(path, image);
@@ -145,14 +136,14 @@ TEST_CASE("write_preview_png writes rounded 8-bit sRGB that stb_image reads back
     }
   stbi_image_free(pixels);
   size_t files = 0;
-  for (auto it = fs::directory_iterator(dir.path); it != fs::directory_iterator(); ++it) ++files;
+  for (auto it = fs::directory_iterator(dir.path()); it != fs::directory_iterator(); ++it) ++files;
   CHECK(files == 1);  // no temporary left behind
 }
 
 TEST_CASE("write_preview_png into a missing directory throws, naming the path") {
   ScopedOcioEnv env(nullptr);
   TempDir dir;
-  const std::string path = (dir.path / "missing" / "preview.png").string();
+  const std::string path = (dir.path() / "missing" / "preview.png").string();
   bool threw = false;
   try {
     dacrt::write_preview_png(path, greys({0.5f}));
@@ -161,12 +152,12 @@ TEST_CASE("write_preview_png into a missing directory throws, naming the path") 
     CHECK(std::string(e.what()).find(path) != std::string::npos);
   }
   CHECK(threw);
-  CHECK(fs::is_empty(dir.path));
+  CHECK(fs::is_empty(dir.path()));
 }
 
 TEST_CASE("to_display with $OCIO naming a missing config throws, naming the config") {
   TempDir dir;
-  const std::string config = (dir.path / "no-such-config.ocio").string();
+  const std::string config = (dir.path() / "no-such-config.ocio").string();
   {
     ScopedOcioEnv env(config.c_str());
     bool threw = false;
@@ -179,9 +170,9 @@ TEST_CASE("to_display with $OCIO naming a missing config throws, naming the conf
       CHECK(message.find('\n') == std::string::npos);
     }
     CHECK(threw);
-    CHECK_THROWS_AS(dacrt::write_preview_png((dir.path / "p.png").string(), greys({0.18f})),
+    CHECK_THROWS_AS(dacrt::write_preview_png((dir.path() / "p.png").string(), greys({0.18f})),
                     dacrt::Error);
-    CHECK(fs::is_empty(dir.path));
+    CHECK(fs::is_empty(dir.path()));
   }
   // The cache is keyed by $OCIO: unset again, the built-in transform works.
   ScopedOcioEnv env(nullptr);
@@ -190,7 +181,7 @@ TEST_CASE("to_display with $OCIO naming a missing config throws, naming the conf
 
 TEST_CASE("to_display with $OCIO uses the config's default display and view") {
   TempDir dir;
-  const fs::path config = dir.path / "config.ocio";
+  const fs::path config = dir.path() / "config.ocio";
   // scene_linear → default display "Test" → its first view, a gamma 2.0 encoding. Different
   // from the built-in sRGB curve, so the test sees which path was taken.
   std::ofstream(config) << R"(ocio_profile_version: 2

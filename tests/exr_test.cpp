@@ -12,6 +12,8 @@
 #include <ImfIntAttribute.h>
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
+#include "temp_dir.h"
+
 #include <doctest/doctest.h>
 #include <unistd.h>
 
@@ -25,22 +27,10 @@
 #include "util/error.h"
 
 namespace fs = std::filesystem;
+using dacrt::test::TempDir;
 
 namespace {
 
-// A fresh directory under the system temp dir, removed with everything in it at scope exit.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "dacrt-exr-XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
 
 dacrt::Image distinctive_image() {
   dacrt::Image image(5, 3);
@@ -78,7 +68,7 @@ size_t files_in(const fs::path& dir) {
 
 TEST_CASE("EXR round trip is bit-exact and keeps the metadata") {
   TempDir dir;
-  const std::string path = (dir.path / "out.exr").string();
+  const std::string path = (dir.path() / "out.exr").string();
   const dacrt::Image image = distinctive_image();
   dacrt::ExrMetadata metadata;
   metadata.spp = 64;
@@ -87,7 +77,7 @@ TEST_CASE("EXR round trip is bit-exact and keeps the metadata") {
   metadata.render_seconds = 12.5;
   metadata.extra = {{"scene", "cornell-box.gltf"}, {"dacrtVersion", "0.1.0"}};
   dacrt::write_exr(path, image, metadata);
-  CHECK(files_in(dir.path) == 1);  // no temporary left behind
+  CHECK(files_in(dir.path()) == 1);  // no temporary left behind
 
   const dacrt::Image back = dacrt::read_exr(path);
   REQUIRE(back.width == image.width);
@@ -139,7 +129,7 @@ TEST_CASE("EXR round trip is bit-exact and keeps the metadata") {
 
 TEST_CASE("EXR writing into a missing directory throws, naming the path, and leaves nothing") {
   TempDir dir;
-  const std::string path = (dir.path / "no-such-dir" / "out.exr").string();
+  const std::string path = (dir.path() / "no-such-dir" / "out.exr").string();
   bool threw = false;
   try {
     dacrt::write_exr(path, dacrt::Image(2, 2), {});
@@ -151,13 +141,13 @@ TEST_CASE("EXR writing into a missing directory throws, naming the path, and lea
     CHECK(message.find('\n') == std::string::npos);
   }
   CHECK(threw);
-  CHECK(!fs::exists(dir.path / "no-such-dir"));
-  CHECK(files_in(dir.path) == 0);
+  CHECK(!fs::exists(dir.path() / "no-such-dir"));
+  CHECK(files_in(dir.path()) == 0);
 }
 
 TEST_CASE("EXR writing into a read-only directory throws and leaves no temporary") {
   TempDir dir;
-  const fs::path locked = dir.path / "locked";
+  const fs::path locked = dir.path() / "locked";
   fs::create_directory(locked);
   fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
   const std::string path = (locked / "out.exr").string();
@@ -172,7 +162,7 @@ TEST_CASE("EXR writing into a read-only directory throws and leaves no temporary
 
 TEST_CASE("EXR writing over an existing file replaces it") {
   TempDir dir;
-  const std::string path = (dir.path / "out.exr").string();
+  const std::string path = (dir.path() / "out.exr").string();
   { std::ofstream(path) << "not an exr, to be replaced"; }
   dacrt::Image image(3, 2);
   for (size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] = float(i) * 0.25f;
@@ -184,22 +174,22 @@ TEST_CASE("EXR writing over an existing file replaces it") {
   dacrt::write_exr(path, image, {});
   back = dacrt::read_exr(path);
   CHECK(back.rgb == image.rgb);
-  CHECK(files_in(dir.path) == 1);
+  CHECK(files_in(dir.path()) == 1);
 }
 
 TEST_CASE("EXR extra metadata may not replace a standard attribute") {
   TempDir dir;
-  const std::string path = (dir.path / "out.exr").string();
+  const std::string path = (dir.path() / "out.exr").string();
   dacrt::ExrMetadata metadata;
   metadata.extra = {{"compression", "none"}};
   CHECK_THROWS_AS(dacrt::write_exr(path, dacrt::Image(1, 1), metadata), dacrt::Error);
-  CHECK(files_in(dir.path) == 0);
+  CHECK(files_in(dir.path()) == 0);
 }
 
 TEST_CASE("EXR reading a missing or broken file throws, naming the path") {
   TempDir dir;
-  const std::string missing = (dir.path / "missing.exr").string();
-  const std::string text = (dir.path / "text.exr").string();
+  const std::string missing = (dir.path() / "missing.exr").string();
+  const std::string text = (dir.path() / "text.exr").string();
   { std::ofstream(text) << "this is not an OpenEXR file\n"; }
   for (const std::string& path : {missing, text}) {
     bool threw = false;
@@ -217,7 +207,7 @@ TEST_CASE("EXR reading a missing or broken file throws, naming the path") {
 
 TEST_CASE("EXR reading a file without R, G and B names the missing channel") {
   TempDir dir;
-  const std::string path = (dir.path / "luminance.exr").string();
+  const std::string path = (dir.path() / "luminance.exr").string();
   {
     Imf::Header header(2, 2);
     header.channels().insert("Y", Imf::Channel(Imf::FLOAT));

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include "temp_dir.h"
+
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -18,31 +20,6 @@
 namespace dacrt::test {
 
 constexpr int kUnsignedByte = 5121, kUnsignedShort = 5123, kUnsignedInt = 5125, kFloat = 5126;
-
-// A fresh directory under the system temp dir, unique per process and per call; removed at exit.
-class TempDir {
- public:
-  explicit TempDir(const std::string& name) {
-    static int counter = 0;
-    path_ = std::filesystem::temp_directory_path() / ("dacrt-gltf-" + std::to_string(getpid()) +
-                                                      "-" + std::to_string(counter++) + "-" + name);
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  // The path of `file` inside this directory, as a string (what load_gltf takes).
-  std::string operator/(const std::string& file) const { return (path_ / file).string(); }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 inline std::string base64(const std::vector<unsigned char>& bytes) {
   static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

@@ -11,6 +11,14 @@ using namespace dacrt::test;
 
 namespace {
 
+size_t misses(const char* backend, const Geometry& g, const RayBatch& rays) {
+  HitBatch hits;
+  Backend::create(backend, g)->intersect(rays, hits);
+  size_t n = 0;
+  for (size_t i = 0; i < rays.size(); ++i) n += !hits.hit(i);
+  return n;
+}
+
 // Rays from points inside a closed mesh must all hit it.
 void check_closed_from_inside(const Geometry& g, const glm::vec3& center, float radius) {
   RayBatch rays;
@@ -19,13 +27,8 @@ void check_closed_from_inside(const Geometry& g, const glm::vec3& center, float 
     rays.push(center + 0.25f * radius * random_in(rng, glm::vec3(-1.f), glm::vec3(1.f)),
               random_direction(rng), 0.f, INFINITY, uint32_t(i));
   for (const char* name : {"brute", "dacrt"}) {
-    auto b = Backend::create(name, g);
-    HitBatch hits;
-    b->intersect(rays, hits);
-    size_t misses = 0;
-    for (size_t i = 0; i < rays.size(); ++i) misses += !hits.hit(i);
     INFO(name);
-    CHECK(misses == 0);
+    CHECK(misses(name, g, rays) == 0);
   }
 }
 
@@ -52,13 +55,8 @@ TEST_CASE("rays exactly through shared edges and vertices of a grid hit") {
       rays.push(p + glm::vec3(0.3f, -0.2f, 1), glm::vec3(-0.3f, 0.2f, -1), 0.f, INFINITY, id++);
     }
   for (const char* name : {"brute", "dacrt"}) {
-    auto b = Backend::create(name, g);
-    HitBatch hits;
-    b->intersect(rays, hits);
-    size_t misses = 0;
-    for (size_t i = 0; i < rays.size(); ++i) misses += !hits.hit(i);
     INFO(name << ", " << rays.size() << " rays");
-    CHECK(misses == 0);
+    CHECK(misses(name, g, rays) == 0);
   }
 }
 
