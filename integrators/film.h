@@ -2,20 +2,22 @@
 // Samples that are not finite are dropped and counted, never averaged in.
 #pragma once
 
-#include "io/image.h"
-
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <vector>
+
+#include "io/image.h"
 
 namespace dacrt {
 
 class Film {
  public:
   Film(int width, int height)
-      : width_(width), height_(height), sum_(size_t(3) * width * height, 0.0),
-        sum_sq_(size_t(width) * height, 0.0), count_(size_t(width) * height, 0) {}
+      : width_(width),
+        height_(height),
+        sum_(size_t(3) * width * height, 0.0),
+        sum_sq_(size_t(width) * height, 0.0),
+        count_(size_t(width) * height, 0) {}
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -3,21 +3,20 @@
 // Names: path (wavefront path tracer).
 #pragma once
 
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <glm/glm.hpp>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
 #include "integrators/film.h"
 #include "scene/scene.h"
 #include "tracer/backend.h"
 #include "tracer/ray_batch.h"
 #include "util/progress.h"
-
-#include <glm/glm.hpp>
-
-#include <array>
-#include <cstdint>
-#include <functional>
-#include <memory>
-#include <string>
-#include <string_view>
-#include <vector>
 
 namespace dacrt {
 
@@ -27,10 +26,10 @@ struct RenderSettings {
   int height = 512;
   int spp = 64;
   int camera = 0;
-  int max_depth = 64;         // scattering events per path; Russian roulette ends most earlier
-  int roulette_depth = 3;     // Russian roulette from this many bounces on
+  int max_depth = 64;      // scattering events per path; Russian roulette ends most earlier
+  int roulette_depth = 3;  // Russian roulette from this many bounces on
   uint64_t seed = 0;
-  glm::vec3 environment{0.f};  // uniform radiance of everything the rays escape to
+  glm::vec3 environment{0.f};          // uniform radiance of everything the rays escape to
   size_t wavefront = size_t(1) << 19;  // live paths at most per wavefront
 };
 
@@ -44,8 +43,8 @@ struct RenderStats {
   std::array<RayTypeStats, ray_type_count> by_type;
   std::vector<RayTypeStats> by_bounce;  // bounce rays per depth (index 0: the first bounce)
   uint64_t paths = 0;
-  uint64_t dropped_samples = 0;  // NaN or inf radiance, never averaged in
-  double seconds = 0.0;          // whole render
+  uint64_t dropped_samples = 0;      // NaN or inf radiance, never averaged in
+  double seconds = 0.0;              // whole render
   std::vector<std::string> skipped;  // work the scene did not need, in words
 
   uint64_t total_rays() const {
@@ -66,8 +65,8 @@ class Integrator {
   virtual void render(Film& film, Progress& progress) = 0;
   virtual const RenderStats& stats() const = 0;
 
-  using Factory = std::function<std::unique_ptr<Integrator>(const Scene&, Backend&,
-                                                            const RenderSettings&)>;
+  using Factory =
+      std::function<std::unique_ptr<Integrator>(const Scene&, Backend&, const RenderSettings&)>;
   struct Registration {
     Registration(std::string name, Factory factory);
   };

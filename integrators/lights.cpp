@@ -1,8 +1,8 @@
 #include "integrators/lights.h"
 
-#include "materials/sampling.h"
-
 #include <algorithm>
+
+#include "materials/sampling.h"
 
 namespace dacrt {
 
@@ -37,7 +37,8 @@ LightSampler::Sample LightSampler::sample(float u, float u1, float u2) const {
   uint32_t tri = triangles_[i];
   glm::vec2 b = sample_triangle(u1, u2);
   const Geometry& g = scene_.geometry;
-  glm::vec3 p = (1.f - b.x - b.y) * g.vertex(tri, 0) + b.x * g.vertex(tri, 1) + b.y * g.vertex(tri, 2);
+  glm::vec3 p =
+      (1.f - b.x - b.y) * g.vertex(tri, 0) + b.x * g.vertex(tri, 1) + b.y * g.vertex(tri, 2);
   return {tri, p, pmf_by_triangle_[tri]};
 }
 

@@ -3,12 +3,11 @@
 // on the triangle; pdf() answers for any triangle, so MIS can weigh hits found by BSDF sampling.
 #pragma once
 
-#include "scene/scene.h"
-
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <vector>
+
+#include "scene/scene.h"
 
 namespace dacrt {
 

@@ -5,15 +5,15 @@
 // Materials are Lambertian (the glTF base colour) for now. Next-event estimation samples emissive
 // triangles by power and is combined with BSDF sampling by multiple importance sampling (power
 // heuristic), so emitters of any size converge well. Scenes without emitters trace no shadow rays.
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+
 #include "integrators/integrator.h"
 #include "integrators/lights.h"
 #include "materials/sampling.h"
 #include "tracer/ray.h"
 #include "util/random.h"
-
-#include <tbb/parallel_for.h>
-
-#include <chrono>
 
 namespace dacrt {
 namespace {
@@ -21,7 +21,16 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // Random dimensions of one path vertex, for the counter-based generator.
-enum Dimension : uint32_t { pixel_x, pixel_y, roulette, light_pick, light_u, light_v, bsdf_u, bsdf_v };
+enum Dimension : uint32_t {
+  pixel_x,
+  pixel_y,
+  roulette,
+  light_pick,
+  light_u,
+  light_v,
+  bsdf_u,
+  bsdf_v
+};
 
 class PathTracer final : public Integrator {
  public:
@@ -152,7 +161,8 @@ class PathTracer final : public Integrator {
 
     // The surface point, and normals on the side the ray arrived from.
     const float u = hits_.u[i], v = hits_.v[i];
-    const glm::vec3 p = (1.f - u - v) * g.vertex(tri, 0) + u * g.vertex(tri, 1) + v * g.vertex(tri, 2);
+    const glm::vec3 p =
+        (1.f - u - v) * g.vertex(tri, 0) + u * g.vertex(tri, 1) + v * g.vertex(tri, 2);
     if (!front) ng = -ng;
     glm::vec3 ns = ng;
     if (!scene_.normals.empty()) {
@@ -168,7 +178,8 @@ class PathTracer final : public Integrator {
     if (!lights_.empty()) next_event(i, path, depth, p, ng, ns, f, origin);
 
     // BSDF sampling: cosine-weighted around the shading normal, kept above the surface.
-    glm::vec3 local = sample_cosine_hemisphere(random(path, depth, bsdf_u), random(path, depth, bsdf_v));
+    glm::vec3 local =
+        sample_cosine_hemisphere(random(path, depth, bsdf_u), random(path, depth, bsdf_v));
     glm::vec3 wi = Frame(ns).to_world(local);
     float pdf = cosine_hemisphere_pdf(local.z);
     if (!(pdf > 0.f) || glm::dot(wi, ng) <= 0.f) return;
@@ -182,8 +193,9 @@ class PathTracer final : public Integrator {
   void next_event(size_t i, uint32_t path, int depth, const glm::vec3& p, const glm::vec3& ng,
                   const glm::vec3& ns, const glm::vec3& f, const glm::vec3& origin) {
     const Geometry& g = scene_.geometry;
-    LightSampler::Sample ls = lights_.sample(random(path, depth, light_pick),
-                                             random(path, depth, light_u), random(path, depth, light_v));
+    LightSampler::Sample ls =
+        lights_.sample(random(path, depth, light_pick), random(path, depth, light_u),
+                       random(path, depth, light_v));
     const Material& light = scene_.materials[g.material[ls.triangle]];
     glm::vec3 to = ls.point - p;
     float dist2 = glm::dot(to, to);

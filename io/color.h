@@ -2,9 +2,9 @@
 // Uses the config in $OCIO when it is set, else OCIO's built-in sRGB display transform.
 #pragma once
 
-#include "io/image.h"
-
 #include <string>
+
+#include "io/image.h"
 
 namespace dacrt {
 

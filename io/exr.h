@@ -2,11 +2,11 @@
 // Written to a temporary name beside the target and renamed, so no half-written file is left.
 #pragma once
 
-#include "io/image.h"
-
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "io/image.h"
 
 namespace dacrt {
 

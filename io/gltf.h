@@ -2,9 +2,9 @@
 // naming the file and the element at fault for anything malformed.
 #pragma once
 
-#include "scene/scene.h"
-
 #include <string>
+
+#include "scene/scene.h"
 
 namespace dacrt {
 

@@ -2,10 +2,9 @@
 // points on triangles, and the power heuristic for multiple importance sampling.
 #pragma once
 
+#include <cmath>
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
-
-#include <cmath>
 
 namespace dacrt {
 

@@ -1,8 +1,7 @@
 #include "scene/scene.h"
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 
 namespace dacrt {
 

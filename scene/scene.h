@@ -2,13 +2,12 @@
 // shading data, a material table, and cameras. Elements refer to each other by index.
 #pragma once
 
-#include "tracer/geometry.h"
-
 #include <glm/glm.hpp>
-
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "tracer/geometry.h"
 
 namespace dacrt {
 

@@ -1,18 +1,21 @@
 // The DACRT backends against the brute-force oracle: same closest hit (triangle, bit-identical t,
 // u, v) and same occlusion answer for every ray, over several kinds of geometry and rays.
-#include "test_geometry.h"
 #include "tracer/backend.h"
 
 #include <doctest/doctest.h>
 
 #include <cstring>
 
+#include "test_geometry.h"
+
 using namespace dacrt;
 using namespace dacrt::test;
 
 namespace {
 
-bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(float a, float b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 HitBatch brute_hits(const Geometry& g, const RayBatch& rays) {
   HitBatch hits;
@@ -95,10 +98,10 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
   std::vector<std::vector<std::pair<const char*, const char*>>> settings = {
       {{"bins", "2"}},
       {{"bins", "64"}, {"leaf_rays", "1"}, {"leaf_triangles", "1"}},
-      {{"leaf_rays", "100000"}, {"leaf_work", "1"}},         // split down to single triangles
-      {{"leaf_rays", "64"}, {"leaf_work", "100000000"}},     // few-ray leaves of any size
-      {{"filter_skip", "0"}},    // never filter
-      {{"filter_skip", "1.5"}},  // always filter
+      {{"leaf_rays", "100000"}, {"leaf_work", "1"}},      // split down to single triangles
+      {{"leaf_rays", "64"}, {"leaf_work", "100000000"}},  // few-ray leaves of any size
+      {{"filter_skip", "0"}},                             // never filter
+      {{"filter_skip", "1.5"}},                           // always filter
       {{"sample_size", "1"}, {"sample_threshold", "1"}},
       {{"max_depth", "3"}},
       {{"cost_traversal", "1000"}},  // leaves everywhere

@@ -1,19 +1,18 @@
 // The dacrt command line as a user meets it: exit codes (0 ok, 1 error, 2 usage), one clear line
 // on stderr for bad input, and never an output file (or a temporary one) after a failure.
-#include "gltf_writer.h"
-#include "test_geometry.h"
-#include "io/exr.h"
-
 #include <doctest/doctest.h>
-#include <nlohmann/json.hpp>
-
 #include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "gltf_writer.h"
+#include "io/exr.h"
+#include "test_geometry.h"
 
 using namespace dacrt;
 using namespace dacrt::test;
@@ -44,7 +43,9 @@ Run run(const TempDir& dir, const std::string& args) {
   return r;
 }
 
-size_t lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
+size_t lines(const std::string& s) {
+  return size_t(std::count(s.begin(), s.end(), '\n'));
+}
 
 // Nothing but the inputs in `dir`: no image, no preview, no stats, no temporary files.
 void check_no_outputs(const TempDir& dir) {
@@ -68,11 +69,11 @@ TEST_CASE("cli: help and usage errors") {
   for (const char* flag : {"--spp", "--backend", "--preview", "--environment", "--max-depth",
                            "--seed", "--threads", "--quiet", "--stats", "--camera", "--integrator"})
     CHECK_MESSAGE(render_help.out.find(flag) != std::string::npos, flag);
-  for (const char* args : {"", "frobnicate", "render", "render " DACRT_SOURCE_DIR
-                           "/scenes/cornell-box.gltf --spp many",
-                           "render x.gltf --spp 0", "render x.gltf --width", "render x.gltf --bogus",
-                           "render x.gltf --environment 1,2", "render x.gltf --environment 1,nan,1",
-                           "render a.gltf b.gltf", "info"}) {
+  for (const char* args :
+       {"", "frobnicate", "render",
+        "render " DACRT_SOURCE_DIR "/scenes/cornell-box.gltf --spp many", "render x.gltf --spp 0",
+        "render x.gltf --width", "render x.gltf --bogus", "render x.gltf --environment 1,2",
+        "render x.gltf --environment 1,nan,1", "render a.gltf b.gltf", "info"}) {
     Run r = run(dir, args);
     INFO(args << " → " << r.err);
     CHECK(r.code == 2);
@@ -155,7 +156,8 @@ TEST_CASE("cli: render writes the EXR, the preview and the statistics") {
   CHECK(stats["rays"]["shadow"]["rays"].get<uint64_t>() > 0);
   CHECK(stats["rays"]["bounce"]["rays"].get<uint64_t>() > 0);
   // Without --quiet there is a summary with rays/s per ray type.
-  Run loud = run(dir, "render " + cornell + " -o " + (dir / "cb2.exr") + " --width 8 --height 8 --spp 1");
+  Run loud =
+      run(dir, "render " + cornell + " -o " + (dir / "cb2.exr") + " --width 8 --height 8 --spp 1");
   CHECK(loud.code == 0);
   CHECK(loud.err.find("Mrays/s") != std::string::npos);
   // info describes the scene.

@@ -2,8 +2,6 @@
 // bad pixels, the PNG preview's 8-bit values, and $OCIO handling (a valid config, a missing one).
 #include "io/color.h"
 
-#include "temp_dir.h"
-
 #include <doctest/doctest.h>
 #include <stb_image.h>
 
@@ -15,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "temp_dir.h"
 #include "util/error.h"
 
 namespace fs = std::filesystem;
@@ -39,7 +38,6 @@ struct ScopedOcioEnv {
       unsetenv("OCIO");
   }
 };
-
 
 // One grey pixel per value.
 dacrt::Image greys(const std::vector<float>& values) {

@@ -12,8 +12,6 @@
 #include <ImfIntAttribute.h>
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
-#include "temp_dir.h"
-
 #include <doctest/doctest.h>
 #include <unistd.h>
 
@@ -24,13 +22,13 @@
 #include <limits>
 #include <string>
 
+#include "temp_dir.h"
 #include "util/error.h"
 
 namespace fs = std::filesystem;
 using dacrt::test::TempDir;
 
 namespace {
-
 
 dacrt::Image distinctive_image() {
   dacrt::Image image(5, 3);

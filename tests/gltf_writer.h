@@ -10,12 +10,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include "temp_dir.h"
-
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include "temp_dir.h"
 
 namespace dacrt::test {
 

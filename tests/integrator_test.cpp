@@ -2,11 +2,12 @@
 // uniform environment both render 1 everywhere. Checked per pixel against each pixel's own
 // standard error, not against a hand-picked tolerance.
 #include "integrators/integrator.h"
-#include "test_geometry.h"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
+
+#include "test_geometry.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

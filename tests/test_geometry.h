@@ -2,15 +2,14 @@
 // oracle comparison runs on, and rays that stress them.
 #pragma once
 
-#include "tracer/geometry.h"
-#include "tracer/ray_batch.h"
-#include "util/random.h"
-
+#include <cmath>
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <cmath>
+#include "tracer/geometry.h"
+#include "tracer/ray_batch.h"
+#include "util/random.h"
 
 namespace dacrt::test {
 
@@ -31,8 +30,8 @@ inline Geometry random_soup(size_t n, uint64_t seed) {
   for (size_t i = 0; i < n; ++i) {
     glm::vec3 c = random_in(rng, glm::vec3(0.f), glm::vec3(1.f));
     float s = 0.02f + 0.1f * rng.uniform();
-    g.add(c + s * random_direction(rng), c + s * random_direction(rng), c + s * random_direction(rng),
-          uint32_t(i % 3));
+    g.add(c + s * random_direction(rng), c + s * random_direction(rng),
+          c + s * random_direction(rng), uint32_t(i % 3));
   }
   return g;
 }
@@ -95,7 +94,8 @@ inline Geometry one_centroid(size_t n, uint64_t seed) {
   const glm::vec3 c(0.5f);
   auto lattice = [&] {
     return glm::vec3(float(int(rng.below(51)) - 25), float(int(rng.below(51)) - 25),
-                     float(int(rng.below(51)) - 25)) / 64.f;
+                     float(int(rng.below(51)) - 25)) /
+           64.f;
   };
   for (size_t i = 0; i < n; ++i) {
     glm::vec3 u = lattice(), v = lattice();

@@ -1,10 +1,11 @@
 // The shared ray/triangle test and the origin offset: watertightness on shared edges and vertices,
 // no self-intersection of spawned rays, degenerate triangles, huge and tiny coordinates.
-#include "test_geometry.h"
-#include "tracer/backend.h"
 #include "tracer/triangle.h"
 
 #include <doctest/doctest.h>
+
+#include "test_geometry.h"
+#include "tracer/backend.h"
 
 using namespace dacrt;
 using namespace dacrt::test;
@@ -173,8 +174,8 @@ TEST_CASE("overlapping coplanar triangles: the lower index wins, in every backen
   RayBatch rays;
   Pcg32 rng(3);
   for (int i = 0; i < 5000; ++i)
-    rays.push(glm::vec3(0.3f * rng.uniform(), 0.3f * rng.uniform(), 1.f),
-              glm::vec3(0, 0, -1), 0.f, INFINITY, uint32_t(i));
+    rays.push(glm::vec3(0.3f * rng.uniform(), 0.3f * rng.uniform(), 1.f), glm::vec3(0, 0, -1), 0.f,
+              INFINITY, uint32_t(i));
   for (const char* name : {"brute", "dacrt", "dacrt-naive"}) {
     HitBatch hits;
     Backend::create(name, g)->intersect(rays, hits);

@@ -2,9 +2,8 @@
 // rounds); the conservative ray test that uses them lives in ray.h.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <algorithm>
+#include <glm/glm.hpp>
 #include <limits>
 
 namespace dacrt {

@@ -4,11 +4,6 @@
 // Names: dacrt (default: divide-and-conquer with ray sampling), brute (the oracle).
 #pragma once
 
-#include "tracer/geometry.h"
-#include "tracer/options.h"
-#include "tracer/ray_batch.h"
-#include "tracer/stats.h"
-
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -16,6 +11,11 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "tracer/geometry.h"
+#include "tracer/options.h"
+#include "tracer/ray_batch.h"
+#include "tracer/stats.h"
 
 namespace dacrt {
 

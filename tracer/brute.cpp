@@ -1,11 +1,11 @@
 // brute: every ray against every triangle. Slow by design; it is the oracle the other backends are
 // tested against, so it stays as simple as the shared ray and triangle tests allow.
-#include "tracer/backend.h"
-#include "tracer/triangle.h"
-
 #include <tbb/parallel_for.h>
 
 #include <atomic>
+
+#include "tracer/backend.h"
+#include "tracer/triangle.h"
 
 namespace dacrt {
 namespace {

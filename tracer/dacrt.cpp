@@ -1,10 +1,6 @@
 // The DACRT kernel (see dacrt.h for what it is and where it comes from).
 #include "tracer/dacrt.h"
 
-#include "tracer/backend.h"
-#include "tracer/triangle.h"
-#include "util/random.h"
-
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -17,12 +13,18 @@
 #include <mutex>
 #include <numeric>
 
+#include "tracer/backend.h"
+#include "tracer/triangle.h"
+#include "util/random.h"
+
 namespace dacrt {
 
 const std::set<std::string, std::less<>>& DacrtParams::keys() {
   static const std::set<std::string, std::less<>> k = {
-      "bins", "leaf_rays", "leaf_work", "leaf_triangles", "sample_size", "sample_threshold", "filter_skip",
-      "cost_traversal", "cost_intersect", "seed", "max_depth"};
+      "bins",           "leaf_rays",      "leaf_work",
+      "leaf_triangles", "sample_size",    "sample_threshold",
+      "filter_skip",    "cost_traversal", "cost_intersect",
+      "seed",           "max_depth"};
   return k;
 }
 
@@ -66,12 +68,12 @@ class Dacrt;
 struct Traversal {
   const Dacrt& k;
   const RayBatch& batch;
-  const Ray* rays;       // prepared, indexed by batch index
-  float* far;            // running tmax per ray: the closest hit so far, or -inf once occluded
-  HitBatch* hits;        // closest-hit mode; null for occlusion
-  uint8_t* occluded;     // occlusion mode; null for closest hit
-  uint32_t* ray_ids;     // this chunk's rays, partitioned in place
-  uint32_t* tri_ids;     // every triangle, partitioned in place
+  const Ray* rays;    // prepared, indexed by batch index
+  float* far;         // running tmax per ray: the closest hit so far, or -inf once occluded
+  HitBatch* hits;     // closest-hit mode; null for occlusion
+  uint8_t* occluded;  // occlusion mode; null for closest hit
+  uint32_t* ray_ids;  // this chunk's rays, partitioned in place
+  uint32_t* tri_ids;  // every triangle, partitioned in place
   Pcg32 rng;
   Stats stats;
 
@@ -100,8 +102,9 @@ class Dacrt final : public Backend {
         }
     });
     for (size_t i = 0; i < n; ++i)
-      for (int a = 0; a < 3; ++a) bounds_.lo[a] = std::min(bounds_.lo[a], tb_.lo[a][i]),
-                                  bounds_.hi[a] = std::max(bounds_.hi[a], tb_.hi[a][i]);
+      for (int a = 0; a < 3; ++a)
+        bounds_.lo[a] = std::min(bounds_.lo[a], tb_.lo[a][i]),
+        bounds_.hi[a] = std::max(bounds_.hi[a], tb_.hi[a][i]);
     magnitude_ = bounds_.magnitude();
     build_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -156,15 +159,17 @@ class Dacrt final : public Backend {
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
       size_t now = ++running;
       size_t seen = peak_chunks.load();
-      while (now > seen && !peak_chunks.compare_exchange_weak(seen, now)) {}
+      while (now > seen && !peak_chunks.compare_exchange_weak(seen, now)) {
+      }
       auto& tri_ids = tri_scratch.local();
       tri_ids.resize(geometry_.size());
       std::iota(tri_ids.begin(), tri_ids.end(), 0u);
       uint32_t rb = uint32_t(ids.size() * c / chunks), re = uint32_t(ids.size() * (c + 1) / chunks);
-      Traversal t{*this, batch, rays.data(), far, hits, occluded, ids.data(), tri_ids.data(),
-                  Pcg32(hash(params_.seed, calls_, c)), {}};
-      if (!bounds_.empty() && rb < re)
-        t.node(bounds_, 0, uint32_t(geometry_.size()), rb, re, 0);
+      Traversal t{*this,      batch,          rays.data(),
+                  far,        hits,           occluded,
+                  ids.data(), tri_ids.data(), Pcg32(hash(params_.seed, calls_, c)),
+                  {}};
+      if (!bounds_.empty() && rb < re) t.node(bounds_, 0, uint32_t(geometry_.size()), rb, re, 0);
       --running;
       std::lock_guard lock(total_mutex);
       total += t.stats;
@@ -274,7 +279,8 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
   uint32_t samples = nr;
   if (p.sampling && nr > uint32_t(p.sample_threshold)) {
     samples = uint32_t(p.sample_size);
-    for (uint32_t s = 0; s < samples; ++s) std::swap(ray_ids[rb + s], ray_ids[rb + s + rng.below(nr - s)]);
+    for (uint32_t s = 0; s < samples; ++s)
+      std::swap(ray_ids[rb + s], ray_ids[rb + s + rng.below(nr - s)]);
   }
   std::array<uint32_t, 256> hit_left{}, hit_right{}, left_first{}, right_first{};
   if (p.sampling) {
@@ -314,8 +320,8 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
   if (best == 0) return leaf(tb, te, rb, re);
   ++stats.nodes;
 
-  uint32_t* tri_mid = std::partition(tri_ids + tb, tri_ids + te,
-                                     [&](uint32_t tri) { return bin_of(tri) < best; });
+  uint32_t* tri_mid =
+      std::partition(tri_ids + tb, tri_ids + te, [&](uint32_t tri) { return bin_of(tri) < best; });
   const uint32_t tm = uint32_t(tri_mid - tri_ids);
 
   struct Child {
@@ -344,8 +350,9 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
   }
 }
 
-const Backend::Registration dacrt_registration{
-    "dacrt", [](const Geometry& g, const Options& o) { return std::make_unique<Dacrt>(g, o, true); }};
+const Backend::Registration dacrt_registration{"dacrt", [](const Geometry& g, const Options& o) {
+                                                 return std::make_unique<Dacrt>(g, o, true);
+                                               }};
 const Backend::Registration naive_registration{
     "dacrt-naive",
     [](const Geometry& g, const Options& o) { return std::make_unique<Dacrt>(g, o, false); }};

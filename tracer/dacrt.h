@@ -6,24 +6,24 @@
 // every child filters, and the left child goes first, as in Mora 2011 and Áfra 2012.
 #pragma once
 
-#include "tracer/options.h"
-
 #include <cstdint>
 #include <set>
 #include <string>
 
+#include "tracer/options.h"
+
 namespace dacrt {
 
 struct DacrtParams {
-  bool sampling = true;       // false: dacrt-naive
-  int bins = 16;              // K, binned split candidates per node (Wald 2007)
-  int leaf_triangles = 8;     // a node with at most this many triangles is a leaf
+  bool sampling = true;    // false: dacrt-naive
+  int bins = 16;           // K, binned split candidates per node (Wald 2007)
+  int leaf_triangles = 8;  // a node with at most this many triangles is a leaf
   // A node with at most leaf_rays rays is a leaf if its leaf_rays × triangles tests stay under
   // leaf_work: with few rays and many triangles, splitting (O(triangles)) is far cheaper than a
   // leaf (O(rays × triangles)).
   int leaf_rays = 16;
   int leaf_work = 4096;
-  int sample_size = 100;      // rays drawn to estimate α
+  int sample_size = 100;        // rays drawn to estimate α
   int sample_threshold = 1000;  // sample only above this many active rays; else use them all
   // Skip filtering a child when α exceeds this; negative = the paper's rule
   // α > 1 − C_T / (N_child · C_I).

@@ -2,13 +2,12 @@
 // All backends read the same arrays; a triangle's index here is the `prim` a hit reports.
 #pragma once
 
-#include "tracer/aabb.h"
-
-#include <glm/glm.hpp>
-
 #include <array>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <vector>
+
+#include "tracer/aabb.h"
 
 namespace dacrt {
 

@@ -44,8 +44,8 @@ void Options::check_known(std::string_view owner,
     if (known.count(key)) continue;
     std::string list;
     for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-    throw Error(std::string(owner) + " has no option '" + key + "' (it knows: " +
-                (list.empty() ? "none" : list) + ")");
+    throw Error(std::string(owner) + " has no option '" + key +
+                "' (it knows: " + (list.empty() ? "none" : list) + ")");
   }
 }
 

@@ -3,13 +3,13 @@
 // never silently falls back to a default.
 #pragma once
 
-#include "util/error.h"
-
 #include <charconv>
 #include <map>
 #include <set>
 #include <string>
 #include <string_view>
+
+#include "util/error.h"
 
 namespace dacrt {
 

@@ -3,24 +3,23 @@
 // Intersection", JCGT 2013) and the conservative box test used for ray filtering.
 #pragma once
 
-#include "tracer/aabb.h"
-#include "tracer/ray_batch.h"
-
-#include <glm/glm.hpp>
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <glm/glm.hpp>
+
+#include "tracer/aabb.h"
+#include "tracer/ray_batch.h"
 
 namespace dacrt {
 
 struct Ray {
   glm::vec3 o, d;
-  glm::vec3 inv_d;  // 1/d with zero components replaced by a tiny value of the same sign
-  float pad;        // how far the box test grows boxes, in world units (see prepare)
-  int kx, ky, kz;   // axis permutation: kz is the largest |d| component
-  float sx, sy, sz; // shear constants
+  glm::vec3 inv_d;   // 1/d with zero components replaced by a tiny value of the same sign
+  float pad;         // how far the box test grows boxes, in world units (see prepare)
+  int kx, ky, kz;    // axis permutation: kz is the largest |d| component
+  float sx, sy, sz;  // shear constants
 
   // A ray is live if its interval is ordered and everything is finite and non-zero in length.
   // NaN, inf, zero-direction and tmin > tmax rays never hit anything.

@@ -2,9 +2,8 @@
 // One batch holds rays of one type, so that statistics are kept per ray type.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <string_view>
 #include <vector>
 
@@ -15,9 +14,12 @@ inline constexpr int ray_type_count = 3;
 
 constexpr std::string_view to_string(RayType type) {
   switch (type) {
-    case RayType::primary: return "primary";
-    case RayType::shadow: return "shadow";
-    case RayType::bounce: return "bounce";
+    case RayType::primary:
+      return "primary";
+    case RayType::shadow:
+      return "shadow";
+    case RayType::bounce:
+      return "bounce";
   }
   return "?";
 }

@@ -6,14 +6,14 @@
 namespace dacrt {
 
 struct Stats {
-  uint64_t rays = 0;             // rays handed to intersect/occluded
-  uint64_t triangle_tests = 0;   // ray/triangle tests
-  uint64_t box_tests = 0;        // ray/box tests (filtering and sampling)
-  uint64_t nodes = 0;            // inner nodes (DACRT)
-  uint64_t leaves = 0;           // leaves (DACRT)
-  uint64_t filter_skips = 0;     // children entered without ray filtering (DACRT)
-  double build_seconds = 0.0;    // preparation at create()
-  uint64_t peak_bytes = 0;       // largest working memory of one call, beyond inputs and outputs
+  uint64_t rays = 0;            // rays handed to intersect/occluded
+  uint64_t triangle_tests = 0;  // ray/triangle tests
+  uint64_t box_tests = 0;       // ray/box tests (filtering and sampling)
+  uint64_t nodes = 0;           // inner nodes (DACRT)
+  uint64_t leaves = 0;          // leaves (DACRT)
+  uint64_t filter_skips = 0;    // children entered without ray filtering (DACRT)
+  double build_seconds = 0.0;   // preparation at create()
+  uint64_t peak_bytes = 0;      // largest working memory of one call, beyond inputs and outputs
 
   Stats& operator+=(const Stats& o) {
     rays += o.rays, triangle_tests += o.triangle_tests, box_tests += o.box_tests;

@@ -1,12 +1,12 @@
-// The watertight ray/triangle test shared by every backend of ours (Woop, Benthin, Wald, JCGT 2013):
-// the triangle is translated to the ray origin and sheared so the ray becomes +z; the 2D edge
-// functions then decide inside/outside exactly the same way for two triangles sharing an edge, so
-// no ray slips between them. Edge functions that round to exactly zero are recomputed in double.
+// The watertight ray/triangle test shared by every backend of ours (Woop, Benthin, Wald, JCGT
+// 2013): the triangle is translated to the ray origin and sheared so the ray becomes +z; the 2D
+// edge functions then decide inside/outside exactly the same way for two triangles sharing an edge,
+// so no ray slips between them. Edge functions that round to exactly zero are recomputed in double.
 #pragma once
 
-#include "tracer/ray.h"
-
 #include <glm/glm.hpp>
+
+#include "tracer/ray.h"
 
 namespace dacrt {
 

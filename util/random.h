@@ -52,7 +52,9 @@ constexpr uint64_t mix64(uint64_t x) {
   return x;
 }
 
-constexpr uint64_t hash(uint64_t a, uint64_t b) { return mix64(a ^ mix64(b + 0x9e3779b97f4a7c15ULL)); }
+constexpr uint64_t hash(uint64_t a, uint64_t b) {
+  return mix64(a ^ mix64(b + 0x9e3779b97f4a7c15ULL));
+}
 template <typename... Rest>
 constexpr uint64_t hash(uint64_t a, uint64_t b, Rest... rest) {
   return hash(hash(a, b), uint64_t(rest)...);
