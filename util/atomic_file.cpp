@@ -3,7 +3,10 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
+#include <cstring>
 #include <filesystem>
+#include <iterator>
 #include <system_error>
 
 #include "util/error.h"
@@ -11,6 +14,44 @@
 namespace dacrt {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// The temporary file being written, for the signal handler: an interrupted run removes it, so
+// Ctrl-C leaves neither a half-written output nor a stray temporary. The handler is installed
+// only while a file is written and hands the signal on to whatever handler was there before.
+constexpr int handled[] = {SIGINT, SIGTERM, SIGHUP};
+char pending[4096];
+struct sigaction previous[std::size(handled)];
+
+extern "C" void remove_pending_and_pass_on(int sig) {
+  ::unlink(pending);
+  for (size_t k = 0; k < std::size(handled); ++k)
+    if (handled[k] == sig) sigaction(sig, &previous[k], nullptr);
+  std::raise(sig);
+}
+
+struct PendingFile {
+  bool active = false;
+  explicit PendingFile(const std::string& path) {
+    if (path.size() >= sizeof pending) return;
+    std::memcpy(pending, path.c_str(), path.size() + 1);
+    struct sigaction action {};
+    action.sa_handler = remove_pending_and_pass_on;
+    sigemptyset(&action.sa_mask);
+    for (size_t k = 0; k < std::size(handled); ++k) {
+      sigaction(handled[k], nullptr, &previous[k]);
+      if (previous[k].sa_handler != SIG_IGN) sigaction(handled[k], &action, nullptr);
+    }
+    active = true;
+  }
+  ~PendingFile() {
+    if (!active) return;
+    for (size_t k = 0; k < std::size(handled); ++k) sigaction(handled[k], &previous[k], nullptr);
+  }
+};
+
+}  // namespace
 
 void write_atomically(const std::string& path, const std::string& what,
                       const std::function<void(std::ofstream&)>& write) {
@@ -23,6 +64,7 @@ void write_atomically(const std::string& path, const std::string& what,
     throw Error(prefix + "'" + dir.string() + "' is not a directory");
 
   const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  const PendingFile pending_file(tmp);
   auto fail = [&](std::string reason) {
     std::error_code ignored;
     fs::remove(tmp, ignored);

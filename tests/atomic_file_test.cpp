@@ -1,0 +1,66 @@
+// write_atomically: the target appears whole or not at all, and no temporary file survives a
+// failure or an interruption.
+#include "util/atomic_file.h"
+
+#include <doctest/doctest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
+
+#include "temp_dir.h"
+#include "util/error.h"
+
+using namespace dacrt;
+using namespace dacrt::test;
+
+namespace {
+size_t files_in(const std::filesystem::path& dir) {
+  size_t n = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++n;
+  return n;
+}
+}  // namespace
+
+TEST_CASE("write_atomically: a failing writer leaves nothing, a good one replaces the target") {
+  TempDir dir("atomic");
+  const std::string path = dir / "out.txt";
+  CHECK_THROWS_WITH_AS(write_atomically(path, "test",
+                                        [](std::ofstream& out) {
+                                          out << "partial";
+                                          throw std::runtime_error("writer\nfailed");
+                                        }),
+                       doctest::Contains("out.txt': writer failed"), Error);
+  CHECK(files_in(dir.path()) == 0);
+  write_atomically(path, "test", [](std::ofstream& out) { out << "first"; });
+  write_atomically(path, "test", [](std::ofstream& out) { out << "second"; });
+  CHECK(files_in(dir.path()) == 1);
+  std::ifstream in(path);
+  std::string text;
+  in >> text;
+  CHECK(text == "second");
+}
+
+TEST_CASE("write_atomically: a run interrupted while writing leaves no temporary file") {
+  for (int sig : {SIGINT, SIGTERM}) {
+    TempDir dir("interrupted");
+    const std::string path = dir / "out.exr";
+    pid_t child = fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+      std::signal(sig, SIG_DFL);  // the test runner's own crash handler has no business here
+      write_atomically(path, "test", [sig](std::ofstream& out) {
+        out << "half of an image";
+        out.flush();
+        std::raise(sig);
+      });
+      _exit(0);  // not reached: the signal ends the child
+    }
+    int status = 0;
+    REQUIRE(waitpid(child, &status, 0) == child);
+    CHECK(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == sig);
+    CHECK(files_in(dir.path()) == 0);
+  }
+}
