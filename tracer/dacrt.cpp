@@ -56,9 +56,12 @@ namespace {
 
 constexpr float inf = std::numeric_limits<float>::infinity();
 
-// Per-triangle data computed once at create(): boxes and centroids, structure-of-arrays.
-struct TriangleBounds {
-  std::array<std::vector<float>, 3> lo, hi, centroid;
+// What binning and partitioning read of a triangle, in one record, so that a node streams through
+// a contiguous range of them instead of gathering from scattered arrays by index.
+struct TriangleRef {
+  float lo[3], hi[3];  // bounding box
+  float centroid[3];
+  uint32_t id;  // index into Geometry
 };
 
 class Dacrt;
@@ -73,13 +76,17 @@ struct Traversal {
   HitBatch* hits;     // closest-hit mode; null for occlusion
   uint8_t* occluded;  // occlusion mode; null for closest hit
   uint32_t* ray_ids;  // this chunk's rays, partitioned in place
-  uint32_t* tri_ids;  // every triangle, partitioned in place
+  TriangleRef* tris;  // every triangle, partitioned in place
   Pcg32 rng;
   Stats stats;
 
   void node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re, int depth);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
   uint32_t filter(const Box& box, uint32_t rb, uint32_t re);
+  using Counts = std::array<uint32_t, 256>;
+  void sample_splits(const std::array<Box, 256>& left, const std::array<Box, 256>& right, int K,
+                     uint32_t rb, uint32_t samples, Counts& hit_left, Counts& hit_right,
+                     Counts& left_first, Counts& right_first);
 };
 
 class Dacrt final : public Backend {
@@ -89,22 +96,23 @@ class Dacrt final : public Backend {
     options.check_known(sampling ? "backend dacrt" : "backend dacrt-naive", DacrtParams::keys());
     auto start = std::chrono::steady_clock::now();
     size_t n = g.size();
-    for (int a = 0; a < 3; ++a) {
-      tb_.lo[a].resize(n), tb_.hi[a].resize(n), tb_.centroid[a].resize(n);
-    }
+    refs_.resize(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](auto range) {
-      for (size_t i = range.begin(); i != range.end(); ++i)
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        TriangleRef& r = refs_[i];
+        r.id = uint32_t(i);
         for (int a = 0; a < 3; ++a) {
           float p0 = g.p[0][a][i], p1 = g.p[1][a][i], p2 = g.p[2][a][i];
-          tb_.lo[a][i] = std::min({p0, p1, p2});
-          tb_.hi[a][i] = std::max({p0, p1, p2});
-          tb_.centroid[a][i] = (p0 + p1 + p2) * (1.f / 3.f);
+          r.lo[a] = std::min({p0, p1, p2});
+          r.hi[a] = std::max({p0, p1, p2});
+          r.centroid[a] = (p0 + p1 + p2) * (1.f / 3.f);
         }
+      }
     });
-    for (size_t i = 0; i < n; ++i)
+    for (const TriangleRef& r : refs_)
       for (int a = 0; a < 3; ++a)
-        bounds_.lo[a] = std::min(bounds_.lo[a], tb_.lo[a][i]),
-        bounds_.hi[a] = std::max(bounds_.hi[a], tb_.hi[a][i]);
+        bounds_.lo[a] = std::min(bounds_.lo[a], r.lo[a]),
+        bounds_.hi[a] = std::max(bounds_.hi[a], r.hi[a]);
     magnitude_ = bounds_.magnitude();
     build_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -135,7 +143,7 @@ class Dacrt final : public Backend {
 
   const Geometry& geometry_;
   const DacrtParams params_;
-  TriangleBounds tb_;
+  std::vector<TriangleRef> refs_;  // in Geometry's order; each traversal partitions a copy
 
  private:
   void trace(const RayBatch& batch, float* far, HitBatch* hits, uint8_t* occluded) {
@@ -152,7 +160,7 @@ class Dacrt final : public Backend {
     // Chunks of the batch run as independent traversals, one per thread at a time.
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const size_t chunks = ids.size() >= 8192 * threads ? threads : 1;
-    tbb::enumerable_thread_specific<std::vector<uint32_t>> tri_scratch;
+    tbb::enumerable_thread_specific<std::vector<TriangleRef>> tri_scratch;
     std::atomic<size_t> peak_chunks{0}, running{0};
     Stats total;
     std::mutex total_mutex;
@@ -161,13 +169,12 @@ class Dacrt final : public Backend {
       size_t seen = peak_chunks.load();
       while (now > seen && !peak_chunks.compare_exchange_weak(seen, now)) {
       }
-      auto& tri_ids = tri_scratch.local();
-      tri_ids.resize(geometry_.size());
-      std::iota(tri_ids.begin(), tri_ids.end(), 0u);
+      auto& tris = tri_scratch.local();
+      tris = refs_;
       uint32_t rb = uint32_t(ids.size() * c / chunks), re = uint32_t(ids.size() * (c + 1) / chunks);
       Traversal t{*this,      batch,          rays.data(),
                   far,        hits,           occluded,
-                  ids.data(), tri_ids.data(), Pcg32(hash(params_.seed, calls_, c)),
+                  ids.data(), tris.data(), Pcg32(hash(params_.seed, calls_, c)),
                   {}};
       if (!bounds_.empty() && rb < re) t.node(bounds_, 0, uint32_t(geometry_.size()), rb, re, 0);
       --running;
@@ -176,7 +183,7 @@ class Dacrt final : public Backend {
     });
     total.rays = n;
     uint64_t bytes = n * (sizeof(Ray) + sizeof(uint32_t)) + (occluded ? n * sizeof(float) : 0) +
-                     peak_chunks.load() * geometry_.size() * sizeof(uint32_t);
+                     peak_chunks.load() * geometry_.size() * sizeof(TriangleRef);
     std::lock_guard lock(stats_mutex_);
     stats_ += total;
     stats_.peak_bytes = std::max(stats_.peak_bytes, bytes);
@@ -198,7 +205,7 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
     const uint32_t i = ray_ids[r];
     const float tmin = batch.tmin[i];
     for (uint32_t j = tb; j < te && far[i] >= tmin; ++j) {
-      const uint32_t tri = tri_ids[j];
+      const uint32_t tri = tris[j].id;
       ++stats.triangle_tests;
       TriangleHit h;
       if (!intersect_triangle(rays[i], g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2), tmin,
@@ -223,6 +230,44 @@ uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
   return uint32_t(mid - ray_ids);
 }
 
+// α estimation: every sampled ray against both boxes of every candidate split. The split loop is
+// branch-free over structure-of-arrays boxes so that it vectorises; it is the same conservative
+// slab test as Ray::hits.
+void Traversal::sample_splits(const std::array<Box, 256>& left, const std::array<Box, 256>& right,
+                              int K, uint32_t rb, uint32_t samples, Counts& hit_left,
+                              Counts& hit_right, Counts& left_first, Counts& right_first) {
+  constexpr int max_splits = 256;
+  alignas(32) float l_lo[3][max_splits], l_hi[3][max_splits];
+  alignas(32) float r_lo[3][max_splits], r_hi[3][max_splits];
+  for (int s = 1; s < K; ++s)
+    for (int a = 0; a < 3; ++a) {
+      l_lo[a][s] = left[s].lo[a], l_hi[a][s] = left[s].hi[a];
+      r_lo[a][s] = right[s].lo[a], r_hi[a][s] = right[s].hi[a];
+    }
+  for (uint32_t n = 0; n < samples; ++n) {
+    const uint32_t i = ray_ids[rb + n];
+    const Ray& r = rays[i];
+    float o[3], inv[3];
+    for (int a = 0; a < 3; ++a) o[a] = r.o[a], inv[a] = r.inv_d[a];
+    const float t0 = batch.tmin[i], t1 = far[i];
+    for (int s = 1; s < K; ++s) {
+      float ln = t0, lf = t1, rn = t0, rf = t1;
+      for (int a = 0; a < 3; ++a) {
+        // (lo - pad - o) * inv, as in Ray::hits: the box bound first, then the shift.
+        float la = (l_lo[a][s] - r.pad - o[a]) * inv[a], lb = (l_hi[a][s] + r.pad - o[a]) * inv[a];
+        float ra = (r_lo[a][s] - r.pad - o[a]) * inv[a], rbb = (r_hi[a][s] + r.pad - o[a]) * inv[a];
+        ln = std::max(ln, std::min(la, lb)), lf = std::min(lf, std::max(la, lb));
+        rn = std::max(rn, std::min(ra, rbb)), rf = std::min(rf, std::max(ra, rbb));
+      }
+      const uint32_t hl = ln <= lf, hr = rn <= rf;
+      hit_left[s] += hl, hit_right[s] += hr;
+      left_first[s] += hl & (!hr | (ln <= rn));
+      right_first[s] += hr & (!hl | (rn < ln));
+    }
+  }
+  stats.box_tests += uint64_t(samples) * 2 * (K - 1);
+}
+
 void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
                      int depth) {
   const DacrtParams& p = k.params_;
@@ -232,29 +277,27 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
     return leaf(tb, te, rb, re);
 
   // Binning on triangle centroids along the longest axis of the centroids' box (Wald 2007).
-  const auto& tbd = k.tb_;
   Box cbox;
-  for (uint32_t j = tb; j < te; ++j) {
-    uint32_t tri = tri_ids[j];
-    cbox.extend(glm::vec3(tbd.centroid[0][tri], tbd.centroid[1][tri], tbd.centroid[2][tri]));
-  }
+  for (uint32_t j = tb; j < te; ++j)
+    cbox.extend(glm::vec3(tris[j].centroid[0], tris[j].centroid[1], tris[j].centroid[2]));
   const int axis = cbox.longest_axis();
   const float lo = cbox.lo[axis], extent = cbox.hi[axis] - cbox.lo[axis];
   const int K = p.bins;
   const float scale = float(K) / extent;
   if (!(extent > 0.f) || !std::isfinite(scale)) return leaf(tb, te, rb, re);  // one centroid
-  const std::vector<float>& cent = tbd.centroid[axis];
-  auto bin_of = [&](uint32_t tri) { return std::min(K - 1, int((cent[tri] - lo) * scale)); };
+  auto bin_of = [&](const TriangleRef& t) {
+    return std::min(K - 1, int((t.centroid[axis] - lo) * scale));
+  };
 
   std::array<Box, 256> bin_box;
   std::array<uint32_t, 256> bin_count{};
   for (uint32_t j = tb; j < te; ++j) {
-    uint32_t tri = tri_ids[j];
-    int b = bin_of(tri);
+    const TriangleRef& t = tris[j];
+    int b = bin_of(t);
     ++bin_count[b];
     Box& bb = bin_box[b];
     for (int a = 0; a < 3; ++a)
-      bb.lo[a] = std::min(bb.lo[a], tbd.lo[a][tri]), bb.hi[a] = std::max(bb.hi[a], tbd.hi[a][tri]);
+      bb.lo[a] = std::min(bb.lo[a], t.lo[a]), bb.hi[a] = std::max(bb.hi[a], t.hi[a]);
   }
   // Split s puts bins [0, s) left and [s, K) right.
   std::array<Box, 256> left_box, right_box;
@@ -283,23 +326,8 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
       std::swap(ray_ids[rb + s], ray_ids[rb + s + rng.below(nr - s)]);
   }
   std::array<uint32_t, 256> hit_left{}, hit_right{}, left_first{}, right_first{};
-  if (p.sampling) {
-    for (uint32_t s = 0; s < samples; ++s) {
-      const uint32_t i = ray_ids[rb + s];
-      const Ray& r = rays[i];
-      for (int split = 1; split < K; ++split) {
-        if (!left_n[split] || !right_n[split]) continue;
-        float tl, tr;
-        bool l = r.hits(left_box[split], batch.tmin[i], far[i], &tl);
-        bool rr = r.hits(right_box[split], batch.tmin[i], far[i], &tr);
-        hit_left[split] += l, hit_right[split] += rr;
-        left_first[split] += l && (!rr || tl <= tr);
-        right_first[split] += rr && (!l || tr < tl);
-      }
-    }
-    stats.box_tests += uint64_t(samples) * 2 * (K - 1);
-  }
-
+  if (p.sampling) sample_splits(left_box, right_box, K, rb, samples, hit_left, hit_right,
+                                left_first, right_first);
   // C = C_T + C_I (α_L N_L + α_R N_R) with sampling; the SAH's area ratios without.
   const double leaf_cost = p.cost_intersect * nt;
   double best_cost = leaf_cost;
@@ -320,9 +348,9 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
   if (best == 0) return leaf(tb, te, rb, re);
   ++stats.nodes;
 
-  uint32_t* tri_mid =
-      std::partition(tri_ids + tb, tri_ids + te, [&](uint32_t tri) { return bin_of(tri) < best; });
-  const uint32_t tm = uint32_t(tri_mid - tri_ids);
+  TriangleRef* tri_mid =
+      std::partition(tris + tb, tris + te, [&](const TriangleRef& t) { return bin_of(t) < best; });
+  const uint32_t tm = uint32_t(tri_mid - tris);
 
   struct Child {
     Box box;
