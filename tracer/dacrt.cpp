@@ -64,18 +64,30 @@ struct TriangleRef {
   uint32_t id;  // index into Geometry
 };
 
+// What filtering and sampling read of a ray, in one record that moves with the ray as ranges are
+// partitioned. Leaves rebuild the rest (the triangle test's shear) from the batch.
+struct RayRef {
+  glm::vec3 o, inv_d;  // as in Ray
+  float pad;           // as in Ray
+  float tmin;
+  float far;    // running tmax: the closest hit so far, or -inf once occluded
+  uint32_t id;  // index into the batch
+
+  bool hits(const Box& box, float* entry = nullptr) const {
+    return Ray::box_hits(o, inv_d, pad, box, tmin, far, entry);
+  }
+};
+
 class Dacrt;
 
-// One traversal over a contiguous chunk of the batch's rays. Owns nothing: index arrays are
-// partitioned in place, so a call's memory is known before it starts.
+// One traversal over a contiguous chunk of the batch's rays. Owns nothing: ray and triangle
+// records are partitioned in place, so a call's memory is known before it starts.
 struct Traversal {
   const Dacrt& k;
   const RayBatch& batch;
-  const Ray* rays;    // prepared, indexed by batch index
-  float* far;         // running tmax per ray: the closest hit so far, or -inf once occluded
+  RayRef* rays;       // this chunk's live rays, partitioned in place
   HitBatch* hits;     // closest-hit mode; null for occlusion
   uint8_t* occluded;  // occlusion mode; null for closest hit
-  uint32_t* ray_ids;  // this chunk's rays, partitioned in place
   TriangleRef* tris;  // every triangle, partitioned in place
   Pcg32 rng;
   Stats stats;
@@ -125,13 +137,12 @@ class Dacrt final : public Backend {
       hits.t[i] = rays.tmax[i];
       hits.u[i] = hits.v[i] = 0.f;
     }
-    trace(rays, hits.t.data(), &hits, nullptr);
+    trace(rays, &hits, nullptr);
   }
 
   void occluded(const RayBatch& rays, std::span<uint8_t> occluded) override {
     std::fill_n(occluded.begin(), rays.size(), uint8_t(0));
-    std::vector<float> far(rays.tmax);
-    trace(rays, far.data(), nullptr, occluded.data());
+    trace(rays, nullptr, occluded.data());
   }
 
   Stats stats() const override {
@@ -145,18 +156,21 @@ class Dacrt final : public Backend {
   const DacrtParams params_;
   std::vector<TriangleRef> refs_;  // in Geometry's order; each traversal partitions a copy
 
+ public:
+  float magnitude() const { return magnitude_; }
+
  private:
-  void trace(const RayBatch& batch, float* far, HitBatch* hits, uint8_t* occluded) {
+  void trace(const RayBatch& batch, HitBatch* hits, uint8_t* occluded) {
     const size_t n = batch.size();
-    // Prepare the live rays; the rest never enter the recursion.
-    std::vector<Ray> rays(n);
-    std::vector<uint32_t> ids;
-    ids.reserve(n);
+    // Records for the live rays; the rest never enter the recursion.
+    std::vector<RayRef> refs;
+    refs.reserve(n);
     for (size_t i = 0; i < n; ++i) {
       if (!Ray::valid(batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i])) continue;
-      rays[i] = Ray::prepare(batch, i, magnitude_);
-      ids.push_back(uint32_t(i));
+      Ray r = Ray::prepare(batch, i, magnitude_);
+      refs.push_back({r.o, r.inv_d, r.pad, batch.tmin[i], batch.tmax[i], uint32_t(i)});
     }
+    const std::vector<RayRef>& ids = refs;
     // Chunks of the batch run as independent traversals, one per thread at a time.
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const size_t chunks = ids.size() >= 8192 * threads ? threads : 1;
@@ -172,17 +186,15 @@ class Dacrt final : public Backend {
       auto& tris = tri_scratch.local();
       tris = refs_;
       uint32_t rb = uint32_t(ids.size() * c / chunks), re = uint32_t(ids.size() * (c + 1) / chunks);
-      Traversal t{*this,      batch,          rays.data(),
-                  far,        hits,           occluded,
-                  ids.data(), tris.data(), Pcg32(hash(params_.seed, calls_, c)),
-                  {}};
+      Traversal t{*this, batch, refs.data(), hits, occluded, tris.data(),
+                  Pcg32(hash(params_.seed, calls_, c)), {}};
       if (!bounds_.empty() && rb < re) t.node(bounds_, 0, uint32_t(geometry_.size()), rb, re, 0);
       --running;
       std::lock_guard lock(total_mutex);
       total += t.stats;
     });
     total.rays = n;
-    uint64_t bytes = n * (sizeof(Ray) + sizeof(uint32_t)) + (occluded ? n * sizeof(float) : 0) +
+    uint64_t bytes = refs.capacity() * sizeof(RayRef) +
                      peak_chunks.load() * geometry_.size() * sizeof(TriangleRef);
     std::lock_guard lock(stats_mutex_);
     stats_ += total;
@@ -202,20 +214,24 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
   ++stats.leaves;
   const Geometry& g = k.geometry_;
   for (uint32_t r = rb; r < re; ++r) {
-    const uint32_t i = ray_ids[r];
-    const float tmin = batch.tmin[i];
-    for (uint32_t j = tb; j < te && far[i] >= tmin; ++j) {
+    RayRef& ref = rays[r];
+    if (!(ref.far >= ref.tmin)) continue;  // occluded already
+    const uint32_t i = ref.id;
+    // The same preparation as every other backend's, so t is bit for bit theirs.
+    const Ray ray = Ray::prepare(batch, i, k.magnitude());
+    for (uint32_t j = tb; j < te && ref.far >= ref.tmin; ++j) {
       const uint32_t tri = tris[j].id;
       ++stats.triangle_tests;
       TriangleHit h;
-      if (!intersect_triangle(rays[i], g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2), tmin,
-                              far[i], h))
+      if (!intersect_triangle(ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2), ref.tmin,
+                              ref.far, h))
         continue;
       if (occluded) {
         occluded[i] = 1;
-        far[i] = -inf;  // drops out of every later box test and leaf
-      } else if (closer(h.t, tri, far[i], hits->prim[i])) {
-        far[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
+        ref.far = -inf;  // drops out of every later box test and leaf
+      } else if (closer(h.t, tri, ref.far, hits->prim[i])) {
+        ref.far = h.t;
+        hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
       }
     }
   }
@@ -224,10 +240,9 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
 // Moves the rays of [rb, re) that may touch `box` to the front; returns the end of that range.
 uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
   stats.box_tests += re - rb;
-  uint32_t* mid = std::partition(ray_ids + rb, ray_ids + re, [&](uint32_t i) {
-    return rays[i].hits(box, batch.tmin[i], far[i]);
-  });
-  return uint32_t(mid - ray_ids);
+  RayRef* mid =
+      std::partition(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box); });
+  return uint32_t(mid - rays);
 }
 
 // α estimation: every sampled ray against both boxes of every candidate split. The split loop is
@@ -245,11 +260,10 @@ void Traversal::sample_splits(const std::array<Box, 256>& left, const std::array
       r_lo[a][s] = right[s].lo[a], r_hi[a][s] = right[s].hi[a];
     }
   for (uint32_t n = 0; n < samples; ++n) {
-    const uint32_t i = ray_ids[rb + n];
-    const Ray& r = rays[i];
+    const RayRef& r = rays[rb + n];
     float o[3], inv[3];
     for (int a = 0; a < 3; ++a) o[a] = r.o[a], inv[a] = r.inv_d[a];
-    const float t0 = batch.tmin[i], t1 = far[i];
+    const float t0 = r.tmin, t1 = r.far;
     for (int s = 1; s < K; ++s) {
       float ln = t0, lf = t1, rn = t0, rf = t1;
       for (int a = 0; a < 3; ++a) {
@@ -323,7 +337,7 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
   if (p.sampling && nr > uint32_t(p.sample_threshold)) {
     samples = uint32_t(p.sample_size);
     for (uint32_t s = 0; s < samples; ++s)
-      std::swap(ray_ids[rb + s], ray_ids[rb + s + rng.below(nr - s)]);
+      std::swap(rays[rb + s], rays[rb + s + rng.below(nr - s)]);
   }
   std::array<uint32_t, 256> hit_left{}, hit_right{}, left_first{}, right_first{};
   if (p.sampling) sample_splits(left_box, right_box, K, rb, samples, hit_left, hit_right,

@@ -64,6 +64,11 @@ struct Ray {
   // Conservative slab test: true if the ray may touch `box`, grown by `pad`, within [tmin, tmax].
   // Writes the entry distance (clamped to tmin) for traversal-order decisions.
   bool hits(const Box& box, float tmin, float tmax, float* entry = nullptr) const {
+    return box_hits(o, inv_d, pad, box, tmin, tmax, entry);
+  }
+
+  static bool box_hits(const glm::vec3& o, const glm::vec3& inv_d, float pad, const Box& box,
+                       float tmin, float tmax, float* entry = nullptr) {
     float near = tmin, far = tmax;
     for (int k = 0; k < 3; ++k) {
       float a = (box.lo[k] - pad - o[k]) * inv_d[k];
