@@ -22,7 +22,7 @@ struct DacrtParams {
   // leaf_work: with few rays and many triangles, splitting (O(triangles)) is far cheaper than a
   // leaf (O(rays × triangles)).
   int leaf_rays = 16;
-  int leaf_work = 4096;
+  int leaf_work = 256;
   int sample_size = 100;        // rays drawn to estimate α
   int sample_threshold = 1000;  // sample only above this many active rays; else use them all
   // Skip filtering a child when α exceeds this; negative = the paper's rule
