@@ -92,7 +92,18 @@ struct Traversal {
   Pcg32 rng;
   Stats stats;
 
+  struct Split {
+    bool valid = false;  // false: no split beats a leaf
+    struct Child {
+      Box box;
+      uint32_t tb, te;
+      double alpha;  // fraction of sampled rays that hit the child's box
+    };
+    std::array<Child, 2> children;  // in traversal order
+  };
+
   void node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re, int depth);
+  Split choose_split(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
   uint32_t filter(const Box& box, uint32_t rb, uint32_t re);
   using Counts = std::array<uint32_t, 256>;
@@ -186,8 +197,14 @@ class Dacrt final : public Backend {
       auto& tris = tri_scratch.local();
       tris = refs_;
       uint32_t rb = uint32_t(ids.size() * c / chunks), re = uint32_t(ids.size() * (c + 1) / chunks);
-      Traversal t{*this, batch, refs.data(), hits, occluded, tris.data(),
-                  Pcg32(hash(params_.seed, calls_, c)), {}};
+      Traversal t{*this,
+                  batch,
+                  refs.data(),
+                  hits,
+                  occluded,
+                  tris.data(),
+                  Pcg32(hash(params_.seed, calls_, c)),
+                  {}};
       if (!bounds_.empty() && rb < re) t.node(bounds_, 0, uint32_t(geometry_.size()), rb, re, 0);
       --running;
       std::lock_guard lock(total_mutex);
@@ -240,8 +257,7 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
 // Moves the rays of [rb, re) that may touch `box` to the front; returns the end of that range.
 uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
   stats.box_tests += re - rb;
-  RayRef* mid =
-      std::partition(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box); });
+  RayRef* mid = std::partition(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box); });
   return uint32_t(mid - rays);
 }
 
@@ -282,14 +298,13 @@ void Traversal::sample_splits(const std::array<Box, 256>& left, const std::array
   stats.box_tests += uint64_t(samples) * 2 * (K - 1);
 }
 
-void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
-                     int depth) {
+// Bins the node's triangles, estimates α for every candidate split, and partitions the triangles
+// by the cheapest one. Its large scratch arrays live only in this frame, never across the
+// recursion, so deep trees cannot exhaust a worker thread's stack.
+Traversal::Split Traversal::choose_split(const Box& box, uint32_t tb, uint32_t te, uint32_t rb,
+                                         uint32_t re) {
   const DacrtParams& p = k.params_;
   const uint32_t nt = te - tb, nr = re - rb;
-  if (nt <= uint32_t(p.leaf_triangles) || depth >= p.max_depth ||
-      (nr <= uint32_t(p.leaf_rays) && uint64_t(nr) * nt <= uint64_t(p.leaf_work)))
-    return leaf(tb, te, rb, re);
-
   // Binning on triangle centroids along the longest axis of the centroids' box (Wald 2007).
   Box cbox;
   for (uint32_t j = tb; j < te; ++j)
@@ -298,7 +313,7 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
   const float lo = cbox.lo[axis], extent = cbox.hi[axis] - cbox.lo[axis];
   const int K = p.bins;
   const float scale = float(K) / extent;
-  if (!(extent > 0.f) || !std::isfinite(scale)) return leaf(tb, te, rb, re);  // one centroid
+  if (!(extent > 0.f) || !std::isfinite(scale)) return {};  // one centroid: make a leaf
   auto bin_of = [&](const TriangleRef& t) {
     return std::min(K - 1, int((t.centroid[axis] - lo) * scale));
   };
@@ -340,8 +355,9 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
       std::swap(rays[rb + s], rays[rb + s + rng.below(nr - s)]);
   }
   std::array<uint32_t, 256> hit_left{}, hit_right{}, left_first{}, right_first{};
-  if (p.sampling) sample_splits(left_box, right_box, K, rb, samples, hit_left, hit_right,
-                                left_first, right_first);
+  if (p.sampling)
+    sample_splits(left_box, right_box, K, rb, samples, hit_left, hit_right, left_first,
+                  right_first);
   // C = C_T + C_I (α_L N_L + α_R N_R) with sampling; the SAH's area ratios without.
   const double leaf_cost = p.cost_intersect * nt;
   double best_cost = leaf_cost;
@@ -359,24 +375,31 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
     double cost = p.cost_traversal + p.cost_intersect * (al * left_n[split] + ar * right_n[split]);
     if (cost < best_cost) best_cost = cost, best = split;
   }
-  if (best == 0) return leaf(tb, te, rb, re);
-  ++stats.nodes;
+  if (best == 0) return {};
 
   TriangleRef* tri_mid =
       std::partition(tris + tb, tris + te, [&](const TriangleRef& t) { return bin_of(t) < best; });
   const uint32_t tm = uint32_t(tri_mid - tris);
-
-  struct Child {
-    Box box;
-    uint32_t tb, te;
-    double alpha;
-  };
-  std::array<Child, 2> children = {
-      Child{left_box[best], tb, tm, p.sampling ? double(hit_left[best]) / samples : 1.0},
-      Child{right_box[best], tm, te, p.sampling ? double(hit_right[best]) / samples : 1.0}};
+  Split split{true,
+              {{{left_box[best], tb, tm, p.sampling ? double(hit_left[best]) / samples : 1.0},
+                {right_box[best], tm, te, p.sampling ? double(hit_right[best]) / samples : 1.0}}}};
   // Traversal order: first the child that more sampled rays enter first.
-  if (p.sampling && right_first[best] > left_first[best]) std::swap(children[0], children[1]);
-  for (const Child& c : children) {
+  if (p.sampling && right_first[best] > left_first[best])
+    std::swap(split.children[0], split.children[1]);
+  return split;
+}
+
+void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
+                     int depth) {
+  const DacrtParams& p = k.params_;
+  const uint32_t nt = te - tb, nr = re - rb;
+  if (nt <= uint32_t(p.leaf_triangles) || depth >= p.max_depth ||
+      (nr <= uint32_t(p.leaf_rays) && uint64_t(nr) * nt <= uint64_t(p.leaf_work)))
+    return leaf(tb, te, rb, re);
+  const Split split = choose_split(box, tb, te, rb, re);
+  if (!split.valid) return leaf(tb, te, rb, re);
+  ++stats.nodes;
+  for (const Split::Child& c : split.children) {
     const uint32_t n = c.te - c.tb;
     // Filtering costs one box test per ray; it pays only if enough rays miss the child.
     double threshold = p.filter_skip_alpha >= 0
