@@ -185,3 +185,36 @@ TEST_CASE("overlapping coplanar triangles: the lower index wins, in every backen
     CHECK(wrong == 0);
   }
 }
+
+TEST_CASE("100 000 triangles with one centroid: the recursion ends and the answer is exact") {
+  Geometry g = one_centroid(100000, 77);
+  RayBatch rays = random_rays(g, 300, 78, RayType::bounce);
+  HitBatch expected, got;
+  Backend::create("brute", g)->intersect(rays, expected);
+  for (const char* name : {"dacrt", "dacrt-naive"}) {
+    INFO(name);
+    auto b = Backend::create(name, g);
+    b->intersect(rays, got);
+    size_t mismatches = 0;
+    for (size_t i = 0; i < rays.size(); ++i)
+      mismatches += got.prim[i] != expected.prim[i] || got.t[i] != expected.t[i];
+    CHECK(mismatches == 0);
+    CHECK(b->stats().nodes == 0);  // nothing to split: one leaf
+  }
+}
+
+TEST_CASE("watertight at every batch size, for every backend of ours") {
+  Geometry g = sphere(16, 32, glm::vec3(0.f), 1.f, 0.4f, 11);
+  Pcg32 rng(12);
+  for (size_t n : {size_t(1), size_t(2), size_t(3), size_t(15), size_t(16), size_t(17),
+                   size_t(999), size_t(1000), size_t(1001), size_t(5000), size_t(40000)}) {
+    RayBatch rays;
+    for (size_t i = 0; i < n; ++i)
+      rays.push(0.2f * random_in(rng, glm::vec3(-1.f), glm::vec3(1.f)), random_direction(rng), 0.f,
+                INFINITY, uint32_t(i));
+    for (const char* name : {"brute", "dacrt", "dacrt-naive"}) {
+      INFO(name << ", " << n << " rays");
+      CHECK(misses(name, g, rays) == 0);
+    }
+  }
+}
