@@ -34,6 +34,7 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.bins = o.get("bins", p.bins);
   p.leaf_rays = o.get("leaf_rays", p.leaf_rays);
   p.leaf_work = o.get("leaf_work", p.leaf_work);
+  p.max_leaf_triangles = o.get("max_leaf_triangles", p.max_leaf_triangles);
   p.leaf_triangles = o.get("leaf_triangles", p.leaf_triangles);
   p.sample_size = o.get("sample_size", p.sample_size);
   p.sample_threshold = o.get("sample_threshold", p.sample_threshold);
@@ -359,23 +360,27 @@ Traversal::Split Traversal::choose_split(const Box& box, uint32_t tb, uint32_t t
     sample_splits(left_box, right_box, K, rb, samples, hit_left, hit_right, left_first,
                   right_first);
   // C = C_T + C_I (α_L N_L + α_R N_R) with sampling; the SAH's area ratios without.
+  // Ties (all α equal, e.g. every sampled ray starts inside the node) go to the better SAH cost,
+  // which also picks the split when a node too large for a leaf must split anyway.
   const double leaf_cost = p.cost_intersect * nt;
-  double best_cost = leaf_cost;
+  double best_cost = INFINITY, best_area_cost = INFINITY;
   int best = 0;
   const double parent_area = box.half_area();
   for (int split = 1; split < K; ++split) {
     if (!left_n[split] || !right_n[split]) continue;
-    double al, ar;
+    double area_l = parent_area > 0 ? left_box[split].half_area() / parent_area : 1.0;
+    double area_r = parent_area > 0 ? right_box[split].half_area() / parent_area : 1.0;
+    double area_cost =
+        p.cost_traversal + p.cost_intersect * (area_l * left_n[split] + area_r * right_n[split]);
+    double cost = area_cost;
     if (p.sampling) {
-      al = double(hit_left[split]) / samples, ar = double(hit_right[split]) / samples;
-    } else {
-      al = parent_area > 0 ? left_box[split].half_area() / parent_area : 1.0;
-      ar = parent_area > 0 ? right_box[split].half_area() / parent_area : 1.0;
+      double al = double(hit_left[split]) / samples, ar = double(hit_right[split]) / samples;
+      cost = p.cost_traversal + p.cost_intersect * (al * left_n[split] + ar * right_n[split]);
     }
-    double cost = p.cost_traversal + p.cost_intersect * (al * left_n[split] + ar * right_n[split]);
-    if (cost < best_cost) best_cost = cost, best = split;
+    if (cost < best_cost || (cost == best_cost && area_cost < best_area_cost))
+      best_cost = cost, best_area_cost = area_cost, best = split;
   }
-  if (best == 0) return {};
+  if (best == 0 || (best_cost >= leaf_cost && nt <= uint32_t(p.max_leaf_triangles))) return {};
 
   TriangleRef* tri_mid =
       std::partition(tris + tb, tris + te, [&](const TriangleRef& t) { return bin_of(t) < best; });

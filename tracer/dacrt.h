@@ -23,6 +23,10 @@ struct DacrtParams {
   // leaf (O(rays × triangles)).
   int leaf_rays = 16;
   int leaf_work = 256;
+  // The cost C compares a split with its children as leaves; when rays start inside a node (a
+  // camera in a room), α is 1 on both sides and no split looks cheaper than a leaf. Nodes with
+  // more triangles than this split anyway, by the cheapest candidate.
+  int max_leaf_triangles = 64;
   int sample_size = 100;        // rays drawn to estimate α
   int sample_threshold = 1000;  // sample only above this many active rays; else use them all
   // Skip filtering a child when α exceeds this; negative = the paper's rule
