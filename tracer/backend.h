@@ -1,7 +1,8 @@
 // Backend: a ray-query engine over one Geometry. It answers whole batches: the closest hit of every
 // ray (intersect) or whether anything lies on each ray's [tmin, tmax] (occluded). Backends register
 // themselves by name with one static Backend::Registration line and are created by name.
-// Names: dacrt (default: divide-and-conquer with ray sampling), brute (the oracle).
+// Names: dacrt (default: divide-and-conquer with ray sampling), dacrt-naive (the same kernel
+// without sampling), brute (the oracle), embree (Embree 3, the yardstick; when built with it).
 #pragma once
 
 #include <cstdint>
