@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench.h"
 #include "integrators/integrator.h"
 #include "io/color.h"
 #include "io/exr.h"
@@ -41,6 +42,8 @@ constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer 
 Usage:
   dacrt render SCENE [options]   render a glTF 2.0 scene (.gltf or .glb) to OpenEXR
   dacrt info SCENE               triangles, meshes, materials, lights, cameras, bounds
+  dacrt bench SCENE [options]    every backend on the same rays of each type: build and trace
+                                 time, Mrays/s, peak memory (`dacrt bench --help`)
   dacrt --help                   this text; `dacrt render --help` lists the render options
 )";
 
@@ -166,19 +169,6 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
   if (r.scene.empty()) throw UsageError("render needs a SCENE");
   if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
   return r;
-}
-
-// Fails early, before any rendering, if an output file could not be written.
-void check_writable(const std::string& path) {
-  if (path.empty()) return;
-  fs::path dir = fs::path(path).parent_path();
-  if (dir.empty()) dir = ".";
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw Error(path + ": cannot write: directory " + dir.string() + " does not exist");
-  if (fs::is_directory(path, ec)) throw Error(path + ": cannot write: it is a directory");
-  if (::access(dir.c_str(), W_OK) != 0)
-    throw Error(path + ": cannot write: directory " + dir.string() + " is not writable");
 }
 
 bool has_emitters(const Scene& scene) {
@@ -360,9 +350,13 @@ int main(int argc, char** argv) {
     }
     if (command == "render") return render(args);
     if (command == "info") return info(args);
+    if (command == "bench") return bench_main(args);
     throw UsageError("unknown command '" + command + "'");
   } catch (const UsageError& e) {
     std::fprintf(stderr, "dacrt: %s (see dacrt --help)\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {  // usage errors of `dacrt bench`
+    std::fprintf(stderr, "dacrt bench: %s (see dacrt bench --help)\n", e.what());
     return 2;
   } catch (const Error& e) {
     std::fprintf(stderr, "dacrt: error: %s\n", e.what());

@@ -24,7 +24,7 @@ const std::set<std::string, std::less<>>& DacrtParams::keys() {
       "bins",           "leaf_rays",      "leaf_work",
       "leaf_triangles", "sample_size",    "sample_threshold",
       "filter_skip",    "cost_traversal", "cost_intersect",
-      "seed",           "max_depth"};
+      "seed",           "max_depth",      "max_leaf_triangles"};
   return k;
 }
 
@@ -45,8 +45,8 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.seed = uint64_t(o.get("seed", int(p.seed)));
   p.max_depth = o.get("max_depth", p.max_depth);
   if (p.bins < 2 || p.bins > 256) throw Error("option bins must be in [2, 256]");
-  if (p.leaf_rays < 1 || p.leaf_triangles < 1 || p.leaf_work < 1)
-    throw Error("options leaf_rays, leaf_triangles and leaf_work must be at least 1");
+  if (p.leaf_rays < 1 || p.leaf_triangles < 1 || p.leaf_work < 1 || p.max_leaf_triangles < 1)
+    throw Error("options leaf_rays, leaf_triangles, leaf_work and max_leaf_triangles must be >= 1");
   if (p.sample_size < 1 || p.sample_threshold < p.sample_size)
     throw Error("option sample_size must be >= 1 and <= sample_threshold");
   if (p.max_depth < 1) throw Error("option max_depth must be at least 1");

@@ -91,4 +91,16 @@ void write_atomically(const std::string& path, const std::string& what,
   if (ec) throw fail(ec.message());
 }
 
+void check_writable(const std::string& path) {
+  if (path.empty()) return;
+  fs::path dir = fs::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw Error(path + ": cannot write: directory " + dir.string() + " does not exist");
+  if (fs::is_directory(path, ec)) throw Error(path + ": cannot write: it is a directory");
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw Error(path + ": cannot write: directory " + dir.string() + " is not writable");
+}
+
 }  // namespace dacrt

@@ -15,4 +15,8 @@ namespace dacrt {
 void write_atomically(const std::string& path, const std::string& what,
                       const std::function<void(std::ofstream&)>& write);
 
+// Throws Error if `path` could not be written later (no such directory, not writable, or a
+// directory itself): lets a command fail before hours of work rather than after.
+void check_writable(const std::string& path);
+
 }  // namespace dacrt
