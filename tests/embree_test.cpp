@@ -138,30 +138,6 @@ HitBatch reference_hits(const char* backend, const Geometry& g, const RayBatch& 
   return hits;
 }
 
-// Rays from surfaces as the integrator makes them: a random point on a random triangle (as in
-// surface_rays), moved off it with offset_ray_origin to the side the ray leaves from. (surface_rays
-// themselves start exactly on a triangle with tmin 0: whether that triangle is hit at t ~ 0 is
-// decided by rounding, and the two backends round differently; those are only reported.)
-RayBatch offset_surface_rays(const Geometry& g, size_t n, uint64_t seed) {
-  Pcg32 rng(seed);
-  RayBatch rays;
-  rays.type = RayType::bounce;
-  rays.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    uint32_t tri = rng.below(uint32_t(g.size()));
-    float u = rng.uniform(), v = rng.uniform();
-    if (u + v > 1.f) u = 1.f - u, v = 1.f - v;
-    glm::vec3 p = (1.f - u - v) * g.vertex(tri, 0) + u * g.vertex(tri, 1) + v * g.vertex(tri, 2);
-    glm::vec3 d = random_direction(rng), n = g.normal(tri);
-    if (glm::dot(n, n) > 0.f) {
-      n = glm::normalize(n);
-      p = offset_ray_origin(p, glm::dot(n, d) < 0.f ? -n : n);
-    }
-    rays.set(i, p, d, 0.f, INFINITY, uint32_t(i));
-  }
-  return rays;
-}
-
 // One ray set against a reference backend: the agreement figures, reported with MESSAGE.
 Agreement agree_with(const char* reference, Backend& embree, const Geometry& g,
                      const RayBatch& rays, const std::string& label) {
@@ -207,7 +183,7 @@ TEST_CASE("embree agrees with brute on hits, triangles, t and occlusion") {
     Agreement one;
     one += agree_with("brute", *embree, g, random_rays(g, 30000, ++seed, RayType::bounce),
                       c.name + ", random rays");
-    one += agree_with("brute", *embree, g, offset_surface_rays(g, 15000, ++seed),
+    one += agree_with("brute", *embree, g, surface_rays(g, 15000, ++seed, true),
                       c.name + ", rays from surfaces");
     one += agree_with("brute", *embree, g, axis_rays(g, 15000, ++seed), c.name + ", axis rays");
     report_on_surface("brute", *embree, g, surface_rays(g, 5000, ++seed),
@@ -394,7 +370,7 @@ TEST_CASE("embree agrees with dacrt on real scenes from ../shared/scenes") {
     Agreement all;
     all += agree_with(reference, *embree, g, random_rays(g, 200000, ++seed, RayType::bounce),
                       file + ", random rays");
-    all += agree_with(reference, *embree, g, offset_surface_rays(g, 20000, ++seed),
+    all += agree_with(reference, *embree, g, surface_rays(g, 20000, ++seed, true),
                       file + ", rays from surfaces");
     report_on_surface(reference, *embree, g, surface_rays(g, 5000, ++seed),
                       file + ", rays on surfaces");

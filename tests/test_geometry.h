@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "tracer/geometry.h"
+#include "tracer/ray.h"
 #include "tracer/ray_batch.h"
 #include "util/random.h"
 
@@ -120,8 +121,10 @@ inline RayBatch random_rays(const Geometry& g, size_t n, uint64_t seed, RayType 
   return rays;
 }
 
-// Rays that start exactly on a triangle (a random point by barycentrics), tmin 0.
-inline RayBatch surface_rays(const Geometry& g, size_t n, uint64_t seed) {
+// Rays from a random point (by barycentrics) of a random triangle, tmin 0: exactly on the
+// triangle, or, with `offset`, moved off it by offset_ray_origin to the side the ray leaves from,
+// as the integrator spawns rays.
+inline RayBatch surface_rays(const Geometry& g, size_t n, uint64_t seed, bool offset = false) {
   Pcg32 rng(seed);
   RayBatch rays;
   rays.type = RayType::bounce;
@@ -131,7 +134,12 @@ inline RayBatch surface_rays(const Geometry& g, size_t n, uint64_t seed) {
     float u = rng.uniform(), v = rng.uniform();
     if (u + v > 1.f) u = 1.f - u, v = 1.f - v;
     glm::vec3 p = (1.f - u - v) * g.vertex(tri, 0) + u * g.vertex(tri, 1) + v * g.vertex(tri, 2);
-    rays.set(i, p, random_direction(rng), 0.f, INFINITY, uint32_t(i));
+    glm::vec3 d = random_direction(rng), normal = g.normal(tri);
+    if (offset && glm::dot(normal, normal) > 0.f) {
+      normal = glm::normalize(normal);
+      p = offset_ray_origin(p, glm::dot(normal, d) < 0.f ? -normal : normal);
+    }
+    rays.set(i, p, d, 0.f, INFINITY, uint32_t(i));
   }
   return rays;
 }
