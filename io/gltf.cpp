@@ -31,6 +31,7 @@
 #include <new>
 #include <string_view>
 
+#include "io/gltf_file.h"
 #include "util/error.h"
 
 namespace dacrt {
@@ -40,9 +41,6 @@ static_assert(std::endian::native == std::endian::little, "glTF buffers are litt
 
 using Bytes = std::vector<unsigned char>;
 
-// tinygltf converts `extras` and `extensions` to its Value type recursively; bounding the JSON
-// nesting keeps a hostile file from overflowing the stack there.
-constexpr int kMaxJsonDepth = 512;
 // Accessors without a bufferView (all zeros, maybe sparse-patched) are materialised; their size is
 // not bounded by any buffer, so bound it here.
 constexpr size_t kMaxSynthesisedBytes = size_t(1) << 30;
@@ -52,21 +50,6 @@ constexpr size_t kMaxTriangles = std::numeric_limits<uint32_t>::max() - 1;
 template <class Number>
 std::string str(Number n) {
   return std::to_string(n);
-}
-
-// tinygltf's messages are multi-line and may quote a whole data URI: make them one short line.
-std::string one_line(std::string_view text, size_t max_chars = 400) {
-  std::string out;
-  for (char c : text) {
-    bool newline = c == '\n' || c == '\r';
-    if (!newline)
-      out += c;
-    else if (!out.empty() && out.back() != ' ')
-      out += "; ";
-  }
-  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
-  if (out.size() > max_chars) out = out.substr(0, max_chars) + "...";
-  return out;
 }
 
 // a + b for messages, saturating instead of wrapping.
@@ -88,122 +71,6 @@ glm::vec3 unit_or(const glm::vec3& n, const glm::vec3& fallback) {
 
 glm::vec3 geometric_normal(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
   return unit_or(glm::cross(b - a, c - a), glm::vec3(0.f, 0.f, 1.f));
-}
-
-Bytes read_file(const std::string& path) {
-  std::error_code ec;
-  auto status = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(status)) throw Error(path + ": file does not exist");
-  if (!std::filesystem::is_regular_file(status)) throw Error(path + ": is not a regular file");
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) throw Error(path + ": file cannot be opened: " + std::strerror(errno));
-  std::streamoff size = in.tellg();
-  // tinygltf takes sizes as unsigned int (and GLB lengths are 32-bit).
-  if (size < 0 || uint64_t(size) > std::numeric_limits<uint32_t>::max())
-    throw Error(path + ": file is larger than 4 GiB");
-  Bytes data(static_cast<size_t>(size));
-  in.seekg(0);
-  if (!in.read(reinterpret_cast<char*>(data.data()), size))
-    throw Error(path + ": file cannot be read");
-  if (data.empty()) throw Error(path + ": file is empty");
-  return data;
-}
-
-uint32_t le32(const unsigned char* p) {
-  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
-// tinygltf 2.7 lets the BIN chunk end 8 bytes past the data (its bounds check forgets the chunk
-// header), so the GLB container is checked here first. Returns the JSON chunk's size.
-size_t check_glb(const std::string& path, const Bytes& data) {
-  auto bad = [&](const std::string& what) { throw Error(path + ": GLB " + what); };
-  if (data.size() < 20) bad("header is truncated (" + str(data.size()) + " bytes)");
-  uint32_t version = le32(&data[4]), length = le32(&data[8]);
-  if (version != 2) bad("version " + str(version) + " is not 2");
-  if (length > data.size())
-    bad("length " + str(length) + " exceeds the file size " + str(data.size()));
-  uint64_t json_size = le32(&data[12]), json_end = 20 + json_size;
-  if (le32(&data[16]) != 0x4E4F534Au) bad("chunk 0 is not JSON");
-  if (json_end > length) bad("JSON chunk overruns the file (ends at " + str(json_end) + ")");
-  if (json_end < length) {  // a BIN chunk follows
-    if (json_end + 8 > length) bad("BIN chunk header is truncated");
-    uint64_t bin_end = json_end + 8 + le32(&data[json_end]);
-    if (bin_end > length)
-      bad("BIN chunk overruns the file (ends at " + str(bin_end) + ", file has " + str(length) +
-          " bytes)");
-  }
-  return static_cast<size_t>(json_size);
-}
-
-int json_depth(const unsigned char* s, size_t n) {
-  int depth = 0, deepest = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < n; ++i) {
-    unsigned char c = s[i];
-    if (in_string) {
-      i += c == '\\';  // skip the escaped character
-      in_string = c != '"';
-    } else {
-      in_string = c == '"';
-      depth += (c == '[' || c == '{') - (c == ']' || c == '}');
-      deepest = std::max(deepest, depth);
-    }
-  }
-  return deepest;
-}
-
-// Images are not used in this version: accept and drop them, so odd textures never fail a load.
-bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                  const unsigned char*, int, void*) {
-  return true;
-}
-
-// Buffer and image URIs may name any path. tinygltf tests existence with fopen, which blocks
-// forever on a FIFO: accept only regular files.
-bool regular_file_exists(const std::string& path, void*) {
-  std::error_code ec;
-  return std::filesystem::is_regular_file(path, ec);
-}
-
-// tinygltf reports failures as text only. Buffers are parsed first and in order, so a file or
-// data-URI failure is about buffer number model.buffers.size() (the ones before it succeeded).
-[[noreturn]] void parse_failed(const std::string& path, const tinygltf::Model& model,
-                               const std::string& err, const std::string& warn) {
-  std::string why = one_line(err.empty() ? warn : err);
-  if (why.empty()) why = "tinygltf gives no reason";
-  if (err.find("json.exception") != std::string::npos || err.find("JSON string too short") == 0)
-    throw Error(path + ": JSON does not parse: " + why);
-  for (const char* buffer_error : {"File not found", "File read error", "File is empty",
-                                   "File size mismatch", "in Buffer", "`Buffer'", "binary size"})
-    if (err.find(buffer_error) != std::string::npos)
-      throw Error(path + ": buffer " + str(model.buffers.size()) + " cannot be read: " + why);
-  throw Error(path + ": is not valid glTF: " + why);
-}
-
-tinygltf::Model parse(const std::string& path, const Bytes& data) {
-  bool binary = data.size() >= 4 && std::memcmp(data.data(), "glTF", 4) == 0;
-  std::string ext = std::filesystem::path(path).extension().string();
-  if (!binary && (ext == ".glb" || ext == ".GLB"))
-    throw Error(path + ": GLB magic \"glTF\" is missing");
-
-  size_t json_size = binary ? check_glb(path, data) : data.size();
-  if (json_depth(data.data() + (binary ? 20 : 0), json_size) > kMaxJsonDepth)
-    throw Error(path + ": JSON nests deeper than " + str(kMaxJsonDepth) + " levels");
-
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(&ignore_image, nullptr);
-  loader.SetFsCallbacks({&regular_file_exists, &tinygltf::ExpandFilePath, &tinygltf::ReadWholeFile,
-                         &tinygltf::WriteWholeFile, nullptr});
-  tinygltf::Model model;
-  std::string err, warn;  // warnings only concern images, which this version ignores
-  std::string base_dir = std::filesystem::path(path).parent_path().string();
-  auto size = static_cast<unsigned int>(data.size());
-  bool ok =
-      binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data.data(), size, base_dir)
-             : loader.LoadASCIIFromString(
-                   &model, &err, &warn, reinterpret_cast<const char*>(data.data()), size, base_dir);
-  if (!ok) parse_failed(path, model, err, warn);
-  return model;
 }
 
 // A validated strided window onto an accessor's elements: element i is the `components` values of
@@ -685,9 +552,7 @@ class Loader {
 
 Scene load_gltf(const std::string& path, const GltfOptions& options) {
   try {
-    Bytes data = read_file(path);
-    tinygltf::Model model = parse(path, data);
-    data = Bytes();  // the GLB's BIN chunk was copied into model.buffers
+    tinygltf::Model model = read_gltf_model(path);
     return Loader(path, model).run(options.scene);
   } catch (const Error&) {
     throw;

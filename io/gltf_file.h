@@ -1,0 +1,19 @@
+// Reading a glTF file into tinygltf's model: .gltf or .glb (told apart by the GLB magic), with
+// the checks tinygltf lacks (GLB chunk lengths, JSON nesting depth, FIFOs posing as buffers) and
+// images ignored (a no-op loader: this version renders no textures). Throws dacrt::Error with one
+// line naming the file.
+#pragma once
+
+#include <tiny_gltf.h>
+
+#include <string>
+#include <string_view>
+
+namespace dacrt {
+
+tinygltf::Model read_gltf_model(const std::string& path);
+
+// tinygltf's messages are multi-line and may quote a whole data URI: one short line of them.
+std::string one_line(std::string_view text, size_t max_chars = 400);
+
+}  // namespace dacrt
