@@ -196,22 +196,7 @@ TEST_CASE("embree agrees with brute on hits, triangles, t and occlusion") {
 
 TEST_CASE("embree: NaN, inf, zero-direction and inactive rays miss; an empty scene works") {
   Geometry g = quad_grid(8, 0.125f);
-  RayBatch rays;
-  const float nan = std::nanf(""), inf = INFINITY;
-  glm::vec3 o(0.5f, 0.5f, 1.f), down(0.f, 0.f, -1.f);
-  rays.push(o, down, 0.f, inf, 0);                          // a good ray: hits
-  rays.push(o, down, 1.f, 1.f, 1);                          // tmin == tmax == the hit: hits
-  rays.push(glm::vec3(nan, 0.5f, 1.f), down, 0.f, inf, 2);  // NaN origin
-  rays.push(o, glm::vec3(0.f, nan, -1.f), 0.f, inf, 3);     // NaN direction
-  rays.push(glm::vec3(inf, 0.5f, 1.f), down, 0.f, inf, 4);  // inf origin
-  rays.push(o, glm::vec3(0.f, 0.f, -inf), 0.f, inf, 5);     // inf direction
-  rays.push(o, glm::vec3(0.f), 0.f, inf, 6);                // zero direction
-  rays.push(o, down, 2.f, 1.f, 7);                          // tmin > tmax
-  rays.push(o, down, nan, inf, 8);                          // NaN tmin
-  rays.push(o, down, 0.f, nan, 9);                          // NaN tmax
-  rays.push(o, down, 0.f, 0.5f, 10);                        // ends before the plane
-  rays.push(o, down, inf, inf, 11);                         // starts at infinity
-  rays.push(o, down, -inf, -inf, 12);                       // ends at minus infinity
+  RayBatch rays = degenerate_rays();
   auto embree = Backend::create("embree", g);
   HitBatch hits;
   embree->intersect(rays, hits);

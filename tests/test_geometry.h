@@ -144,6 +144,29 @@ inline RayBatch surface_rays(const Geometry& g, size_t n, uint64_t seed, bool of
   return rays;
 }
 
+// Rays towards quad_grid(8, 0.125f) (the z = 0 plane, x and y in [0, 1]) that every backend must
+// survive: rays 0 and 1 hit it at t = 1 (the second with tmin == tmax == 1), every other one
+// is NaN, infinite, zero-length or inactive somewhere, or ends before the plane, and misses.
+inline RayBatch degenerate_rays() {
+  RayBatch rays;
+  const float nan = std::nanf(""), inf = INFINITY;
+  const glm::vec3 o(0.5f, 0.5f, 1.f), down(0.f, 0.f, -1.f);
+  rays.push(o, down, 0.f, inf, 0);                          // a good ray
+  rays.push(o, down, 1.f, 1.f, 1);                          // tmin == tmax == the hit
+  rays.push(glm::vec3(nan, 0.5f, 1.f), down, 0.f, inf, 2);  // NaN origin
+  rays.push(o, glm::vec3(0.f, nan, -1.f), 0.f, inf, 3);     // NaN direction
+  rays.push(glm::vec3(inf, 0.5f, 1.f), down, 0.f, inf, 4);  // inf origin
+  rays.push(o, glm::vec3(0.f, 0.f, -inf), 0.f, inf, 5);     // inf direction
+  rays.push(o, glm::vec3(0.f), 0.f, inf, 6);                // zero direction
+  rays.push(o, down, 2.f, 1.f, 7);                          // tmin > tmax
+  rays.push(o, down, nan, inf, 8);                          // NaN tmin
+  rays.push(o, down, 0.f, nan, 9);                          // NaN tmax
+  rays.push(o, down, 0.f, 0.5f, 10);                        // ends before the plane
+  rays.push(o, down, inf, inf, 11);                         // starts at infinity
+  rays.push(o, down, -inf, -inf, 12);                       // ends at minus infinity
+  return rays;
+}
+
 // Rays along ±x, ±y, ±z (zero direction components), from a grid of origins around the box.
 inline RayBatch axis_rays(const Geometry& g, size_t n, uint64_t seed) {
   Pcg32 rng(seed);
