@@ -31,12 +31,6 @@ namespace {
 // the matrices); anything this bright is white on any display anyway.
 constexpr float kMaxSceneValue = 1e6f;
 
-std::string one_line(std::string text) {
-  std::replace(text.begin(), text.end(), '\n', ' ');
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\r')) text.pop_back();
-  return text;
-}
-
 // RGB → XYZ for the Rec.709 primaries and D65 white, derived as in SMPTE RP 177 from the same
 // chromaticities OCIO's built-ins use, so that white maps to exactly (1, 1, 1) after its inverse.
 std::array<double, 16> rec709_to_xyz_d65() {

@@ -31,12 +31,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string one_line(std::string text) {
-  std::replace(text.begin(), text.end(), '\n', ' ');
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\r')) text.pop_back();
-  return text;
-}
-
 Error write_error(const std::string& path, const std::string& reason) {
   return Error("cannot write EXR '" + path + "': " + reason);
 }

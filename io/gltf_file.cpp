@@ -5,13 +5,18 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <string_view>
 #include <vector>
 
 #include "util/error.h"
 
 namespace dacrt {
 
-std::string one_line(std::string_view text, size_t max_chars) {
+namespace {
+
+// tinygltf's messages are multi-line and may quote a whole data URI: one short line of them, the
+// lines joined by "; ".
+std::string summary(std::string_view text, size_t max_chars = 400) {
   std::string out;
   for (char c : text) {
     bool newline = c == '\n' || c == '\r';
@@ -24,8 +29,6 @@ std::string one_line(std::string_view text, size_t max_chars) {
   if (out.size() > max_chars) out = out.substr(0, max_chars) + "...";
   return out;
 }
-
-namespace {
 
 using Bytes = std::vector<unsigned char>;
 
@@ -114,7 +117,7 @@ bool regular_file_exists(const std::string& path, void*) {
 // data-URI failure is about buffer number model.buffers.size() (the ones before it succeeded).
 [[noreturn]] void parse_failed(const std::string& path, const tinygltf::Model& model,
                                const std::string& err, const std::string& warn) {
-  std::string why = one_line(err.empty() ? warn : err);
+  std::string why = summary(err.empty() ? warn : err);
   if (why.empty()) why = "tinygltf gives no reason";
   if (err.find("json.exception") != std::string::npos || err.find("JSON string too short") == 0)
     throw Error(path + ": JSON does not parse: " + why);

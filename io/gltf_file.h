@@ -7,13 +7,9 @@
 #include <tiny_gltf.h>
 
 #include <string>
-#include <string_view>
 
 namespace dacrt {
 
 tinygltf::Model read_gltf_model(const std::string& path);
-
-// tinygltf's messages are multi-line and may quote a whole data URI: one short line of them.
-std::string one_line(std::string_view text, size_t max_chars = 400);
 
 }  // namespace dacrt

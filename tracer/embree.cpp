@@ -280,7 +280,7 @@ class Embree final : public Backend {
     if (!e->error_.empty()) return;
     e->error_ = std::string("backend embree: Embree error: ") + error_name(code);
     if (message && *message) e->error_ += std::string(": ") + message;
-    std::replace(e->error_.begin(), e->error_.end(), '\n', ' ');
+    e->error_ = one_line(std::move(e->error_));
     e->has_error_ = true;
   }
 

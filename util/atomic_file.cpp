@@ -65,12 +65,10 @@ void write_atomically(const std::string& path, const std::string& what,
 
   const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
   const PendingFile pending_file(tmp);
-  auto fail = [&](std::string reason) {
+  auto fail = [&](const std::string& reason) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    for (char& c : reason)
-      if (c == '\n' || c == '\r') c = ' ';
-    return Error(prefix + reason);
+    return Error(prefix + one_line(reason));
   };
   errno = 0;
   std::ofstream stream(tmp, std::ios::binary | std::ios::trunc);

@@ -12,4 +12,13 @@ struct Error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A library's message (OpenEXR, OpenColorIO, Embree, the OS) made fit for an Error: line breaks
+// become spaces and trailing blanks go.
+inline std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
 }  // namespace dacrt
