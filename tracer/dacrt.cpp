@@ -182,10 +182,9 @@ class Dacrt final : public Backend {
       Ray r = Ray::prepare(batch, i, magnitude_);
       refs.push_back({r.o, r.inv_d, r.pad, batch.tmin[i], batch.tmax[i], uint32_t(i)});
     }
-    const std::vector<RayRef>& ids = refs;
     // Chunks of the batch run as independent traversals, one per thread at a time.
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-    const size_t chunks = ids.size() >= 8192 * threads ? threads : 1;
+    const size_t chunks = refs.size() >= 8192 * threads ? threads : 1;
     tbb::enumerable_thread_specific<std::vector<TriangleRef>> tri_scratch;
     std::atomic<size_t> peak_chunks{0}, running{0};
     Stats total;
@@ -197,7 +196,8 @@ class Dacrt final : public Backend {
       }
       auto& tris = tri_scratch.local();
       tris = refs_;
-      uint32_t rb = uint32_t(ids.size() * c / chunks), re = uint32_t(ids.size() * (c + 1) / chunks);
+      uint32_t rb = uint32_t(refs.size() * c / chunks),
+               re = uint32_t(refs.size() * (c + 1) / chunks);
       Traversal t{*this,
                   batch,
                   refs.data(),
@@ -264,7 +264,7 @@ uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
 
 // α estimation: every sampled ray against both boxes of every candidate split. The split loop is
 // branch-free over structure-of-arrays boxes so that it vectorises; it is the same conservative
-// slab test as Ray::hits.
+// slab test as Ray::box_hits.
 void Traversal::sample_splits(const std::array<Box, 256>& left, const std::array<Box, 256>& right,
                               int K, uint32_t rb, uint32_t samples, Counts& hit_left,
                               Counts& hit_right, Counts& left_first, Counts& right_first) {
@@ -284,7 +284,7 @@ void Traversal::sample_splits(const std::array<Box, 256>& left, const std::array
     for (int s = 1; s < K; ++s) {
       float ln = t0, lf = t1, rn = t0, rf = t1;
       for (int a = 0; a < 3; ++a) {
-        // (lo - pad - o) * inv, as in Ray::hits: the box bound first, then the shift.
+        // (lo - pad - o) * inv, as in Ray::box_hits: the box bound first, then the shift.
         float la = (l_lo[a][s] - r.pad - o[a]) * inv[a], lb = (l_hi[a][s] + r.pad - o[a]) * inv[a];
         float ra = (r_lo[a][s] - r.pad - o[a]) * inv[a], rbb = (r_hi[a][s] + r.pad - o[a]) * inv[a];
         ln = std::max(ln, std::min(la, lb)), lf = std::min(lf, std::max(la, lb));

@@ -61,12 +61,8 @@ struct Ray {
     return prepare(b.origin(i), b.direction(i), magnitude);
   }
 
-  // Conservative slab test: true if the ray may touch `box`, grown by `pad`, within [tmin, tmax].
+  // Conservative slab test: true if a ray may touch `box`, grown by `pad`, within [tmin, tmax].
   // Writes the entry distance (clamped to tmin) for traversal-order decisions.
-  bool hits(const Box& box, float tmin, float tmax, float* entry = nullptr) const {
-    return box_hits(o, inv_d, pad, box, tmin, tmax, entry);
-  }
-
   static bool box_hits(const glm::vec3& o, const glm::vec3& inv_d, float pad, const Box& box,
                        float tmin, float tmax, float* entry = nullptr) {
     float near = tmin, far = tmax;
