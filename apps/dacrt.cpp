@@ -63,9 +63,10 @@ Light transport
   --environment R,G,B        uniform environment radiance (default 0, or 1 when the scene has no emitters)
   --seed S                   random seed (default 0)
 Ray tracing
-  --backend NAME             dacrt (default), dacrt-naive, brute
+  --backend NAME             dacrt (default), dacrt-naive, embree, brute
   --backend-option KEY=VALUE backend setting, repeatable (dacrt: bins, leaf_rays, leaf_work, leaf_triangles,
-                             sample_size, sample_threshold, filter_skip, cost_traversal, cost_intersect)
+                             max_leaf_triangles, sample_size, sample_threshold, small_nodes, filter_skip,
+                             cost_traversal, cost_intersect, seed, max_depth)
   --wavefront N              live paths per wavefront (default 524288)
   --threads T                worker threads (default: all cores)
 Other

@@ -103,6 +103,8 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
       {{"filter_skip", "0"}},                             // never filter
       {{"filter_skip", "1.5"}},                           // always filter
       {{"sample_size", "1"}, {"sample_threshold", "1"}},
+      {{"small_nodes", "all"}},                                  // every ray samples every split
+      {{"small_nodes", "all"}, {"sample_threshold", "100000"}},  // every node
       {{"max_depth", "3"}},
       {{"cost_traversal", "1000"}},  // leaves everywhere the size allows
       {{"cost_traversal", "1000"}, {"max_leaf_triangles", "100000"}},  // leaves everywhere

@@ -24,7 +24,8 @@ const std::set<std::string, std::less<>>& DacrtParams::keys() {
       "bins",           "leaf_rays",      "leaf_work",
       "leaf_triangles", "sample_size",    "sample_threshold",
       "filter_skip",    "cost_traversal", "cost_intersect",
-      "seed",           "max_depth",      "max_leaf_triangles"};
+      "seed",           "max_depth",      "max_leaf_triangles",
+      "small_nodes"};
   return k;
 }
 
@@ -44,6 +45,9 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.cost_intersect = o.get("cost_intersect", p.cost_intersect);
   p.seed = uint64_t(o.get("seed", int(p.seed)));
   p.max_depth = o.get("max_depth", p.max_depth);
+  std::string small = o.get("small_nodes", std::string("sah"));
+  if (small != "sah" && small != "all") throw Error("option small_nodes must be sah or all");
+  p.small_nodes_sah = small == "sah";
   if (p.bins < 2 || p.bins > 256) throw Error("option bins must be in [2, 256]");
   if (p.leaf_rays < 1 || p.leaf_triangles < 1 || p.leaf_work < 1 || p.max_leaf_triangles < 1)
     throw Error("options leaf_rays, leaf_triangles, leaf_work and max_leaf_triangles must be >= 1");
@@ -107,10 +111,13 @@ struct Traversal {
   Split choose_split(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
   uint32_t filter(const Box& box, uint32_t rb, uint32_t re);
-  using Counts = std::array<uint32_t, 256>;
-  void sample_splits(const std::array<Box, 256>& left, const std::array<Box, 256>& right, int K,
-                     uint32_t rb, uint32_t samples, Counts& hit_left, Counts& hit_right,
-                     Counts& left_first, Counts& right_first);
+  // Per candidate split: sampled rays that hit the left / right box, and that enter it first.
+  struct Counts {
+    std::array<uint32_t, 256> left{}, right{}, left_first{}, right_first{};
+  };
+  void sample_splits(const Box* left, const Box* right, int n, uint32_t rb, uint32_t samples,
+                     Counts& counts);
+  uint32_t draw_samples(uint32_t rb, uint32_t re, uint32_t wanted);
 };
 
 class Dacrt final : public Backend {
@@ -262,26 +269,25 @@ uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
   return uint32_t(mid - rays);
 }
 
-// α estimation: every sampled ray against both boxes of every candidate split. The split loop is
-// branch-free over structure-of-arrays boxes so that it vectorises; it is the same conservative
-// slab test as Ray::box_hits.
-void Traversal::sample_splits(const std::array<Box, 256>& left, const std::array<Box, 256>& right,
-                              int K, uint32_t rb, uint32_t samples, Counts& hit_left,
-                              Counts& hit_right, Counts& left_first, Counts& right_first) {
+// α estimation: every sampled ray against both boxes of each of the n candidate splits. The
+// split loop is branch-free over structure-of-arrays boxes so that it vectorises; it is the same
+// conservative slab test as Ray::box_hits.
+void Traversal::sample_splits(const Box* left, const Box* right, int n, uint32_t rb,
+                              uint32_t samples, Counts& c) {
   constexpr int max_splits = 256;
   alignas(32) float l_lo[3][max_splits], l_hi[3][max_splits];
   alignas(32) float r_lo[3][max_splits], r_hi[3][max_splits];
-  for (int s = 1; s < K; ++s)
+  for (int s = 0; s < n; ++s)
     for (int a = 0; a < 3; ++a) {
       l_lo[a][s] = left[s].lo[a], l_hi[a][s] = left[s].hi[a];
       r_lo[a][s] = right[s].lo[a], r_hi[a][s] = right[s].hi[a];
     }
-  for (uint32_t n = 0; n < samples; ++n) {
-    const RayRef& r = rays[rb + n];
+  for (uint32_t i = 0; i < samples; ++i) {
+    const RayRef& r = rays[rb + i];
     float o[3], inv[3];
     for (int a = 0; a < 3; ++a) o[a] = r.o[a], inv[a] = r.inv_d[a];
     const float t0 = r.tmin, t1 = r.far;
-    for (int s = 1; s < K; ++s) {
+    for (int s = 0; s < n; ++s) {
       float ln = t0, lf = t1, rn = t0, rf = t1;
       for (int a = 0; a < 3; ++a) {
         // (lo - pad - o) * inv, as in Ray::box_hits: the box bound first, then the shift.
@@ -291,12 +297,22 @@ void Traversal::sample_splits(const std::array<Box, 256>& left, const std::array
         rn = std::max(rn, std::min(ra, rbb)), rf = std::min(rf, std::max(ra, rbb));
       }
       const uint32_t hl = ln <= lf, hr = rn <= rf;
-      hit_left[s] += hl, hit_right[s] += hr;
-      left_first[s] += hl & (!hr | (ln <= rn));
-      right_first[s] += hr & (!hl | (rn < ln));
+      c.left[s] += hl, c.right[s] += hr;
+      c.left_first[s] += hl & (!hr | (ln <= rn));
+      c.right_first[s] += hr & (!hl | (rn < ln));
     }
   }
-  stats.box_tests += uint64_t(samples) * 2 * (K - 1);
+  stats.box_tests += uint64_t(samples) * 2 * n;
+}
+
+// Moves a uniform random subset of `wanted` rays of [rb, re) to its front (a partial Fisher-Yates
+// shuffle: the order of a range is free) and returns how many it moved; all rays if there are no
+// more than wanted.
+uint32_t Traversal::draw_samples(uint32_t rb, uint32_t re, uint32_t wanted) {
+  const uint32_t nr = re - rb;
+  if (nr <= wanted) return nr;
+  for (uint32_t s = 0; s < wanted; ++s) std::swap(rays[rb + s], rays[rb + s + rng.below(nr - s)]);
+  return wanted;
 }
 
 // Bins the node's triangles, estimates α for every candidate split, and partitions the triangles
@@ -347,22 +363,23 @@ Traversal::Split Traversal::choose_split(const Box& box, uint32_t tb, uint32_t t
     }
   }
 
-  // Ray sampling: α of each side of each split from a random subset of the active rays. The
-  // sample is drawn by a partial Fisher-Yates shuffle of the ray range itself (order is free).
-  uint32_t samples = nr;
-  if (p.sampling && nr > uint32_t(p.sample_threshold)) {
-    samples = uint32_t(p.sample_size);
-    for (uint32_t s = 0; s < samples; ++s)
-      std::swap(rays[rb + s], rays[rb + s + rng.below(nr - s)]);
+  // Ray sampling. Above the threshold (or everywhere with small_nodes=all): α of each side of
+  // every candidate from a random subset of the rays, and the split by C = C_T + C_I (α_L N_L +
+  // α_R N_R). Ties (all α equal, e.g. every sampled ray starts inside the node) go to the better
+  // SAH cost, which also picks the split when a node too large for a leaf must split anyway.
+  // Small nodes (and dacrt-naive) pick the split by the SAH's area ratios; dacrt then samples α
+  // of that split alone, for the leaf decision, the traversal order and filter skipping.
+  const bool all_splits = p.sampling && (nr > uint32_t(p.sample_threshold) || !p.small_nodes_sah);
+  uint32_t samples = 0;
+  Counts counts;
+  if (all_splits) {
+    samples = nr > uint32_t(p.sample_threshold) ? draw_samples(rb, re, p.sample_size) : nr;
+    sample_splits(&left_box[1], &right_box[1], K - 1, rb, samples, counts);
   }
-  std::array<uint32_t, 256> hit_left{}, hit_right{}, left_first{}, right_first{};
-  if (p.sampling)
-    sample_splits(left_box, right_box, K, rb, samples, hit_left, hit_right, left_first,
-                  right_first);
-  // C = C_T + C_I (α_L N_L + α_R N_R) with sampling; the SAH's area ratios without.
-  // Ties (all α equal, e.g. every sampled ray starts inside the node) go to the better SAH cost,
-  // which also picks the split when a node too large for a leaf must split anyway.
-  const double leaf_cost = p.cost_intersect * nt;
+  auto alpha_cost = [&](uint32_t hit_l, uint32_t hit_r, int split) {
+    return p.cost_traversal + p.cost_intersect * (double(hit_l) / samples * left_n[split] +
+                                                  double(hit_r) / samples * right_n[split]);
+  };
   double best_cost = INFINITY, best_area_cost = INFINITY;
   int best = 0;
   const double parent_area = box.half_area();
@@ -372,25 +389,35 @@ Traversal::Split Traversal::choose_split(const Box& box, uint32_t tb, uint32_t t
     double area_r = parent_area > 0 ? right_box[split].half_area() / parent_area : 1.0;
     double area_cost =
         p.cost_traversal + p.cost_intersect * (area_l * left_n[split] + area_r * right_n[split]);
-    double cost = area_cost;
-    if (p.sampling) {
-      double al = double(hit_left[split]) / samples, ar = double(hit_right[split]) / samples;
-      cost = p.cost_traversal + p.cost_intersect * (al * left_n[split] + ar * right_n[split]);
-    }
+    double cost = all_splits ? alpha_cost(counts.left[split - 1], counts.right[split - 1], split)
+                             : area_cost;
     if (cost < best_cost || (cost == best_cost && area_cost < best_area_cost))
       best_cost = cost, best_area_cost = area_cost, best = split;
   }
-  if (best == 0 || (best_cost >= leaf_cost && nt <= uint32_t(p.max_leaf_triangles))) return {};
+  if (best == 0) return {};
+  uint32_t hit_l = 0, hit_r = 0, first_l = 0, first_r = 0;
+  if (all_splits) {
+    hit_l = counts.left[best - 1], hit_r = counts.right[best - 1];
+    first_l = counts.left_first[best - 1], first_r = counts.right_first[best - 1];
+  } else if (p.sampling) {
+    samples = draw_samples(rb, re, p.sample_size);
+    Counts one;
+    sample_splits(&left_box[best], &right_box[best], 1, rb, samples, one);
+    hit_l = one.left[0], hit_r = one.right[0], first_l = one.left_first[0],
+    first_r = one.right_first[0];
+    best_cost = alpha_cost(hit_l, hit_r, best);
+  }
+  const double leaf_cost = p.cost_intersect * nt;
+  if (best_cost >= leaf_cost && nt <= uint32_t(p.max_leaf_triangles)) return {};
 
   TriangleRef* tri_mid =
       std::partition(tris + tb, tris + te, [&](const TriangleRef& t) { return bin_of(t) < best; });
   const uint32_t tm = uint32_t(tri_mid - tris);
   Split split{true,
-              {{{left_box[best], tb, tm, p.sampling ? double(hit_left[best]) / samples : 1.0},
-                {right_box[best], tm, te, p.sampling ? double(hit_right[best]) / samples : 1.0}}}};
+              {{{left_box[best], tb, tm, p.sampling ? double(hit_l) / samples : 1.0},
+                {right_box[best], tm, te, p.sampling ? double(hit_r) / samples : 1.0}}}};
   // Traversal order: first the child that more sampled rays enter first.
-  if (p.sampling && right_first[best] > left_first[best])
-    std::swap(split.children[0], split.children[1]);
+  if (p.sampling && first_r > first_l) std::swap(split.children[0], split.children[1]);
   return split;
 }
 

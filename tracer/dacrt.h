@@ -28,7 +28,13 @@ struct DacrtParams {
   // more triangles than this split anyway, by the cheapest candidate.
   int max_leaf_triangles = 64;
   int sample_size = 100;        // rays drawn to estimate α
-  int sample_threshold = 1000;  // sample only above this many active rays; else use them all
+  int sample_threshold = 1000;  // sample only above this many active rays
+  // At or below sample_threshold: `sah` picks the split by the surface area heuristic and
+  // estimates α of that one split only, from up to sample_size of the rays (for traversal order
+  // and filter skipping: 2 box tests per sampled ray instead of 2(K−1)); `all` estimates α of every
+  // candidate from every ray, the literal reading of the paper, which costs 2(K−1) box tests per
+  // ray in each of the many small nodes of incoherent batches.
+  bool small_nodes_sah = true;
   // Skip filtering a child when α exceeds this; negative = the paper's rule
   // α > 1 − C_T / (N_child · C_I).
   double filter_skip_alpha = -1.0;
