@@ -71,6 +71,7 @@ std::vector<Case> cases() {
   c.push_back({"quad grid", quad_grid(24, 1.f / 24.f)});
   c.push_back({"long thin triangles", slivers(1200, 12)});
   c.push_back({"one centroid", one_centroid(400, 13)});
+  c.push_back({"one box centre", one_box_center(400, 14)});
   return c;
 }
 

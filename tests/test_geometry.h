@@ -105,6 +105,24 @@ inline Geometry one_centroid(size_t n, uint64_t seed) {
   return g;
 }
 
+// Triangles of different shapes whose bounding boxes all share one centre exactly (what the DACRT
+// kernel bins on): corners c+u, c-u and c+w with |w| <= |u| on every axis, on a lattice of exact
+// binary fractions.
+inline Geometry one_box_center(size_t n, uint64_t seed) {
+  Pcg32 rng(seed);
+  Geometry g;
+  const glm::vec3 c(0.5f);
+  for (size_t i = 0; i < n; ++i) {
+    glm::vec3 u, w;
+    for (int a = 0; a < 3; ++a) {
+      u[a] = float(int(rng.below(51)) - 25) / 64.f;
+      w[a] = u[a] * float(int(rng.below(5)) - 2) / 2.f;  // -u, -u/2, 0, u/2, u
+    }
+    g.add(c + u, c - u, c + w, 0);
+  }
+  return g;
+}
+
 // Random rays: origins in the box grown by half its size, uniform directions.
 inline RayBatch random_rays(const Geometry& g, size_t n, uint64_t seed, RayType type) {
   Pcg32 rng(seed);

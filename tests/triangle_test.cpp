@@ -186,8 +186,8 @@ TEST_CASE("overlapping coplanar triangles: the lower index wins, in every backen
   }
 }
 
-TEST_CASE("100 000 triangles with one centroid: the recursion ends and the answer is exact") {
-  Geometry g = one_centroid(100000, 77);
+TEST_CASE("100 000 triangles with one box centre: the recursion ends and the answer is exact") {
+  Geometry g = one_box_center(100000, 77);
   RayBatch rays = random_rays(g, 300, 78, RayType::bounce);
   HitBatch expected, got;
   Backend::create("brute", g)->intersect(rays, expected);
@@ -199,7 +199,7 @@ TEST_CASE("100 000 triangles with one centroid: the recursion ends and the answe
     for (size_t i = 0; i < rays.size(); ++i)
       mismatches += got.prim[i] != expected.prim[i] || got.t[i] != expected.t[i];
     CHECK(mismatches == 0);
-    CHECK(b->stats().nodes == 0);  // nothing to split: one leaf
+    CHECK(b->stats().nodes == 0);  // nothing to bin apart: one leaf
   }
 }
 

@@ -3,11 +3,13 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -61,13 +63,56 @@ namespace {
 
 constexpr float inf = std::numeric_limits<float>::infinity();
 
-// What binning and partitioning read of a triangle, in one record, so that a node streams through
-// a contiguous range of them instead of gathering from scattered arrays by index.
+// What binning and partitioning read of a triangle, in one 20-byte record, so that a node streams
+// through a contiguous range of them instead of gathering from scattered arrays by index. The box
+// is stored as its low corner and its extent in 8-bit steps of a power of two, rounded up: a
+// slightly larger box (by at most 1/128 of the triangle's own size) is still a bounding box, so
+// filtering stays conservative, and the record is half the size of a float box with a centroid.
 struct TriangleRef {
-  float lo[3], hi[3];  // bounding box
-  float centroid[3];
-  uint32_t id;  // index into Geometry
+  float lo[3];
+  uint8_t ext[3];  // hi[a] = lo[a] + ext[a] · 2^exp, evaluated as in hi()
+  int8_t exp;      // in [-126, 127]
+  uint32_t id;     // index into Geometry
+
+  float step() const { return std::bit_cast<float>(uint32_t(exp + 127) << 23); }
+  float hi(int a, float step) const { return lo[a] + float(ext[a]) * step; }
+  // The box centre along `a`: where binning puts the triangle.
+  float center(int a, float step) const { return lo[a] + 0.5f * (float(ext[a]) * step); }
+
+  static TriangleRef encode(const Geometry& g, uint32_t i) {
+    TriangleRef r;
+    r.id = i;
+    float hi[3], extent = 0.f;
+    for (int a = 0; a < 3; ++a) {
+      float p0 = g.p[0][a][i], p1 = g.p[1][a][i], p2 = g.p[2][a][i];
+      r.lo[a] = std::min({p0, p1, p2});
+      hi[a] = std::max({p0, p1, p2});
+      extent = std::max(extent, hi[a] - r.lo[a]);
+    }
+    if (!std::isfinite(extent)) {  // never hits; any box that does not lose it will do
+      r.exp = 127;
+      r.ext[0] = r.ext[1] = r.ext[2] = 255;
+      return r;
+    }
+    // The smallest step with 255 steps >= extent, then the fewest steps that reach hi in float
+    // arithmetic exactly as hi() evaluates it; a coarser step if rounding needs more than 255.
+    int k = 0;
+    std::frexp(extent, &k);  // extent < 2^k
+    for (int e = std::max(-126, k - 8);; ++e) {
+      r.exp = int8_t(e);
+      const float step = r.step();
+      bool fits = true;
+      for (int a = 0; a < 3 && fits; ++a) {
+        float q = std::min(255.f, std::ceil((hi[a] - r.lo[a]) / step));
+        r.ext[a] = uint8_t(q);
+        while (r.hi(a, step) < hi[a] && r.ext[a] < 255) ++r.ext[a];
+        fits = r.hi(a, step) >= hi[a];
+      }
+      if (fits || e == 127) return r;
+    }
+  }
 };
+static_assert(sizeof(TriangleRef) == 20);
 
 // What filtering and sampling read of a ray, in one record that moves with the ray as ranges are
 // partitioned. Leaves rebuild the rest (the triangle test's shear) from the batch.
@@ -126,24 +171,17 @@ class Dacrt final : public Backend {
       : geometry_(g), params_(DacrtParams::from(options, sampling)) {
     options.check_known(sampling ? "backend dacrt" : "backend dacrt-naive", DacrtParams::keys());
     auto start = std::chrono::steady_clock::now();
-    size_t n = g.size();
-    refs_.resize(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](auto range) {
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        TriangleRef& r = refs_[i];
-        r.id = uint32_t(i);
-        for (int a = 0; a < 3; ++a) {
-          float p0 = g.p[0][a][i], p1 = g.p[1][a][i], p2 = g.p[2][a][i];
-          r.lo[a] = std::min({p0, p1, p2});
-          r.hi[a] = std::max({p0, p1, p2});
-          r.centroid[a] = (p0 + p1 + p2) * (1.f / 3.f);
-        }
-      }
-    });
-    for (const TriangleRef& r : refs_)
-      for (int a = 0; a < 3; ++a)
-        bounds_.lo[a] = std::min(bounds_.lo[a], r.lo[a]),
-        bounds_.hi[a] = std::max(bounds_.hi[a], r.hi[a]);
+    bounds_ = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, g.size(), 16384), Box(),
+        [&](const auto& range, Box box) {
+          for (size_t i = range.begin(); i != range.end(); ++i)
+            for (int c = 0; c < 3; ++c) box.extend(g.vertex(i, c));
+          return box;
+        },
+        [](Box a, const Box& b) {
+          a.extend(b);
+          return a;
+        });
     magnitude_ = bounds_.magnitude();
     build_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -173,7 +211,6 @@ class Dacrt final : public Backend {
 
   const Geometry& geometry_;
   const DacrtParams params_;
-  std::vector<TriangleRef> refs_;  // in Geometry's order; each traversal partitions a copy
 
  public:
   float magnitude() const { return magnitude_; }
@@ -201,8 +238,10 @@ class Dacrt final : public Backend {
       size_t seen = peak_chunks.load();
       while (now > seen && !peak_chunks.compare_exchange_weak(seen, now)) {
       }
+      // Each chunk partitions its own triangle records, encoded afresh (as fast as a copy).
       auto& tris = tri_scratch.local();
-      tris = refs_;
+      tris.resize(geometry_.size());
+      for (uint32_t i = 0; i < tris.size(); ++i) tris[i] = TriangleRef::encode(geometry_, i);
       uint32_t rb = uint32_t(refs.size() * c / chunks),
                re = uint32_t(refs.size() * (c + 1) / chunks);
       Traversal t{*this,
@@ -323,27 +362,35 @@ Traversal::Split Traversal::choose_split(const Box& box, uint32_t tb, uint32_t t
   const DacrtParams& p = k.params_;
   const uint32_t nt = te - tb, nr = re - rb;
   // Binning on triangle centroids along the longest axis of the centroids' box (Wald 2007).
-  Box cbox;
-  for (uint32_t j = tb; j < te; ++j)
-    cbox.extend(glm::vec3(tris[j].centroid[0], tris[j].centroid[1], tris[j].centroid[2]));
-  const int axis = cbox.longest_axis();
-  const float lo = cbox.lo[axis], extent = cbox.hi[axis] - cbox.lo[axis];
+  // Binning on triangle box centres along the longest axis of the centres' box (Wald 2007).
+  float clo[3] = {inf, inf, inf}, chi[3] = {-inf, -inf, -inf};
+  for (uint32_t j = tb; j < te; ++j) {
+    const float step = tris[j].step();
+    for (int a = 0; a < 3; ++a) {
+      float c = tris[j].center(a, step);
+      clo[a] = std::min(clo[a], c), chi[a] = std::max(chi[a], c);
+    }
+  }
+  const float ce[3] = {chi[0] - clo[0], chi[1] - clo[1], chi[2] - clo[2]};
+  const int axis = ce[0] >= ce[1] ? (ce[0] >= ce[2] ? 0 : 2) : (ce[1] >= ce[2] ? 1 : 2);
+  const float lo = clo[axis], extent = ce[axis];
   const int K = p.bins;
   const float scale = float(K) / extent;
-  if (!(extent > 0.f) || !std::isfinite(scale)) return {};  // one centroid: make a leaf
+  if (!(extent > 0.f) || !std::isfinite(scale)) return {};  // one centre: make a leaf
   auto bin_of = [&](const TriangleRef& t) {
-    return std::min(K - 1, int((t.centroid[axis] - lo) * scale));
+    return std::min(K - 1, int((t.center(axis, t.step()) - lo) * scale));
   };
 
   std::array<Box, 256> bin_box;
   std::array<uint32_t, 256> bin_count{};
   for (uint32_t j = tb; j < te; ++j) {
     const TriangleRef& t = tris[j];
-    int b = bin_of(t);
+    const float step = t.step();
+    const int b = std::min(K - 1, int((t.center(axis, step) - lo) * scale));
     ++bin_count[b];
     Box& bb = bin_box[b];
     for (int a = 0; a < 3; ++a)
-      bb.lo[a] = std::min(bb.lo[a], t.lo[a]), bb.hi[a] = std::max(bb.hi[a], t.hi[a]);
+      bb.lo[a] = std::min(bb.lo[a], t.lo[a]), bb.hi[a] = std::max(bb.hi[a], t.hi(a, step));
   }
   // Split s puts bins [0, s) left and [s, K) right.
   std::array<Box, 256> left_box, right_box;
