@@ -17,6 +17,7 @@
 
 #include "tracer/backend.h"
 #include "tracer/triangle.h"
+#include "tracer/triangle_block.h"
 #include "util/random.h"
 
 namespace dacrt {
@@ -27,7 +28,7 @@ const std::set<std::string, std::less<>>& DacrtParams::keys() {
       "leaf_triangles", "sample_size",    "sample_threshold",
       "filter_skip",    "cost_traversal", "cost_intersect",
       "seed",           "max_depth",      "max_leaf_triangles",
-      "small_nodes"};
+      "small_nodes",    "simd"};
   return k;
 }
 
@@ -50,6 +51,9 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   std::string small = o.get("small_nodes", std::string("sah"));
   if (small != "sah" && small != "all") throw Error("option small_nodes must be sah or all");
   p.small_nodes_sah = small == "sah";
+  std::string simd = o.get("simd", std::string("auto"));
+  if (simd != "auto" && simd != "none") throw Error("option simd must be auto or none");
+  p.simd = simd == "auto";
   if (p.bins < 2 || p.bins > 256) throw Error("option bins must be in [2, 256]");
   if (p.leaf_rays < 1 || p.leaf_triangles < 1 || p.leaf_work < 1 || p.max_leaf_triangles < 1)
     throw Error("options leaf_rays, leaf_triangles, leaf_work and max_leaf_triangles must be >= 1");
@@ -114,19 +118,20 @@ struct TriangleRef {
 };
 static_assert(sizeof(TriangleRef) == 20);
 
-// What filtering and sampling read of a ray, in one record that moves with the ray as ranges are
-// partitioned. Leaves rebuild the rest (the triangle test's shear) from the batch.
+// A ray as the recursion sees it, in one 48-byte record that moves with the ray as ranges are
+// partitioned: filtering, sampling and leaves never gather from the batch's arrays. The box test's
+// pad is recomputed from o (Ray::pad_for) rather than stored.
 struct RayRef {
-  glm::vec3 o, inv_d;  // as in Ray
-  float pad;           // as in Ray
+  glm::vec3 o, d, inv_d;  // as in Ray
   float tmin;
   float far;    // running tmax: the closest hit so far, or -inf once occluded
   uint32_t id;  // index into the batch
 
-  bool hits(const Box& box, float* entry = nullptr) const {
-    return Ray::box_hits(o, inv_d, pad, box, tmin, far, entry);
+  bool hits(const Box& box, float magnitude) const {
+    return Ray::box_hits(o, inv_d, Ray::pad_for(o, magnitude), box, tmin, far);
   }
 };
+static_assert(sizeof(RayRef) == 48);
 
 class Dacrt;
 
@@ -224,7 +229,7 @@ class Dacrt final : public Backend {
     for (size_t i = 0; i < n; ++i) {
       if (!Ray::valid(batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i])) continue;
       Ray r = Ray::prepare(batch, i, magnitude_);
-      refs.push_back({r.o, r.inv_d, r.pad, batch.tmin[i], batch.tmax[i], uint32_t(i)});
+      refs.push_back({r.o, r.d, r.inv_d, batch.tmin[i], batch.tmax[i], uint32_t(i)});
     }
     // Chunks of the batch run as independent traversals, one per thread at a time.
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
@@ -277,25 +282,64 @@ class Dacrt final : public Backend {
 void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
   ++stats.leaves;
   const Geometry& g = k.geometry_;
-  for (uint32_t r = rb; r < re; ++r) {
-    RayRef& ref = rays[r];
-    if (!(ref.far >= ref.tmin)) continue;  // occluded already
+  // Records a hit of ray `ref` on triangle `tri` (already accepted by the triangle test).
+  auto record = [&](RayRef& ref, uint32_t tri, const TriangleHit& h) {
     const uint32_t i = ref.id;
-    // The same preparation as every other backend's, so t is bit for bit theirs.
-    const Ray ray = Ray::prepare(batch, i, k.magnitude());
-    for (uint32_t j = tb; j < te && ref.far >= ref.tmin; ++j) {
-      const uint32_t tri = tris[j].id;
-      ++stats.triangle_tests;
-      TriangleHit h;
-      if (!intersect_triangle(ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2), ref.tmin,
-                              ref.far, h))
-        continue;
-      if (occluded) {
-        occluded[i] = 1;
-        ref.far = -inf;  // drops out of every later box test and leaf
-      } else if (closer(h.t, tri, ref.far, hits->prim[i])) {
-        ref.far = h.t;
-        hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
+    if (occluded) {
+      occluded[i] = 1;
+      ref.far = -inf;  // drops out of every later box test and leaf
+    } else if (closer(h.t, tri, ref.far, hits->prim[i])) {
+      ref.far = h.t;
+      hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
+    }
+  };
+  if (!k.params_.simd || !block_test_available()) {
+    for (uint32_t r = rb; r < re; ++r) {
+      RayRef& ref = rays[r];
+      if (!(ref.far >= ref.tmin)) continue;  // occluded already
+      // The same preparation as every other backend's, so t is bit for bit theirs.
+      const Ray ray = Ray::prepare(ref.o, ref.d, k.magnitude());
+      for (uint32_t j = tb; j < te && ref.far >= ref.tmin; ++j) {
+        const uint32_t tri = tris[j].id;
+        ++stats.triangle_tests;
+        TriangleHit h;
+        if (intersect_triangle(ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2), ref.tmin,
+                               ref.far, h))
+          record(ref, tri, h);
+      }
+    }
+    return;
+  }
+  // Up to 64 triangles at a time in blocks of eight, loaded once for all the leaf's rays.
+  constexpr uint32_t group = 64;
+  std::array<TriangleBlock, group / 8> blocks;
+  for (uint32_t g0 = tb; g0 < te; g0 += group) {
+    const uint32_t g1 = std::min(te, g0 + group);
+    int nb = 0;
+    for (uint32_t j = g0; j < g1; j += 8, ++nb) {
+      uint32_t ids[8];
+      const int count = int(std::min(8u, g1 - j));
+      for (int l = 0; l < count; ++l) ids[l] = tris[j + l].id;
+      blocks[nb].load(g, ids, count);
+    }
+    for (uint32_t r = rb; r < re; ++r) {
+      RayRef& ref = rays[r];
+      if (!(ref.far >= ref.tmin)) continue;
+      const Ray ray = Ray::prepare(ref.o, ref.d, k.magnitude());
+      for (int b = 0; b < nb && ref.far >= ref.tmin; ++b) {
+        const TriangleBlock& block = blocks[b];
+        stats.triangle_tests += block.n;
+        // Candidates, then the scalar test on each, in lane order (the tie rule makes the order
+        // irrelevant for the answer).
+        for (uint32_t m = block_candidates(block, ray, ref.tmin, ref.far); m && ref.far >= ref.tmin;
+             m &= m - 1) {
+          const int l = std::countr_zero(m);
+          const uint32_t tri = block.id[l];
+          TriangleHit h;
+          if (intersect_triangle(ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2),
+                                 ref.tmin, ref.far, h))
+            record(ref, tri, h);
+        }
       }
     }
   }
@@ -304,7 +348,7 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
 // Moves the rays of [rb, re) that may touch `box` to the front; returns the end of that range.
 uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
   stats.box_tests += re - rb;
-  RayRef* mid = std::partition(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box); });
+  RayRef* mid = std::partition(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box, k.magnitude()); });
   return uint32_t(mid - rays);
 }
 
@@ -325,13 +369,13 @@ void Traversal::sample_splits(const Box* left, const Box* right, int n, uint32_t
     const RayRef& r = rays[rb + i];
     float o[3], inv[3];
     for (int a = 0; a < 3; ++a) o[a] = r.o[a], inv[a] = r.inv_d[a];
-    const float t0 = r.tmin, t1 = r.far;
+    const float t0 = r.tmin, t1 = r.far, pad = Ray::pad_for(r.o, k.magnitude());
     for (int s = 0; s < n; ++s) {
       float ln = t0, lf = t1, rn = t0, rf = t1;
       for (int a = 0; a < 3; ++a) {
         // (lo - pad - o) * inv, as in Ray::box_hits: the box bound first, then the shift.
-        float la = (l_lo[a][s] - r.pad - o[a]) * inv[a], lb = (l_hi[a][s] + r.pad - o[a]) * inv[a];
-        float ra = (r_lo[a][s] - r.pad - o[a]) * inv[a], rbb = (r_hi[a][s] + r.pad - o[a]) * inv[a];
+        float la = (l_lo[a][s] - pad - o[a]) * inv[a], lb = (l_hi[a][s] + pad - o[a]) * inv[a];
+        float ra = (r_lo[a][s] - pad - o[a]) * inv[a], rbb = (r_hi[a][s] + pad - o[a]) * inv[a];
         ln = std::max(ln, std::min(la, lb)), lf = std::min(lf, std::max(la, lb));
         rn = std::max(rn, std::min(ra, rbb)), rf = std::min(rf, std::max(ra, rbb));
       }

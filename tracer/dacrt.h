@@ -35,6 +35,9 @@ struct DacrtParams {
   // candidate from every ray, the literal reading of the paper, which costs 2(K−1) box tests per
   // ray in each of the many small nodes of incoherent batches.
   bool small_nodes_sah = true;
+  // Leaves test each ray against eight triangles at a time with AVX2 when the CPU has it (`auto`);
+  // `none` uses the scalar test only. Both give bit-identical answers (see triangle_block.h).
+  bool simd = true;
   // Skip filtering a child when α exceeds this; negative = the paper's rule
   // α > 1 − C_T / (N_child · C_I).
   double filter_skip_alpha = -1.0;

@@ -52,9 +52,13 @@ struct Ray {
     // triangle (the weights are a convex combination), so the box test grows every box by far more
     // (2^-16 relative): a box is never culled while a triangle inside it could report a hit, and
     // filtering never changes the answer.
-    float om = std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z)});
-    r.pad = 0x1p-16f * (om + magnitude);
+    r.pad = pad_for(o, magnitude);
     return r;
+  }
+
+  static float pad_for(const glm::vec3& o, float magnitude) {
+    float om = std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z)});
+    return 0x1p-16f * (om + magnitude);
   }
 
   static Ray prepare(const RayBatch& b, size_t i, float magnitude) {

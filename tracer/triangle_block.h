@@ -1,0 +1,42 @@
+// TriangleBlock: up to eight triangles in structure-of-arrays form, so that one ray is tested
+// against all of them with 8-wide vector instructions (AVX2 where the CPU has it).
+//
+// The vector test is a filter in front of the scalar one, not a second implementation: it performs
+// intersect_triangle's float operations in the same order (IEEE results are the same in a vector
+// lane), and returns every lane that test could accept, plus every lane with an edge function of
+// exactly zero (where the scalar test switches to double). The caller runs intersect_triangle on
+// those lanes only, so hits, t, u and v are the scalar test's, bit for bit, with or without AVX2.
+#pragma once
+
+#include <cstdint>
+
+#include "tracer/geometry.h"
+#include "tracer/ray.h"
+
+namespace dacrt {
+
+struct TriangleBlock {
+  alignas(32) float p[3][3][8];  // [corner][axis][lane]
+  uint32_t id[8];
+  int n = 0;  // lanes in use
+
+  // Loads the triangles ids[0..count), count <= 8; unused lanes are never reported.
+  void load(const Geometry& g, const uint32_t* ids, int count) {
+    n = count;
+    for (int l = 0; l < 8; ++l) {
+      const uint32_t i = ids[l < count ? l : 0];
+      id[l] = i;
+      for (int c = 0; c < 3; ++c)
+        for (int a = 0; a < 3; ++a) p[c][a][l] = g.p[c][a][i];
+    }
+  }
+};
+
+// True if this CPU runs block_candidates (x86-64 with AVX2).
+bool block_test_available();
+
+// Bit l set: lane l's triangle may be accepted by intersect_triangle(r, ..., tmin, tmax), or has an
+// edge function of exactly zero. Only call when block_test_available().
+uint32_t block_candidates(const TriangleBlock& b, const Ray& r, float tmin, float tmax);
+
+}  // namespace dacrt
