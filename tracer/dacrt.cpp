@@ -16,6 +16,7 @@
 #include <numeric>
 
 #include "tracer/backend.h"
+#include "tracer/partition.h"
 #include "tracer/triangle.h"
 #include "tracer/triangle_block.h"
 #include "util/random.h"
@@ -70,7 +71,7 @@ constexpr float inf = std::numeric_limits<float>::infinity();
 // What binning and partitioning read of a triangle, in one 20-byte record, so that a node streams
 // through a contiguous range of them instead of gathering from scattered arrays by index. The box
 // is stored as its low corner and its extent in 8-bit steps of a power of two, rounded up: a
-// slightly larger box (by at most 1/128 of the triangle's own size) is still a bounding box, so
+// slightly larger box (by at most 1/64 of the triangle's own size) is still a bounding box, so
 // filtering stays conservative, and the record is half the size of a float box with a centroid.
 struct TriangleRef {
   float lo[3];
@@ -98,22 +99,21 @@ struct TriangleRef {
       r.ext[0] = r.ext[1] = r.ext[2] = 255;
       return r;
     }
-    // The smallest step with 255 steps >= extent, then the fewest steps that reach hi in float
-    // arithmetic exactly as hi() evaluates it; a coarser step if rounding needs more than 255.
-    int k = 0;
-    std::frexp(extent, &k);  // extent < 2^k
-    for (int e = std::max(-126, k - 8);; ++e) {
-      r.exp = int8_t(e);
-      const float step = r.step();
-      bool fits = true;
-      for (int a = 0; a < 3 && fits; ++a) {
-        float q = std::min(255.f, std::ceil((hi[a] - r.lo[a]) / step));
-        r.ext[a] = uint8_t(q);
-        while (r.hi(a, step) < hi[a] && r.ext[a] < 255) ++r.ext[a];
-        fits = r.hi(a, step) >= hi[a];
-      }
-      if (fits || e == 127) return r;
+    // extent < 2^k; a step of 2^(k-7) needs at most 128 steps (plus a few for rounding), and no
+    // fewer than 64 for the longest side. Each count is the fewest steps that reach hi in float
+    // arithmetic exactly as hi() evaluates it.
+    const int k = int(std::bit_cast<uint32_t>(extent) >> 23) - 126;
+    r.exp = int8_t(std::max(-126, k - 7));
+    const float step = r.step();
+    const float inv_step = std::bit_cast<float>(uint32_t(127 - r.exp) << 23);  // exact
+    for (int a = 0; a < 3; ++a) {
+      const float steps = (hi[a] - r.lo[a]) * inv_step;
+      int q = int(steps);
+      q += float(q) < steps;
+      r.ext[a] = uint8_t(std::min(q, 255));
+      while (r.hi(a, step) < hi[a] && r.ext[a] < 255) ++r.ext[a];
     }
+    return r;
   }
 };
 static_assert(sizeof(TriangleRef) == 20);
@@ -151,23 +151,37 @@ struct Traversal {
     bool valid = false;  // false: no split beats a leaf
     struct Child {
       Box box;
+      Box centres;  // of its triangles' boxes
       uint32_t tb, te;
       double alpha;  // fraction of sampled rays that hit the child's box
     };
     std::array<Child, 2> children;  // in traversal order
   };
 
-  void node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re, int depth);
-  Split choose_split(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
+  void node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
+            uint32_t re, int depth);
+  Split choose_split(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
+                     uint32_t re);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
   uint32_t filter(const Box& box, uint32_t rb, uint32_t re);
   // Per candidate split: sampled rays that hit the left / right box, and that enter it first.
   struct Counts {
-    std::array<uint32_t, 256> left{}, right{}, left_first{}, right_first{};
+    std::array<uint32_t, 256> left, right, left_first, right_first;  // sample_splits zeroes them
   };
   void sample_splits(const Box* left, const Box* right, int n, uint32_t rb, uint32_t samples,
                      Counts& counts);
   uint32_t draw_samples(uint32_t rb, uint32_t re, uint32_t wanted);
+
+  // choose_split's scratch: it returns before the recursion goes on, so one set per traversal
+  // serves every node (and keeps recursion frames small).
+  struct Bin {
+    Box box, centres;
+    uint32_t count = 0;
+  };
+  std::array<Bin, 256> bins[2]{};
+  std::array<Box, 256> left_box{}, right_box{};
+  std::array<uint32_t, 256> left_n{}, right_n{};
+  Counts counts{};
 };
 
 class Dacrt final : public Backend {
@@ -223,14 +237,27 @@ class Dacrt final : public Backend {
  private:
   void trace(const RayBatch& batch, HitBatch* hits, uint8_t* occluded) {
     const size_t n = batch.size();
-    // Records for the live rays; the rest never enter the recursion.
-    std::vector<RayRef> refs;
-    refs.reserve(n);
-    for (size_t i = 0; i < n; ++i) {
-      if (!Ray::valid(batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i])) continue;
-      Ray r = Ray::prepare(batch, i, magnitude_);
-      refs.push_back({r.o, r.d, r.inv_d, batch.tmin[i], batch.tmax[i], uint32_t(i)});
-    }
+    // Records for the live rays, in batch order; the rest never enter the recursion. Built in
+    // parallel: live rays counted per block, then each block writes at its offset.
+    auto live = [&](size_t i) {
+      return Ray::valid(batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i]);
+    };
+    constexpr size_t block = 16384;
+    const size_t blocks = (n + block - 1) / block;
+    std::vector<size_t> offset(blocks + 1, 0);
+    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+      for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) offset[b + 1] += live(i);
+    });
+    std::partial_sum(offset.begin(), offset.end(), offset.begin());
+    std::vector<RayRef> refs(offset[blocks]);
+    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+      size_t out = offset[b];
+      for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
+        if (!live(i)) continue;
+        const Ray r = Ray::prepare(batch, i, magnitude_);
+        refs[out++] = {r.o, r.d, r.inv_d, batch.tmin[i], batch.tmax[i], uint32_t(i)};
+      }
+    });
     // Chunks of the batch run as independent traversals, one per thread at a time.
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const size_t chunks = refs.size() >= 8192 * threads ? threads : 1;
@@ -246,7 +273,12 @@ class Dacrt final : public Backend {
       // Each chunk partitions its own triangle records, encoded afresh (as fast as a copy).
       auto& tris = tri_scratch.local();
       tris.resize(geometry_.size());
-      for (uint32_t i = 0; i < tris.size(); ++i) tris[i] = TriangleRef::encode(geometry_, i);
+      Box centres;
+      for (uint32_t i = 0; i < tris.size(); ++i) {
+        const TriangleRef& r = tris[i] = TriangleRef::encode(geometry_, i);
+        const float step = r.step();
+        centres.extend(glm::vec3(r.center(0, step), r.center(1, step), r.center(2, step)));
+      }
       uint32_t rb = uint32_t(refs.size() * c / chunks),
                re = uint32_t(refs.size() * (c + 1) / chunks);
       Traversal t{*this,
@@ -257,7 +289,8 @@ class Dacrt final : public Backend {
                   tris.data(),
                   Pcg32(hash(params_.seed, calls_, c)),
                   {}};
-      if (!bounds_.empty() && rb < re) t.node(bounds_, 0, uint32_t(geometry_.size()), rb, re, 0);
+      if (!bounds_.empty() && rb < re)
+        t.node(bounds_, centres, 0, uint32_t(geometry_.size()), rb, re, 0);
       --running;
       std::lock_guard lock(total_mutex);
       total += t.stats;
@@ -348,7 +381,8 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
 // Moves the rays of [rb, re) that may touch `box` to the front; returns the end of that range.
 uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
   stats.box_tests += re - rb;
-  RayRef* mid = std::partition(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box, k.magnitude()); });
+  RayRef* mid =
+      block_partition(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box, k.magnitude()); });
   return uint32_t(mid - rays);
 }
 
@@ -360,6 +394,7 @@ void Traversal::sample_splits(const Box* left, const Box* right, int n, uint32_t
   constexpr int max_splits = 256;
   alignas(32) float l_lo[3][max_splits], l_hi[3][max_splits];
   alignas(32) float r_lo[3][max_splits], r_hi[3][max_splits];
+  for (int s = 0; s < n; ++s) c.left[s] = c.right[s] = c.left_first[s] = c.right_first[s] = 0;
   for (int s = 0; s < n; ++s)
     for (int a = 0; a < 3; ++a) {
       l_lo[a][s] = left[s].lo[a], l_hi[a][s] = left[s].hi[a];
@@ -401,23 +436,14 @@ uint32_t Traversal::draw_samples(uint32_t rb, uint32_t re, uint32_t wanted) {
 // Bins the node's triangles, estimates α for every candidate split, and partitions the triangles
 // by the cheapest one. Its large scratch arrays live only in this frame, never across the
 // recursion, so deep trees cannot exhaust a worker thread's stack.
-Traversal::Split Traversal::choose_split(const Box& box, uint32_t tb, uint32_t te, uint32_t rb,
-                                         uint32_t re) {
+Traversal::Split Traversal::choose_split(const Box& box, const Box& centres, uint32_t tb,
+                                         uint32_t te, uint32_t rb, uint32_t re) {
   const DacrtParams& p = k.params_;
   const uint32_t nt = te - tb, nr = re - rb;
-  // Binning on triangle centroids along the longest axis of the centroids' box (Wald 2007).
-  // Binning on triangle box centres along the longest axis of the centres' box (Wald 2007).
-  float clo[3] = {inf, inf, inf}, chi[3] = {-inf, -inf, -inf};
-  for (uint32_t j = tb; j < te; ++j) {
-    const float step = tris[j].step();
-    for (int a = 0; a < 3; ++a) {
-      float c = tris[j].center(a, step);
-      clo[a] = std::min(clo[a], c), chi[a] = std::max(chi[a], c);
-    }
-  }
-  const float ce[3] = {chi[0] - clo[0], chi[1] - clo[1], chi[2] - clo[2]};
-  const int axis = ce[0] >= ce[1] ? (ce[0] >= ce[2] ? 0 : 2) : (ce[1] >= ce[2] ? 1 : 2);
-  const float lo = clo[axis], extent = ce[axis];
+  // Binning on triangle box centres along the longest axis of the centres' box (Wald 2007). Each
+  // bin also keeps its centres' box, so the children know theirs without another pass.
+  const int axis = centres.longest_axis();
+  const float lo = centres.lo[axis], extent = centres.hi[axis] - centres.lo[axis];
   const int K = p.bins;
   const float scale = float(K) / extent;
   if (!(extent > 0.f) || !std::isfinite(scale)) return {};  // one centre: make a leaf
@@ -425,31 +451,42 @@ Traversal::Split Traversal::choose_split(const Box& box, uint32_t tb, uint32_t t
     return std::min(K - 1, int((t.center(axis, t.step()) - lo) * scale));
   };
 
-  std::array<Box, 256> bin_box;
-  std::array<uint32_t, 256> bin_count{};
+  // Two interleaved sets of bins, merged after: consecutive triangles in one bin would otherwise
+  // wait on each other's updates.
+  for (auto& set : bins)
+    for (int b = 0; b < K; ++b) set[b] = Bin();
   for (uint32_t j = tb; j < te; ++j) {
     const TriangleRef& t = tris[j];
     const float step = t.step();
-    const int b = std::min(K - 1, int((t.center(axis, step) - lo) * scale));
-    ++bin_count[b];
-    Box& bb = bin_box[b];
-    for (int a = 0; a < 3; ++a)
-      bb.lo[a] = std::min(bb.lo[a], t.lo[a]), bb.hi[a] = std::max(bb.hi[a], t.hi(a, step));
+    float d[3], c[3];
+    for (int a = 0; a < 3; ++a) d[a] = float(t.ext[a]) * step, c[a] = t.lo[a] + 0.5f * d[a];
+    Bin& bin = bins[j & 1][std::min(K - 1, int((c[axis] - lo) * scale))];
+    ++bin.count;
+    for (int a = 0; a < 3; ++a) {
+      bin.box.lo[a] = std::min(bin.box.lo[a], t.lo[a]);
+      bin.box.hi[a] = std::max(bin.box.hi[a], t.lo[a] + d[a]);  // = t.hi(a, step)
+      bin.centres.lo[a] = std::min(bin.centres.lo[a], c[a]);
+      bin.centres.hi[a] = std::max(bin.centres.hi[a], c[a]);
+    }
   }
+  for (int b = 0; b < K; ++b) {
+    bins[0][b].box.extend(bins[1][b].box);
+    bins[0][b].centres.extend(bins[1][b].centres);
+    bins[0][b].count += bins[1][b].count;
+  }
+  const auto& bin = bins[0];
   // Split s puts bins [0, s) left and [s, K) right.
-  std::array<Box, 256> left_box, right_box;
-  std::array<uint32_t, 256> left_n{}, right_n{};
   {
     Box acc;
     uint32_t n = 0;
     for (int s = 1; s < K; ++s) {
-      acc.extend(bin_box[s - 1]), n += bin_count[s - 1];
+      acc.extend(bin[s - 1].box), n += bin[s - 1].count;
       left_box[s] = acc, left_n[s] = n;
     }
     acc = Box();
     n = 0;
     for (int s = K - 1; s >= 1; --s) {
-      acc.extend(bin_box[s]), n += bin_count[s];
+      acc.extend(bin[s].box), n += bin[s].count;
       right_box[s] = acc, right_n[s] = n;
     }
   }
@@ -462,7 +499,6 @@ Traversal::Split Traversal::choose_split(const Box& box, uint32_t tb, uint32_t t
   // of that split alone, for the leaf decision, the traversal order and filter skipping.
   const bool all_splits = p.sampling && (nr > uint32_t(p.sample_threshold) || !p.small_nodes_sah);
   uint32_t samples = 0;
-  Counts counts;
   if (all_splits) {
     samples = nr > uint32_t(p.sample_threshold) ? draw_samples(rb, re, p.sample_size) : nr;
     sample_splits(&left_box[1], &right_box[1], K - 1, rb, samples, counts);
@@ -492,34 +528,36 @@ Traversal::Split Traversal::choose_split(const Box& box, uint32_t tb, uint32_t t
     first_l = counts.left_first[best - 1], first_r = counts.right_first[best - 1];
   } else if (p.sampling) {
     samples = draw_samples(rb, re, p.sample_size);
-    Counts one;
-    sample_splits(&left_box[best], &right_box[best], 1, rb, samples, one);
-    hit_l = one.left[0], hit_r = one.right[0], first_l = one.left_first[0],
-    first_r = one.right_first[0];
+    sample_splits(&left_box[best], &right_box[best], 1, rb, samples, counts);
+    hit_l = counts.left[0], hit_r = counts.right[0], first_l = counts.left_first[0],
+    first_r = counts.right_first[0];
     best_cost = alpha_cost(hit_l, hit_r, best);
   }
   const double leaf_cost = p.cost_intersect * nt;
   if (best_cost >= leaf_cost && nt <= uint32_t(p.max_leaf_triangles)) return {};
 
   TriangleRef* tri_mid =
-      std::partition(tris + tb, tris + te, [&](const TriangleRef& t) { return bin_of(t) < best; });
+      block_partition(tris + tb, tris + te, [&](const TriangleRef& t) { return bin_of(t) < best; });
   const uint32_t tm = uint32_t(tri_mid - tris);
+  Box left_centres, right_centres;
+  for (int b = 0; b < K; ++b) (b < best ? left_centres : right_centres).extend(bin[b].centres);
   Split split{true,
-              {{{left_box[best], tb, tm, p.sampling ? double(hit_l) / samples : 1.0},
-                {right_box[best], tm, te, p.sampling ? double(hit_r) / samples : 1.0}}}};
+              {{{left_box[best], left_centres, tb, tm, p.sampling ? double(hit_l) / samples : 1.0},
+                {right_box[best], right_centres, tm, te,
+                 p.sampling ? double(hit_r) / samples : 1.0}}}};
   // Traversal order: first the child that more sampled rays enter first.
   if (p.sampling && first_r > first_l) std::swap(split.children[0], split.children[1]);
   return split;
 }
 
-void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
-                     int depth) {
+void Traversal::node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
+                     uint32_t re, int depth) {
   const DacrtParams& p = k.params_;
   const uint32_t nt = te - tb, nr = re - rb;
   if (nt <= uint32_t(p.leaf_triangles) || depth >= p.max_depth ||
       (nr <= uint32_t(p.leaf_rays) && uint64_t(nr) * nt <= uint64_t(p.leaf_work)))
     return leaf(tb, te, rb, re);
-  const Split split = choose_split(box, tb, te, rb, re);
+  const Split split = choose_split(box, centres, tb, te, rb, re);
   if (!split.valid) return leaf(tb, te, rb, re);
   ++stats.nodes;
   for (const Split::Child& c : split.children) {
@@ -534,7 +572,7 @@ void Traversal::node(const Box& box, uint32_t tb, uint32_t te, uint32_t rb, uint
     } else {
       end = filter(c.box, rb, re);
     }
-    if (end > rb) node(c.box, c.tb, c.te, rb, end, depth + 1);
+    if (end > rb) node(c.box, c.centres, c.tb, c.te, rb, end, depth + 1);
   }
 }
 
