@@ -1,6 +1,10 @@
 // The DACRT kernel (see dacrt.h for what it is and where it comes from).
 #include "tracer/dacrt.h"
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define DACRT_X86 1
+#endif
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -12,6 +16,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <mutex>
 #include <numeric>
 
@@ -378,11 +383,58 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
   }
 }
 
+#ifdef DACRT_X86
+// Ray::box_hits for the 64 records p[0..64), eight per AVX2 instruction: the same operations in
+// the same order (_mm256_min_ps(b, a) is std::min(a, b) exactly, NaN and signed zeros included),
+// so the mask is bit for bit the scalar test's. Bit i is p[i].
+__attribute__((target("avx2"))) uint64_t box_mask64(const RayRef* p, const Box& box,
+                                                    float magnitude) {
+  static_assert(sizeof(RayRef) == 12 * sizeof(float) && offsetof(RayRef, inv_d) == 24 &&
+                offsetof(RayRef, tmin) == 36 && offsetof(RayRef, far) == 40);
+  const float* base = reinterpret_cast<const float*>(p);
+  const __m256i stride = _mm256_setr_epi32(0, 12, 24, 36, 48, 60, 72, 84);
+  __m256 lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = _mm256_set1_ps(box.lo[a]), hi[a] = _mm256_set1_ps(box.hi[a]);
+  const __m256 sign = _mm256_set1_ps(-0.f), mag = _mm256_set1_ps(magnitude),
+               scale = _mm256_set1_ps(0x1p-16f);
+  uint64_t mask = 0;
+  for (int g = 0; g < 8; ++g) {
+    const float* r = base + 96 * g;
+    __m256 o[3], inv[3];
+    for (int a = 0; a < 3; ++a) {
+      o[a] = _mm256_i32gather_ps(r + a, stride, 4);
+      inv[a] = _mm256_i32gather_ps(r + 6 + a, stride, 4);
+    }
+    __m256 near = _mm256_i32gather_ps(r + 9, stride, 4), far = _mm256_i32gather_ps(r + 10, stride, 4);
+    // Ray::pad_for: 2^-16 (max |o| + magnitude)
+    const __m256 om = _mm256_max_ps(_mm256_max_ps(_mm256_andnot_ps(sign, o[0]), _mm256_andnot_ps(sign, o[1])),
+                                    _mm256_andnot_ps(sign, o[2]));
+    const __m256 pad = _mm256_mul_ps(scale, _mm256_add_ps(om, mag));
+    for (int a = 0; a < 3; ++a) {
+      const __m256 ta = _mm256_mul_ps(_mm256_sub_ps(_mm256_sub_ps(lo[a], pad), o[a]), inv[a]);
+      const __m256 tb = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(hi[a], pad), o[a]), inv[a]);
+      near = _mm256_max_ps(_mm256_min_ps(tb, ta), near);  // std::max(near, std::min(ta, tb))
+      far = _mm256_min_ps(_mm256_max_ps(tb, ta), far);    // std::min(far, std::max(ta, tb))
+    }
+    mask |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(near, far, _CMP_LE_OQ)))) << (8 * g);
+  }
+  return mask;
+}
+#endif
+
 // Moves the rays of [rb, re) that may touch `box` to the front; returns the end of that range.
-uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
+__attribute__((noinline)) uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
   stats.box_tests += re - rb;
-  RayRef* mid =
-      block_partition(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box, k.magnitude()); });
+  const float m = k.magnitude();
+  auto pred = [&](const RayRef& r) { return r.hits(box, m); };
+  RayRef* mid;
+#ifdef DACRT_X86
+  if (k.params_.simd && block_test_available())
+    mid = block_partition(
+        rays + rb, rays + re, [&](const RayRef* p) { return box_mask64(p, box, m); }, pred);
+  else
+#endif
+    mid = block_partition(rays + rb, rays + re, pred);
   return uint32_t(mid - rays);
 }
 
@@ -436,7 +488,7 @@ uint32_t Traversal::draw_samples(uint32_t rb, uint32_t re, uint32_t wanted) {
 // Bins the node's triangles, estimates α for every candidate split, and partitions the triangles
 // by the cheapest one. Its large scratch arrays live only in this frame, never across the
 // recursion, so deep trees cannot exhaust a worker thread's stack.
-Traversal::Split Traversal::choose_split(const Box& box, const Box& centres, uint32_t tb,
+__attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& box, const Box& centres, uint32_t tb,
                                          uint32_t te, uint32_t rb, uint32_t re) {
   const DacrtParams& p = k.params_;
   const uint32_t nt = te - tb, nr = re - rb;

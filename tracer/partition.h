@@ -7,31 +7,34 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <utility>
 
 namespace dacrt {
 
 // Reorders [first, last) so that the elements satisfying `pred` come first; returns the end of
-// them. Not stable, like std::partition. `pred` must be a pure function of the element.
-template <typename T, typename Pred>
-T* block_partition(T* first, T* last, Pred pred) {
+// them. Not stable, like std::partition. `classify(p)` returns the predicate of p[0..64) as the
+// bits of a mask (bit i for p[i]), so that it can test several elements per instruction; `pred`
+// must agree with it element by element and be a pure function of the element.
+template <typename T, typename Classify, typename Pred>
+T* block_partition(T* first, T* last, Classify classify, Pred pred) {
   constexpr int block = 64;
   uint8_t left[block], right[block];  // offsets of misplaced elements in the current end blocks
   int num_left = 0, num_right = 0, start_left = 0, start_right = 0;
   while (last - first > 2 * block) {
-    if (num_left == 0) {
+    if (num_left == 0) {  // elements of the left block that belong right
       start_left = 0;
-      for (int i = 0; i < block; ++i) {
-        left[num_left] = uint8_t(i);
-        num_left += !pred(first[i]);
-      }
+      for (uint64_t m = ~uint64_t(classify(first)); m; m &= m - 1)
+        left[num_left++] = uint8_t(std::countr_zero(m));
     }
-    if (num_right == 0) {
+    if (num_right == 0) {  // elements of the right block (offsets from last - 1) that belong left
       start_right = 0;
-      for (int i = 0; i < block; ++i) {
-        right[num_right] = uint8_t(i);
-        num_right += bool(pred(*(last - 1 - i)));
+      // Bit 63 - i of the mask is element last - 1 - i: count from the top.
+      for (uint64_t m = classify(last - block); m;) {
+        const int i = std::countl_zero(m);
+        right[num_right++] = uint8_t(i);
+        m &= ~(uint64_t(1) << (63 - i));
       }
     }
     const int n = std::min(num_left, num_right);
@@ -44,6 +47,17 @@ T* block_partition(T* first, T* last, Pred pred) {
   // Left of first everything satisfies pred, from last on nothing does; what is between (at most
   // two partly resolved blocks) is finished the ordinary way.
   return std::partition(first, last, pred);
+}
+
+// The same with the predicate evaluated one element at a time, without branching on it.
+template <typename T, typename Pred>
+T* block_partition(T* first, T* last, Pred pred) {
+  auto classify = [&](const T* p) {
+    uint64_t m = 0;
+    for (int i = 0; i < 64; ++i) m |= uint64_t(bool(pred(p[i]))) << i;
+    return m;
+  };
+  return block_partition(first, last, classify, pred);
 }
 
 }  // namespace dacrt
