@@ -158,7 +158,7 @@ struct Traversal {
       Box box;
       Box centres;  // of its triangles' boxes
       uint32_t tb, te;
-      double alpha;  // fraction of sampled rays that hit the child's box
+      double alpha;  // fraction of sampled rays that hit the child's box; -1 if not sampled
     };
     std::array<Child, 2> children;  // in traversal order
   };
@@ -266,23 +266,19 @@ class Dacrt final : public Backend {
     // Chunks of the batch run as independent traversals, one per thread at a time.
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const size_t chunks = refs.size() >= 8192 * threads ? threads : 1;
-    tbb::enumerable_thread_specific<std::vector<TriangleRef>> tri_scratch;
-    std::atomic<size_t> peak_chunks{0}, running{0};
     Stats total;
     std::mutex total_mutex;
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-      size_t now = ++running;
-      size_t seen = peak_chunks.load();
-      while (now > seen && !peak_chunks.compare_exchange_weak(seen, now)) {
-      }
-      // Each chunk partitions its own triangle records, encoded afresh (as fast as a copy).
-      auto& tris = tri_scratch.local();
-      tris.resize(geometry_.size());
-      Box centres;
-      for (uint32_t i = 0; i < tris.size(); ++i) {
-        const TriangleRef& r = tris[i] = TriangleRef::encode(geometry_, i);
-        const float step = r.step();
-        centres.extend(glm::vec3(r.center(0, step), r.center(1, step), r.center(2, step)));
+      // Each thread partitions its own triangle records, encoded on its first call. Later calls
+      // start from whatever order the last one left: the recursion only depends on the set.
+      Triangles& own = triangles_.local();
+      if (own.refs.size() != geometry_.size()) {
+        own.refs.resize(geometry_.size());
+        for (uint32_t i = 0; i < own.refs.size(); ++i) {
+          const TriangleRef& r = own.refs[i] = TriangleRef::encode(geometry_, i);
+          const float step = r.step();
+          own.centres.extend(glm::vec3(r.center(0, step), r.center(1, step), r.center(2, step)));
+        }
       }
       uint32_t rb = uint32_t(refs.size() * c / chunks),
                re = uint32_t(refs.size() * (c + 1) / chunks);
@@ -291,24 +287,28 @@ class Dacrt final : public Backend {
                   refs.data(),
                   hits,
                   occluded,
-                  tris.data(),
+                  own.refs.data(),
                   Pcg32(hash(params_.seed, calls_, c)),
                   {}};
       if (!bounds_.empty() && rb < re)
-        t.node(bounds_, centres, 0, uint32_t(geometry_.size()), rb, re, 0);
-      --running;
+        t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
       std::lock_guard lock(total_mutex);
       total += t.stats;
     });
     total.rays = n;
     uint64_t bytes = refs.capacity() * sizeof(RayRef) +
-                     peak_chunks.load() * geometry_.size() * sizeof(TriangleRef);
+                     triangles_.size() * geometry_.size() * sizeof(TriangleRef);
     std::lock_guard lock(stats_mutex_);
     stats_ += total;
     stats_.peak_bytes = std::max(stats_.peak_bytes, bytes);
     ++calls_;
   }
 
+  struct Triangles {
+    std::vector<TriangleRef> refs;  // every triangle, in any order
+    Box centres;                    // of their boxes
+  };
+  tbb::enumerable_thread_specific<Triangles> triangles_;  // one per thread that traced
   Box bounds_;
   float magnitude_ = 0.f;
   double build_seconds_ = 0.0;
@@ -547,8 +547,7 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   // every candidate from a random subset of the rays, and the split by C = C_T + C_I (α_L N_L +
   // α_R N_R). Ties (all α equal, e.g. every sampled ray starts inside the node) go to the better
   // SAH cost, which also picks the split when a node too large for a leaf must split anyway.
-  // Small nodes (and dacrt-naive) pick the split by the SAH's area ratios; dacrt then samples α
-  // of that split alone, for the leaf decision, the traversal order and filter skipping.
+  // Small nodes (and dacrt-naive) pick the split by the SAH's area ratios.
   const bool all_splits = p.sampling && (nr > uint32_t(p.sample_threshold) || !p.small_nodes_sah);
   uint32_t samples = 0;
   if (all_splits) {
@@ -579,11 +578,11 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     hit_l = counts.left[best - 1], hit_r = counts.right[best - 1];
     first_l = counts.left_first[best - 1], first_r = counts.right_first[best - 1];
   } else if (p.sampling) {
-    samples = draw_samples(rb, re, p.sample_size);
-    sample_splits(&left_box[best], &right_box[best], 1, rb, samples, counts);
-    hit_l = counts.left[0], hit_r = counts.right[0], first_l = counts.left_first[0],
-    first_r = counts.right_first[0];
-    best_cost = alpha_cost(hit_l, hit_r, best);
+    // Small node: no α (filtering both children is then as cheap as estimating it, and a skip
+    // almost never pays for few triangles). Order by where the rays head along the split axis.
+    const uint32_t n = std::min(nr, 16u);
+    for (uint32_t i = 0; i < n; ++i) first_l += rays[rb + i].d[axis] >= 0.f;
+    first_r = n - first_l;
   }
   const double leaf_cost = p.cost_intersect * nt;
   if (best_cost >= leaf_cost && nt <= uint32_t(p.max_leaf_triangles)) return {};
@@ -594,9 +593,9 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   Box left_centres, right_centres;
   for (int b = 0; b < K; ++b) (b < best ? left_centres : right_centres).extend(bin[b].centres);
   Split split{true,
-              {{{left_box[best], left_centres, tb, tm, p.sampling ? double(hit_l) / samples : 1.0},
+              {{{left_box[best], left_centres, tb, tm, all_splits ? double(hit_l) / samples : -1.0},
                 {right_box[best], right_centres, tm, te,
-                 p.sampling ? double(hit_r) / samples : 1.0}}}};
+                 all_splits ? double(hit_r) / samples : -1.0}}}};
   // Traversal order: first the child that more sampled rays enter first.
   if (p.sampling && first_r > first_l) std::swap(split.children[0], split.children[1]);
   return split;
@@ -619,7 +618,7 @@ void Traversal::node(const Box& box, const Box& centres, uint32_t tb, uint32_t t
                            ? p.filter_skip_alpha
                            : 1.0 - p.cost_traversal / (double(n) * p.cost_intersect);
     uint32_t end = re;
-    if (p.sampling && c.alpha > threshold) {
+    if (c.alpha >= 0.0 && c.alpha > threshold) {
       ++stats.filter_skips;
     } else {
       end = filter(c.box, rb, re);

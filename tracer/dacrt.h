@@ -29,17 +29,17 @@ struct DacrtParams {
   int max_leaf_triangles = 64;
   int sample_size = 100;        // rays drawn to estimate α
   int sample_threshold = 1000;  // sample only above this many active rays
-  // At or below sample_threshold: `sah` picks the split by the surface area heuristic and
-  // estimates α of that one split only, from up to sample_size of the rays (for traversal order
-  // and filter skipping: 2 box tests per sampled ray instead of 2(K−1)); `all` estimates α of every
-  // candidate from every ray, the literal reading of the paper, which costs 2(K−1) box tests per
-  // ray in each of the many small nodes of incoherent batches.
+  // At or below sample_threshold: `sah` splits by the surface area heuristic, orders the children
+  // by the direction of up to 16 rays along the split axis and filters both (estimating α would
+  // cost as many box tests as filtering, and skipping rarely pays for few triangles); `all`
+  // estimates α of every candidate from every ray, the literal reading of the paper, which costs
+  // 2(K−1) box tests per ray in each of the many small nodes of incoherent batches.
   bool small_nodes_sah = true;
   // Leaves test each ray against eight triangles at a time with AVX2 when the CPU has it (`auto`);
   // `none` uses the scalar test only. Both give bit-identical answers (see triangle_block.h).
   bool simd = true;
-  // Skip filtering a child when α exceeds this; negative = the paper's rule
-  // α > 1 − C_T / (N_child · C_I).
+  // Skip filtering a child when its sampled α exceeds this; negative = the paper's rule
+  // α > 1 − C_T / (N_child · C_I). Children without a sampled α are always filtered.
   double filter_skip_alpha = -1.0;
   double cost_traversal = 1.0;  // C_T, relative cost of the box tests of one split
   double cost_intersect = 1.0;  // C_I, relative cost of one ray/triangle test

@@ -20,7 +20,8 @@ namespace dacrt {
 template <typename T, typename Classify, typename Pred>
 T* block_partition(T* first, T* last, Classify classify, Pred pred) {
   constexpr int block = 64;
-  uint8_t left[block], right[block];  // offsets of misplaced elements in the current end blocks
+  // Offsets of misplaced elements in the current end blocks (and, at the end, in what is left).
+  uint8_t left[2 * block], right[2 * block];
   int num_left = 0, num_right = 0, start_left = 0, start_right = 0;
   while (last - first > 2 * block) {
     if (num_left == 0) {  // elements of the left block that belong right
@@ -44,9 +45,24 @@ T* block_partition(T* first, T* last, Classify classify, Pred pred) {
     if (num_left == 0) first += block;
     if (num_right == 0) last -= block;
   }
-  // Left of first everything satisfies pred, from last on nothing does; what is between (at most
-  // two partly resolved blocks) is finished the ordinary way.
-  return std::partition(first, last, pred);
+  // Left of first everything satisfies pred, from last on nothing does. What is between (at most
+  // two blocks, partly resolved) is classified afresh and its misplaced elements swapped in pairs.
+  const int n = int(last - first);
+  uint8_t flag[2 * block];
+  if (n >= block) {  // two overlapping blocks cover it
+    const uint64_t head = classify(first), tail = classify(last - block);
+    for (int i = 0; i < block; ++i) flag[i] = uint8_t((head >> i) & 1u);
+    for (int i = 0; i < block; ++i) flag[n - block + i] = uint8_t((tail >> i) & 1u);
+  } else {
+    for (int i = 0; i < n; ++i) flag[i] = uint8_t(bool(pred(first[i])));
+  }
+  int count = 0;
+  for (int i = 0; i < n; ++i) count += flag[i];
+  int num = 0, other = 0;
+  for (int i = 0; i < count; ++i) left[num] = uint8_t(i), num += !flag[i];
+  for (int i = count; i < n; ++i) right[other] = uint8_t(i), other += flag[i];
+  for (int j = 0; j < num; ++j) std::swap(first[left[j]], first[right[j]]);
+  return first + count;
 }
 
 // The same with the predicate evaluated one element at a time, without branching on it.
