@@ -183,7 +183,7 @@ struct Traversal {
     Box box, centres;
     uint32_t count = 0;
   };
-  std::array<Bin, 256> bins[2]{};
+  std::array<Bin, 256> bins{};
   std::array<Box, 256> left_box{}, right_box{};
   std::array<uint32_t, 256> left_n{}, right_n{};
   Counts counts{};
@@ -504,29 +504,45 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   };
 
   // Two interleaved sets of bins, merged after: consecutive triangles in one bin would otherwise
-  // wait on each other's updates.
-  for (auto& set : bins)
-    for (int b = 0; b < K; ++b) set[b] = Bin();
+  // wait on each other's updates. Boxes are 4-wide vectors (x, y, z, unused) so that a triangle's
+  // decode and its four box updates are one instruction each; the values are exactly the scalar
+  // TriangleRef::hi and center.
+  using f4 = float __attribute__((vector_size(16)));
+  using i4 = int32_t __attribute__((vector_size(16)));
+  struct VBin {
+    f4 lo, hi, clo, chi;
+  };
+  VBin vbins[2][256];
+  uint32_t count[2][256];
+  for (int set = 0; set < 2; ++set)
+    for (int b = 0; b < K; ++b) {
+      vbins[set][b] = {f4{} + inf, f4{} - inf, f4{} + inf, f4{} - inf};
+      count[set][b] = 0;
+    }
   for (uint32_t j = tb; j < te; ++j) {
     const TriangleRef& t = tris[j];
-    const float step = t.step();
-    float d[3], c[3];
-    for (int a = 0; a < 3; ++a) d[a] = float(t.ext[a]) * step, c[a] = t.lo[a] + 0.5f * d[a];
-    Bin& bin = bins[j & 1][std::min(K - 1, int((c[axis] - lo) * scale))];
-    ++bin.count;
-    for (int a = 0; a < 3; ++a) {
-      bin.box.lo[a] = std::min(bin.box.lo[a], t.lo[a]);
-      bin.box.hi[a] = std::max(bin.box.hi[a], t.lo[a] + d[a]);  // = t.hi(a, step)
-      bin.centres.lo[a] = std::min(bin.centres.lo[a], c[a]);
-      bin.centres.hi[a] = std::max(bin.centres.hi[a], c[a]);
-    }
+    const f4 tlo = {t.lo[0], t.lo[1], t.lo[2], 0.f};
+    const f4 d = __builtin_convertvector((i4{t.ext[0], t.ext[1], t.ext[2], 0}), f4) * t.step();
+    const f4 thi = tlo + d, c = tlo + 0.5f * d;
+    const int b = std::min(K - 1, int((c[axis] - lo) * scale));
+    VBin& v = vbins[j & 1][b];
+    ++count[j & 1][b];
+    v.lo = tlo < v.lo ? tlo : v.lo;
+    v.hi = v.hi < thi ? thi : v.hi;
+    v.clo = c < v.clo ? c : v.clo;
+    v.chi = v.chi < c ? c : v.chi;
   }
   for (int b = 0; b < K; ++b) {
-    bins[0][b].box.extend(bins[1][b].box);
-    bins[0][b].centres.extend(bins[1][b].centres);
-    bins[0][b].count += bins[1][b].count;
+    const VBin &v0 = vbins[0][b], &v1 = vbins[1][b];
+    Bin& out = bins[b];
+    out.count = count[0][b] + count[1][b];
+    for (int a = 0; a < 3; ++a) {
+      out.box.lo[a] = std::min(v0.lo[a], v1.lo[a]), out.box.hi[a] = std::max(v0.hi[a], v1.hi[a]);
+      out.centres.lo[a] = std::min(v0.clo[a], v1.clo[a]);
+      out.centres.hi[a] = std::max(v0.chi[a], v1.chi[a]);
+    }
   }
-  const auto& bin = bins[0];
+  const auto& bin = bins;
   // Split s puts bins [0, s) left and [s, K) right.
   {
     Box acc;
