@@ -104,7 +104,7 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
       {{"filter_skip", "0"}},                             // never filter
       {{"filter_skip", "1.5"}},                           // always filter
       {{"sample_size", "1"}, {"sample_threshold", "1"}},
-      {{"simd", "none"}},                                        // the portable leaf test
+      {{"simd", "none"}},  // the portable leaf test
       {{"simd", "none"}, {"leaf_rays", "64"}, {"leaf_work", "100000000"}},
       {{"small_nodes", "all"}},                                  // every ray samples every split
       {{"small_nodes", "all"}, {"sample_threshold", "100000"}},  // every node

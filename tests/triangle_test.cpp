@@ -207,8 +207,8 @@ TEST_CASE("100 000 triangles with one box centre: the recursion ends and the ans
 TEST_CASE("watertight at every batch size, for every backend of ours") {
   Geometry g = sphere(16, 32, glm::vec3(0.f), 1.f, 0.4f, 11);
   Pcg32 rng(12);
-  for (size_t n : {size_t(1), size_t(2), size_t(3), size_t(15), size_t(16), size_t(17),
-                   size_t(999), size_t(1000), size_t(1001), size_t(5000), size_t(40000)}) {
+  for (size_t n : {size_t(1), size_t(2), size_t(3), size_t(15), size_t(16), size_t(17), size_t(999),
+                   size_t(1000), size_t(1001), size_t(5000), size_t(40000)}) {
     RayBatch rays;
     for (size_t i = 0; i < n; ++i)
       rays.push(0.2f * random_in(rng, glm::vec3(-1.f), glm::vec3(1.f)), random_direction(rng), 0.f,
@@ -260,9 +260,9 @@ TEST_CASE("the 8-wide triangle filter keeps every lane the scalar test accepts")
         const uint32_t mask = block_candidates(block, ray, c.rays.tmin[i], c.rays.tmax[i]);
         for (int l = 0; l < n; ++l) {
           TriangleHit h;
-          const bool hit = intersect_triangle(ray, c.g.vertex(ids[l], 0), c.g.vertex(ids[l], 1),
-                                              c.g.vertex(ids[l], 2), c.rays.tmin[i],
-                                              c.rays.tmax[i], h);
+          const bool hit =
+              intersect_triangle(ray, c.g.vertex(ids[l], 0), c.g.vertex(ids[l], 1),
+                                 c.g.vertex(ids[l], 2), c.rays.tmin[i], c.rays.tmax[i], h);
           const bool kept = (mask >> l) & 1u;
           accepted += hit, candidates += kept, dropped += hit && !kept, ++tested;
         }

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <mutex>
 #include <numeric>
 
@@ -29,12 +30,13 @@
 namespace dacrt {
 
 const std::set<std::string, std::less<>>& DacrtParams::keys() {
-  static const std::set<std::string, std::less<>> k = {
-      "bins",           "leaf_rays",      "leaf_work",
-      "leaf_triangles", "sample_size",    "sample_threshold",
-      "filter_skip",    "cost_traversal", "cost_intersect",
-      "seed",           "max_depth",      "max_leaf_triangles",
-      "small_nodes",    "simd"};
+  static const std::set<std::string, std::less<>> k = {"bins",           "leaf_rays",
+                                                       "leaf_work",      "leaf_triangles",
+                                                       "sample_size",    "sample_threshold",
+                                                       "filter_skip",    "cost_traversal",
+                                                       "cost_intersect", "seed",
+                                                       "max_depth",      "max_leaf_triangles",
+                                                       "small_nodes",    "simd"};
   return k;
 }
 
@@ -163,8 +165,8 @@ struct Traversal {
     std::array<Child, 2> children;  // in traversal order
   };
 
-  void node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
-            uint32_t re, int depth);
+  void node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
+            int depth);
   Split choose_split(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
                      uint32_t re);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
@@ -254,18 +256,32 @@ class Dacrt final : public Backend {
       for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) offset[b + 1] += live(i);
     });
     std::partial_sum(offset.begin(), offset.end(), offset.begin());
-    std::vector<RayRef> refs(offset[blocks]);
+    // The records' memory is kept from call to call (no page faults, nothing zeroed); a call that
+    // finds it in use by a concurrent one allocates its own.
+    const size_t count = offset[blocks];
+    std::unique_lock buffer_lock(ray_buffer_mutex_, std::try_to_lock);
+    std::unique_ptr<RayRef[]> own_buffer;
+    RayRef* refs;
+    if (buffer_lock.owns_lock()) {
+      if (ray_capacity_ < count) ray_buffer_.reset(), ray_buffer_.reset(new RayRef[count]);
+      ray_capacity_ = std::max(ray_capacity_, count);
+      refs = ray_buffer_.get();
+    } else {
+      own_buffer.reset(new RayRef[count]);
+      refs = own_buffer.get();
+    }
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       size_t out = offset[b];
       for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
         if (!live(i)) continue;
-        const Ray r = Ray::prepare(batch, i, magnitude_);
-        refs[out++] = {r.o, r.d, r.inv_d, batch.tmin[i], batch.tmax[i], uint32_t(i)};
+        const glm::vec3 d = batch.direction(i);
+        refs[out++] = {batch.origin(i), d,          Ray::inverse(d), batch.tmin[i],
+                       batch.tmax[i],   uint32_t(i)};
       }
     });
     // Chunks of the batch run as independent traversals, one per thread at a time.
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-    const size_t chunks = refs.size() >= 8192 * threads ? threads : 1;
+    const size_t chunks = count >= 8192 * threads ? threads : 1;
     Stats total;
     std::mutex total_mutex;
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
@@ -280,23 +296,17 @@ class Dacrt final : public Backend {
           own.centres.extend(glm::vec3(r.center(0, step), r.center(1, step), r.center(2, step)));
         }
       }
-      uint32_t rb = uint32_t(refs.size() * c / chunks),
-               re = uint32_t(refs.size() * (c + 1) / chunks);
-      Traversal t{*this,
-                  batch,
-                  refs.data(),
-                  hits,
-                  occluded,
-                  own.refs.data(),
-                  Pcg32(hash(params_.seed, calls_, c)),
-                  {}};
+      uint32_t rb = uint32_t(count * c / chunks), re = uint32_t(count * (c + 1) / chunks);
+      Traversal t{
+          *this, batch, refs, hits, occluded, own.refs.data(), Pcg32(hash(params_.seed, calls_, c)),
+          {}};
       if (!bounds_.empty() && rb < re)
         t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
       std::lock_guard lock(total_mutex);
       total += t.stats;
     });
     total.rays = n;
-    uint64_t bytes = refs.capacity() * sizeof(RayRef) +
+    uint64_t bytes = (buffer_lock.owns_lock() ? ray_capacity_ : count) * sizeof(RayRef) +
                      triangles_.size() * geometry_.size() * sizeof(TriangleRef);
     std::lock_guard lock(stats_mutex_);
     stats_ += total;
@@ -309,6 +319,9 @@ class Dacrt final : public Backend {
     Box centres;                    // of their boxes
   };
   tbb::enumerable_thread_specific<Triangles> triangles_;  // one per thread that traced
+  std::mutex ray_buffer_mutex_;
+  std::unique_ptr<RayRef[]> ray_buffer_;
+  size_t ray_capacity_ = 0;
   Box bounds_;
   float magnitude_ = 0.f;
   double build_seconds_ = 0.0;
@@ -405,10 +418,12 @@ __attribute__((target("avx2"))) uint64_t box_mask64(const RayRef* p, const Box& 
       o[a] = _mm256_i32gather_ps(r + a, stride, 4);
       inv[a] = _mm256_i32gather_ps(r + 6 + a, stride, 4);
     }
-    __m256 near = _mm256_i32gather_ps(r + 9, stride, 4), far = _mm256_i32gather_ps(r + 10, stride, 4);
+    __m256 near = _mm256_i32gather_ps(r + 9, stride, 4),
+           far = _mm256_i32gather_ps(r + 10, stride, 4);
     // Ray::pad_for: 2^-16 (max |o| + magnitude)
-    const __m256 om = _mm256_max_ps(_mm256_max_ps(_mm256_andnot_ps(sign, o[0]), _mm256_andnot_ps(sign, o[1])),
-                                    _mm256_andnot_ps(sign, o[2]));
+    const __m256 om =
+        _mm256_max_ps(_mm256_max_ps(_mm256_andnot_ps(sign, o[0]), _mm256_andnot_ps(sign, o[1])),
+                      _mm256_andnot_ps(sign, o[2]));
     const __m256 pad = _mm256_mul_ps(scale, _mm256_add_ps(om, mag));
     for (int a = 0; a < 3; ++a) {
       const __m256 ta = _mm256_mul_ps(_mm256_sub_ps(_mm256_sub_ps(lo[a], pad), o[a]), inv[a]);
@@ -488,8 +503,10 @@ uint32_t Traversal::draw_samples(uint32_t rb, uint32_t re, uint32_t wanted) {
 // Bins the node's triangles, estimates α for every candidate split, and partitions the triangles
 // by the cheapest one. Its large scratch arrays live only in this frame, never across the
 // recursion, so deep trees cannot exhaust a worker thread's stack.
-__attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& box, const Box& centres, uint32_t tb,
-                                         uint32_t te, uint32_t rb, uint32_t re) {
+__attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& box,
+                                                                   const Box& centres, uint32_t tb,
+                                                                   uint32_t te, uint32_t rb,
+                                                                   uint32_t re) {
   const DacrtParams& p = k.params_;
   const uint32_t nt = te - tb, nr = re - rb;
   // Binning on triangle box centres along the longest axis of the centres' box (Wald 2007). Each
@@ -583,8 +600,8 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     double area_r = parent_area > 0 ? right_box[split].half_area() / parent_area : 1.0;
     double area_cost =
         p.cost_traversal + p.cost_intersect * (area_l * left_n[split] + area_r * right_n[split]);
-    double cost = all_splits ? alpha_cost(counts.left[split - 1], counts.right[split - 1], split)
-                             : area_cost;
+    double cost =
+        all_splits ? alpha_cost(counts.left[split - 1], counts.right[split - 1], split) : area_cost;
     if (cost < best_cost || (cost == best_cost && area_cost < best_area_cost))
       best_cost = cost, best_area_cost = area_cost, best = split;
   }
@@ -608,10 +625,10 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   const uint32_t tm = uint32_t(tri_mid - tris);
   Box left_centres, right_centres;
   for (int b = 0; b < K; ++b) (b < best ? left_centres : right_centres).extend(bin[b].centres);
-  Split split{true,
-              {{{left_box[best], left_centres, tb, tm, all_splits ? double(hit_l) / samples : -1.0},
-                {right_box[best], right_centres, tm, te,
-                 all_splits ? double(hit_r) / samples : -1.0}}}};
+  Split split{
+      true,
+      {{{left_box[best], left_centres, tb, tm, all_splits ? double(hit_l) / samples : -1.0},
+        {right_box[best], right_centres, tm, te, all_splits ? double(hit_r) / samples : -1.0}}}};
   // Traversal order: first the child that more sampled rays enter first.
   if (p.sampling && first_r > first_l) std::swap(split.children[0], split.children[1]);
   return split;

@@ -43,10 +43,7 @@ struct Ray {
     r.sx = d[r.kx] / d[r.kz];
     r.sy = d[r.ky] / d[r.kz];
     r.sz = 1.f / d[r.kz];
-    for (int k = 0; k < 3; ++k) {
-      float dk = std::abs(d[k]) < 1e-30f ? std::copysign(1e-30f, d[k]) : d[k];
-      r.inv_d[k] = 1.f / dk;
-    }
+    r.inv_d = inverse(d);
     // The triangle test rounds: it may report a hit for a point a few ulps of |o| + |p| outside
     // the triangle, at a t a few ulps off. Its hit point is still within that distance of the
     // triangle (the weights are a convex combination), so the box test grows every box by far more
@@ -54,6 +51,16 @@ struct Ray {
     // filtering never changes the answer.
     r.pad = pad_for(o, magnitude);
     return r;
+  }
+
+  // 1/d, with components too small to invert replaced by ±1e-30 first (so never inf or NaN).
+  static glm::vec3 inverse(const glm::vec3& d) {
+    glm::vec3 inv;
+    for (int k = 0; k < 3; ++k) {
+      float dk = std::abs(d[k]) < 1e-30f ? std::copysign(1e-30f, d[k]) : d[k];
+      inv[k] = 1.f / dk;
+    }
+    return inv;
   }
 
   static float pad_for(const glm::vec3& o, float magnitude) {

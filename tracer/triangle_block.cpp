@@ -32,37 +32,43 @@ __attribute__((target("avx2"))) uint32_t block_candidates(const TriangleBlock& b
     z[c] = _mm256_mul_ps(sz, az);
   }
   // e_k = p·q' − p'·q over the other two corners, as in intersect_triangle.
-  const __m256 e0 = _mm256_sub_ps(_mm256_mul_ps(x[2], y[1]), _mm256_mul_ps(y[2], x[1]));  // cx·by − cy·bx
-  const __m256 e1 = _mm256_sub_ps(_mm256_mul_ps(x[0], y[2]), _mm256_mul_ps(y[0], x[2]));  // ax·cy − ay·cx
-  const __m256 e2 = _mm256_sub_ps(_mm256_mul_ps(x[1], y[0]), _mm256_mul_ps(y[1], x[0]));  // bx·ay − by·ax
+  const __m256 e0 =
+      _mm256_sub_ps(_mm256_mul_ps(x[2], y[1]), _mm256_mul_ps(y[2], x[1]));  // cx·by − cy·bx
+  const __m256 e1 =
+      _mm256_sub_ps(_mm256_mul_ps(x[0], y[2]), _mm256_mul_ps(y[0], x[2]));  // ax·cy − ay·cx
+  const __m256 e2 =
+      _mm256_sub_ps(_mm256_mul_ps(x[1], y[0]), _mm256_mul_ps(y[1], x[0]));  // bx·ay − by·ax
   const __m256 zero = _mm256_setzero_ps();
-  const __m256 any_zero =
-      _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_EQ_OQ), _mm256_cmp_ps(e1, zero, _CMP_EQ_OQ)),
-                   _mm256_cmp_ps(e2, zero, _CMP_EQ_OQ));
-  const __m256 any_neg =
-      _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_LT_OQ), _mm256_cmp_ps(e1, zero, _CMP_LT_OQ)),
-                   _mm256_cmp_ps(e2, zero, _CMP_LT_OQ));
-  const __m256 any_pos =
-      _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_GT_OQ), _mm256_cmp_ps(e1, zero, _CMP_GT_OQ)),
-                   _mm256_cmp_ps(e2, zero, _CMP_GT_OQ));
+  const __m256 any_zero = _mm256_or_ps(
+      _mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_EQ_OQ), _mm256_cmp_ps(e1, zero, _CMP_EQ_OQ)),
+      _mm256_cmp_ps(e2, zero, _CMP_EQ_OQ));
+  const __m256 any_neg = _mm256_or_ps(
+      _mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_LT_OQ), _mm256_cmp_ps(e1, zero, _CMP_LT_OQ)),
+      _mm256_cmp_ps(e2, zero, _CMP_LT_OQ));
+  const __m256 any_pos = _mm256_or_ps(
+      _mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_GT_OQ), _mm256_cmp_ps(e1, zero, _CMP_GT_OQ)),
+      _mm256_cmp_ps(e2, zero, _CMP_GT_OQ));
   const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
   const __m256 abs_det = _mm256_andnot_ps(_mm256_set1_ps(-0.f), det);
   const __m256 det_ok = _mm256_and_ps(_mm256_cmp_ps(det, zero, _CMP_NEQ_OQ),
                                       _mm256_cmp_ps(abs_det, _mm256_set1_ps(INFINITY), _CMP_LT_OQ));
-  const __m256 t = _mm256_div_ps(
-      _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])),
-                    _mm256_mul_ps(e2, z[2])),
-      det);
+  const __m256 t =
+      _mm256_div_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])),
+                                  _mm256_mul_ps(e2, z[2])),
+                    det);
   const __m256 t_ok = _mm256_and_ps(_mm256_cmp_ps(t, _mm256_set1_ps(tmin), _CMP_GE_OQ),
                                     _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LE_OQ));
-  const __m256 accept = _mm256_and_ps(_mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), det_ok), t_ok);
+  const __m256 accept =
+      _mm256_and_ps(_mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), det_ok), t_ok);
   const uint32_t lanes = (1u << b.n) - 1u;
   return uint32_t(_mm256_movemask_ps(_mm256_or_ps(accept, any_zero))) & lanes;
 }
 
 #else
 
-bool block_test_available() { return false; }
+bool block_test_available() {
+  return false;
+}
 uint32_t block_candidates(const TriangleBlock& b, const Ray&, float, float) {
   return (1u << b.n) - 1u;  // never called; every lane is a candidate
 }
