@@ -348,8 +348,8 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
     for (uint32_t r = rb; r < re; ++r) {
       RayRef& ref = rays[r];
       if (!(ref.far >= ref.tmin)) continue;  // occluded already
-      // The same preparation as every other backend's, so t is bit for bit theirs.
-      const Ray ray = Ray::prepare(ref.o, ref.d, k.magnitude());
+      // The same shear as every other backend's, so t is bit for bit theirs.
+      const Ray ray = Ray::shear(ref.o, ref.d);
       for (uint32_t j = tb; j < te && ref.far >= ref.tmin; ++j) {
         const uint32_t tri = tris[j].id;
         ++stats.triangle_tests;
@@ -376,7 +376,7 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
     for (uint32_t r = rb; r < re; ++r) {
       RayRef& ref = rays[r];
       if (!(ref.far >= ref.tmin)) continue;
-      const Ray ray = Ray::prepare(ref.o, ref.d, k.magnitude());
+      const Ray ray = Ray::shear(ref.o, ref.d);
       for (int b = 0; b < nb && ref.far >= ref.tmin; ++b) {
         const TriangleBlock& block = blocks[b];
         stats.triangle_tests += block.n;

@@ -32,17 +32,7 @@ struct Ray {
 
   // `magnitude` is the largest absolute coordinate of the geometry (Box::magnitude).
   static Ray prepare(const glm::vec3& o, const glm::vec3& d, float magnitude) {
-    Ray r;
-    r.o = o;
-    r.d = d;
-    glm::vec3 a = glm::abs(d);
-    r.kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
-    r.kx = r.kz == 2 ? 0 : r.kz + 1;
-    r.ky = r.kx == 2 ? 0 : r.kx + 1;
-    if (d[r.kz] < 0.f) std::swap(r.kx, r.ky);  // keep the winding of the sheared triangle
-    r.sx = d[r.kx] / d[r.kz];
-    r.sy = d[r.ky] / d[r.kz];
-    r.sz = 1.f / d[r.kz];
+    Ray r = shear(o, d);
     r.inv_d = inverse(d);
     // The triangle test rounds: it may report a hit for a point a few ulps of |o| + |p| outside
     // the triangle, at a t a few ulps off. Its hit point is still within that distance of the
@@ -66,6 +56,22 @@ struct Ray {
   static float pad_for(const glm::vec3& o, float magnitude) {
     float om = std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z)});
     return 0x1p-16f * (om + magnitude);
+  }
+
+  // Only what the triangle test reads: o, d and the shear (inv_d and pad left unset).
+  static Ray shear(const glm::vec3& o, const glm::vec3& d) {
+    Ray r;
+    r.o = o;
+    r.d = d;
+    glm::vec3 a = glm::abs(d);
+    r.kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+    r.kx = r.kz == 2 ? 0 : r.kz + 1;
+    r.ky = r.kx == 2 ? 0 : r.kx + 1;
+    if (d[r.kz] < 0.f) std::swap(r.kx, r.ky);  // keep the winding of the sheared triangle
+    r.sx = d[r.kx] / d[r.kz];
+    r.sy = d[r.ky] / d[r.kz];
+    r.sz = 1.f / d[r.kz];
+    return r;
   }
 
   static Ray prepare(const RayBatch& b, size_t i, float magnitude) {
