@@ -15,9 +15,9 @@
 namespace dacrt {
 
 struct DacrtParams {
-  bool sampling = true;    // false: dacrt-naive
-  int bins = 16;           // K, binned split candidates per node (Wald 2007)
-  int leaf_triangles = 8;  // a node with at most this many triangles is a leaf
+  bool sampling = true;     // false: dacrt-naive
+  int bins = 16;            // K, binned split candidates per node (Wald 2007)
+  int leaf_triangles = 16;  // a node with at most this many triangles is a leaf
   // A node with at most leaf_rays rays is a leaf if its leaf_rays × triangles tests stay under
   // leaf_work: with few rays and many triangles, splitting (O(triangles)) is far cheaper than a
   // leaf (O(rays × triangles)).
