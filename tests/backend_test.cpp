@@ -3,10 +3,12 @@
 #include "tracer/backend.h"
 
 #include <doctest/doctest.h>
+#include <tbb/task_arena.h>
 
 #include <cstring>
 
 #include "test_geometry.h"
+#include "tracer/dacrt.h"
 
 using namespace dacrt;
 using namespace dacrt::test;
@@ -207,4 +209,24 @@ TEST_CASE("dacrt builds the same recursion with and without AVX2") {
   CHECK(s[0].nodes > 100);
   CHECK(h[0].prim == h[1].prim);
   CHECK(h[0].t == h[1].t);
+}
+
+TEST_CASE("dacrt's working memory is the bound it states before tracing") {
+  Geometry g = random_soup(20000, 71);
+  const unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
+  for (size_t n : {size_t(1000), size_t(100000)}) {
+    RayBatch rays = random_rays(g, n, 72, RayType::bounce);
+    for (const char* name : {"dacrt", "dacrt-naive"}) {
+      INFO(std::string(name) << ", " << n << " rays");
+      auto b = Backend::create(name, g);
+      HitBatch hits;
+      b->intersect(rays, hits);
+      const uint64_t peak = b->stats().peak_bytes;
+      CHECK(peak <= dacrt_memory_bound(n, g.size(), threads));
+      CHECK(peak >= dacrt_memory_bound(n, g.size(), 1));
+      // The budget: at most 48 bytes per ray and 48 per triangle on this machine's 2
+      // threads.
+      CHECK(dacrt_memory_bound(n, g.size(), 2) <= 48 * n + 48 * g.size());
+    }
+  }
 }

@@ -660,6 +660,14 @@ void Traversal::node(const Box& box, const Box& centres, uint32_t tb, uint32_t t
   }
 }
 
+}  // namespace
+
+uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, unsigned threads) {
+  return rays * sizeof(RayRef) + uint64_t(threads) * triangles * sizeof(TriangleRef);
+}
+
+namespace {
+
 const Backend::Registration dacrt_registration{"dacrt", [](const Geometry& g, const Options& o) {
                                                  return std::make_unique<Dacrt>(g, o, true);
                                                }};

@@ -51,4 +51,9 @@ struct DacrtParams {
   static DacrtParams from(const Options& options, bool sampling);
 };
 
+// The most memory one dacrt or dacrt-naive call uses beyond its inputs and outputs, known before
+// it starts: a 48-byte record per ray and, for each worker thread that traces, a 20-byte record
+// per triangle (kept from call to call). Nothing is allocated per node.
+uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, unsigned threads);
+
 }  // namespace dacrt
