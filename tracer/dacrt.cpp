@@ -125,20 +125,22 @@ struct TriangleRef {
 };
 static_assert(sizeof(TriangleRef) == 20);
 
-// A ray as the recursion sees it, in one 48-byte record that moves with the ray as ranges are
+// A ray as the recursion sees it, in one 36-byte record that moves with the ray as ranges are
 // partitioned: filtering, sampling and leaves never gather from the batch's arrays. The box test's
-// pad is recomputed from o (Ray::pad_for) rather than stored.
+// inverse direction and pad are recomputed (Ray::inverse, Ray::pad_for) rather than stored: a
+// smaller record is less memory to stream at every level, and the vector box test divides eight
+// rays at once.
 struct RayRef {
-  glm::vec3 o, d, inv_d;  // as in Ray
+  glm::vec3 o, d;  // as in the batch
   float tmin;
   float far;    // running tmax: the closest hit so far, or -inf once occluded
   uint32_t id;  // index into the batch
 
   bool hits(const Box& box, float magnitude) const {
-    return Ray::box_hits(o, inv_d, Ray::pad_for(o, magnitude), box, tmin, far);
+    return Ray::box_hits(o, Ray::inverse(d), Ray::pad_for(o, magnitude), box, tmin, far);
   }
 };
-static_assert(sizeof(RayRef) == 48);
+static_assert(sizeof(RayRef) == 36);
 
 class Dacrt;
 
@@ -275,8 +277,7 @@ class Dacrt final : public Backend {
       for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
         if (!live(i)) continue;
         const glm::vec3 d = batch.direction(i);
-        refs[out++] = {batch.origin(i), d,          Ray::inverse(d), batch.tmin[i],
-                       batch.tmax[i],   uint32_t(i)};
+        refs[out++] = {batch.origin(i), d, batch.tmin[i], batch.tmax[i], uint32_t(i)};
       }
     });
     // Chunks of the batch run as independent traversals, one per thread at a time.
@@ -402,24 +403,29 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
 // so the mask is bit for bit the scalar test's. Bit i is p[i].
 __attribute__((target("avx2"))) uint64_t box_mask64(const RayRef* p, const Box& box,
                                                     float magnitude) {
-  static_assert(sizeof(RayRef) == 12 * sizeof(float) && offsetof(RayRef, inv_d) == 24 &&
-                offsetof(RayRef, tmin) == 36 && offsetof(RayRef, far) == 40);
+  static_assert(sizeof(RayRef) == 9 * sizeof(float) && offsetof(RayRef, d) == 12 &&
+                offsetof(RayRef, tmin) == 24 && offsetof(RayRef, far) == 28);
   const float* base = reinterpret_cast<const float*>(p);
-  const __m256i stride = _mm256_setr_epi32(0, 12, 24, 36, 48, 60, 72, 84);
+  const __m256i stride = _mm256_setr_epi32(0, 9, 18, 27, 36, 45, 54, 63);
   __m256 lo[3], hi[3];
   for (int a = 0; a < 3; ++a) lo[a] = _mm256_set1_ps(box.lo[a]), hi[a] = _mm256_set1_ps(box.hi[a]);
   const __m256 sign = _mm256_set1_ps(-0.f), mag = _mm256_set1_ps(magnitude),
-               scale = _mm256_set1_ps(0x1p-16f);
+               scale = _mm256_set1_ps(0x1p-16f), tiny = _mm256_set1_ps(1e-30f),
+               one = _mm256_set1_ps(1.f);
   uint64_t mask = 0;
   for (int g = 0; g < 8; ++g) {
-    const float* r = base + 96 * g;
+    const float* r = base + 72 * g;
     __m256 o[3], inv[3];
     for (int a = 0; a < 3; ++a) {
       o[a] = _mm256_i32gather_ps(r + a, stride, 4);
-      inv[a] = _mm256_i32gather_ps(r + 6 + a, stride, 4);
+      // Ray::inverse: 1/d, with |d| < 1e-30 replaced by ±1e-30
+      const __m256 d = _mm256_i32gather_ps(r + 3 + a, stride, 4);
+      const __m256 small = _mm256_cmp_ps(_mm256_andnot_ps(sign, d), tiny, _CMP_LT_OQ);
+      const __m256 clamped = _mm256_or_ps(_mm256_and_ps(sign, d), tiny);
+      inv[a] = _mm256_div_ps(one, _mm256_blendv_ps(d, clamped, small));
     }
-    __m256 near = _mm256_i32gather_ps(r + 9, stride, 4),
-           far = _mm256_i32gather_ps(r + 10, stride, 4);
+    __m256 near = _mm256_i32gather_ps(r + 6, stride, 4),
+           far = _mm256_i32gather_ps(r + 7, stride, 4);
     // Ray::pad_for: 2^-16 (max |o| + magnitude)
     const __m256 om =
         _mm256_max_ps(_mm256_max_ps(_mm256_andnot_ps(sign, o[0]), _mm256_andnot_ps(sign, o[1])),
@@ -470,7 +476,8 @@ void Traversal::sample_splits(const Box* left, const Box* right, int n, uint32_t
   for (uint32_t i = 0; i < samples; ++i) {
     const RayRef& r = rays[rb + i];
     float o[3], inv[3];
-    for (int a = 0; a < 3; ++a) o[a] = r.o[a], inv[a] = r.inv_d[a];
+    const glm::vec3 inv_d = Ray::inverse(r.d);
+    for (int a = 0; a < 3; ++a) o[a] = r.o[a], inv[a] = inv_d[a];
     const float t0 = r.tmin, t1 = r.far, pad = Ray::pad_for(r.o, k.magnitude());
     for (int s = 0; s < n; ++s) {
       float ln = t0, lf = t1, rn = t0, rf = t1;

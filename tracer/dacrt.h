@@ -52,7 +52,7 @@ struct DacrtParams {
 };
 
 // The most memory one dacrt or dacrt-naive call uses beyond its inputs and outputs, known before
-// it starts: a 48-byte record per ray and, for each worker thread that traces, a 20-byte record
+// it starts: a 36-byte record per ray and, for each worker thread that traces, a 20-byte record
 // per triangle (kept from call to call). Nothing is allocated per node.
 uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, unsigned threads);
 
