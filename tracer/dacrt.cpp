@@ -527,8 +527,8 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     return std::min(K - 1, int((t.center(axis, t.step()) - lo) * scale));
   };
 
-  // Two interleaved sets of bins, merged after: consecutive triangles in one bin would otherwise
-  // wait on each other's updates. Boxes are 4-wide vectors (x, y, z, unused) so that a triangle's
+  // Interleaved sets of bins, merged after: consecutive triangles in one bin would otherwise wait
+  // on each other's updates. Boxes are 4-wide vectors (x, y, z, unused) so that a triangle's
   // decode and its four box updates are one instruction each; the values are exactly the scalar
   // TriangleRef::hi and center.
   using f4 = float __attribute__((vector_size(16)));
@@ -536,9 +536,10 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   struct VBin {
     f4 lo, hi, clo, chi;
   };
-  VBin vbins[2][256];
-  uint32_t count[2][256];
-  for (int set = 0; set < 2; ++set)
+  constexpr int sets = 4;
+  VBin vbins[sets][256];
+  uint32_t count[sets][256];
+  for (int set = 0; set < sets; ++set)
     for (int b = 0; b < K; ++b) {
       vbins[set][b] = {f4{} + inf, f4{} - inf, f4{} + inf, f4{} - inf};
       count[set][b] = 0;
@@ -549,21 +550,27 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     const f4 d = __builtin_convertvector((i4{t.ext[0], t.ext[1], t.ext[2], 0}), f4) * t.step();
     const f4 thi = tlo + d, c = tlo + 0.5f * d;
     const int b = std::min(K - 1, int((c[axis] - lo) * scale));
-    VBin& v = vbins[j & 1][b];
-    ++count[j & 1][b];
+    VBin& v = vbins[j % sets][b];
+    ++count[j % sets][b];
     v.lo = tlo < v.lo ? tlo : v.lo;
     v.hi = v.hi < thi ? thi : v.hi;
     v.clo = c < v.clo ? c : v.clo;
     v.chi = v.chi < c ? c : v.chi;
   }
   for (int b = 0; b < K; ++b) {
-    const VBin &v0 = vbins[0][b], &v1 = vbins[1][b];
+    VBin v = vbins[0][b];
+    uint32_t n = count[0][b];
+    for (int set = 1; set < sets; ++set) {
+      const VBin& w = vbins[set][b];
+      v.lo = w.lo < v.lo ? w.lo : v.lo, v.hi = v.hi < w.hi ? w.hi : v.hi;
+      v.clo = w.clo < v.clo ? w.clo : v.clo, v.chi = v.chi < w.chi ? w.chi : v.chi;
+      n += count[set][b];
+    }
     Bin& out = bins[b];
-    out.count = count[0][b] + count[1][b];
+    out.count = n;
     for (int a = 0; a < 3; ++a) {
-      out.box.lo[a] = std::min(v0.lo[a], v1.lo[a]), out.box.hi[a] = std::max(v0.hi[a], v1.hi[a]);
-      out.centres.lo[a] = std::min(v0.clo[a], v1.clo[a]);
-      out.centres.hi[a] = std::max(v0.chi[a], v1.chi[a]);
+      out.box.lo[a] = v.lo[a], out.box.hi[a] = v.hi[a];
+      out.centres.lo[a] = v.clo[a], out.centres.hi[a] = v.chi[a];
     }
   }
   const auto& bin = bins;
