@@ -144,11 +144,11 @@ static_assert(sizeof(RayRef) == 36);
 
 class Dacrt;
 
-// One traversal over a contiguous chunk of the batch's rays. Owns nothing: ray and triangle
-// records are partitioned in place, so a call's memory is known before it starts.
+// One traversal over a contiguous chunk of the batch's rays. Allocates nothing: ray and triangle
+// records are partitioned in place and its scratch has a fixed size, so a call's memory is known
+// before it starts.
 struct Traversal {
   const Dacrt& k;
-  const RayBatch& batch;
   RayRef* rays;       // this chunk's live rays, partitioned in place
   HitBatch* hits;     // closest-hit mode; null for occlusion
   uint8_t* occluded;  // occlusion mode; null for closest hit
@@ -299,7 +299,7 @@ class Dacrt final : public Backend {
       }
       uint32_t rb = uint32_t(count * c / chunks), re = uint32_t(count * (c + 1) / chunks);
       Traversal t{
-          *this, batch, refs, hits, occluded, own.refs.data(), Pcg32(hash(params_.seed, calls_, c)),
+          *this, refs, hits, occluded, own.refs.data(), Pcg32(hash(params_.seed, calls_, c)),
           {}};
       if (!bounds_.empty() && rb < re)
         t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
