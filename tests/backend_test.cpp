@@ -230,3 +230,29 @@ TEST_CASE("dacrt's working memory is the bound it states before tracing") {
     }
   }
 }
+
+TEST_CASE("dacrt stays exact at extreme scales and far from the origin") {
+  // The kernel's triangle records store boxes as 8-bit multiples of a power of two, rounded up;
+  // near the float range's ends and for small triangles far out that rounding must stay outward.
+  // (Below ~1e-19 the edge functions' products underflow and nothing can be hit at all.)
+  for (auto [scale, offset] :
+       {std::pair{1e-15f, 0.f}, std::pair{1e-6f, 1e-4f}, std::pair{1e12f, 0.f},
+        std::pair{1e15f, 0.f} /* the float t overflows: decided in double */, std::pair{1.f, 1e7f},
+        std::pair{10.f, -3e5f}}) {
+    INFO("scale " << scale << ", offset " << offset);
+    Geometry g = random_soup(2000, 81);
+    for (auto& corner : g.p)
+      for (auto& axis : corner)
+        for (float& x : axis) x = x * scale + offset;
+    RayBatch rays = random_rays(random_soup(2000, 81), 20000, 82, RayType::bounce);
+    for (size_t i = 0; i < rays.size(); ++i)  // the same rays, scaled with the scene
+      rays.set(i, rays.origin(i) * scale + glm::vec3(offset), rays.direction(i), 0.f, INFINITY,
+               uint32_t(i));
+    const HitBatch expected = brute_hits(g, rays);
+    size_t hits = 0;
+    for (size_t i = 0; i < rays.size(); ++i) hits += expected.hit(i);
+    CHECK(hits > 1000);
+    compare(g, rays, expected, "dacrt");
+    compare(g, rays, expected, "dacrt-naive");
+  }
+}

@@ -50,23 +50,28 @@ inline bool intersect_triangle(const Ray& r, const glm::vec3& p0, const glm::vec
 
   const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
   const float t = (e0 * az + e1 * bz + e2 * cz) / det;
-  if (!(t >= tmin && t <= tmax)) return false;
   // A t within its own rounding error of 0 cannot tell which side of the origin the hit is on (a
-  // ray leaving a long sliver could hit it again at a tiny t). The bound is the one of Pharr, Jakob
-  // and Humphreys, "Physically Based Rendering", 3rd ed., section 3.9.6; only then, t is computed
-  // again in double from the input coordinates, and decides. Inside or outside stays the float
-  // test's decision, so watertightness is untouched. Runs for such hits only.
-  constexpr auto gamma = [](int n) { return n * 0x1p-24f / (1.f - n * 0x1p-24f); };
-  const float max_z = std::max({std::abs(az), std::abs(bz), std::abs(cz)});
-  const float max_x = std::max({std::abs(ax), std::abs(bx), std::abs(cx)});
-  const float max_y = std::max({std::abs(ay), std::abs(by), std::abs(cy)});
-  const float delta_z = gamma(3) * max_z;
-  const float delta_x = gamma(5) * (max_x + max_z), delta_y = gamma(5) * (max_y + max_z);
-  const float delta_e = 2.f * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-  const float max_e = std::max({std::abs(e0), std::abs(e1), std::abs(e2)});
-  const float delta_t =
-      3.f * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) / std::abs(det);
-  if (std::abs(t) <= delta_t) {
+  // ray leaving a long sliver could hit it again at a tiny t), and a t that overflowed (corners
+  // beyond ~1e12) is no t at all. Only then, t is computed again in double from the input
+  // coordinates, and decides; inside or outside stays the float test's decision, so watertightness
+  // is untouched. The error bound is the one of Pharr, Jakob and Humphreys, "Physically Based
+  // Rendering", 3rd ed., section 3.9.6; it is evaluated for hits only.
+  bool exact = !std::isfinite(t);
+  if (!exact) {
+    if (!(t >= tmin && t <= tmax)) return false;
+    constexpr auto gamma = [](int n) { return n * 0x1p-24f / (1.f - n * 0x1p-24f); };
+    const float max_z = std::max({std::abs(az), std::abs(bz), std::abs(cz)});
+    const float max_x = std::max({std::abs(ax), std::abs(bx), std::abs(cx)});
+    const float max_y = std::max({std::abs(ay), std::abs(by), std::abs(cy)});
+    const float delta_z = gamma(3) * max_z;
+    const float delta_x = gamma(5) * (max_x + max_z), delta_y = gamma(5) * (max_y + max_z);
+    const float delta_e = 2.f * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    const float max_e = std::max({std::abs(e0), std::abs(e1), std::abs(e2)});
+    const float delta_t =
+        3.f * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) / std::abs(det);
+    exact = !(std::abs(t) > delta_t);
+  }
+  if (exact) {
     const double t_exact = exact_t(r, p0, p1, p2);
     if (!(t_exact >= tmin && t_exact <= tmax)) return false;
     hit.t = float(t_exact);

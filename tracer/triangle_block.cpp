@@ -56,8 +56,12 @@ __attribute__((target("avx2"))) uint32_t block_candidates(const TriangleBlock& b
       _mm256_div_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])),
                                   _mm256_mul_ps(e2, z[2])),
                     det);
-  const __m256 t_ok = _mm256_and_ps(_mm256_cmp_ps(t, _mm256_set1_ps(tmin), _CMP_GE_OQ),
-                                    _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LE_OQ));
+  // In range, or not finite (the scalar test then decides with t in double).
+  const __m256 t_ok =
+      _mm256_or_ps(_mm256_and_ps(_mm256_cmp_ps(t, _mm256_set1_ps(tmin), _CMP_GE_OQ),
+                                 _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LE_OQ)),
+                   _mm256_cmp_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.f), t),
+                                 _mm256_set1_ps(INFINITY), _CMP_NLT_UQ));
   const __m256 accept =
       _mm256_and_ps(_mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), det_ok), t_ok);
   const uint32_t lanes = (1u << b.n) - 1u;
