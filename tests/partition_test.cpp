@@ -15,14 +15,19 @@ namespace {
 
 void check_partition(std::vector<uint32_t> v, uint32_t threshold, bool masked) {
   auto pred = [&](uint32_t x) { return x < threshold; };
-  auto classify = [&](const uint32_t* p) {
+  uint32_t *first = v.data(), *last = v.data() + v.size();
+  auto classify = [&](const uint32_t* p, int n) {
+    REQUIRE(n >= 1);
+    REQUIRE(n <= 64);
+    REQUIRE(p >= first);
+    REQUIRE(p + n <= last);  // never reads past the range
     uint64_t m = 0;
-    for (int i = 0; i < 64; ++i) m |= uint64_t(pred(p[i])) << i;
+    for (int i = 0; i < n; ++i) m |= uint64_t(pred(p[i])) << i;
     return m;
   };
   std::vector<uint32_t> before = v;
-  uint32_t* mid = masked ? block_partition(v.data(), v.data() + v.size(), classify, pred)
-                         : block_partition(v.data(), v.data() + v.size(), pred);
+  uint32_t* mid =
+      masked ? block_partition(first, last, classify) : block_partition_by(first, last, pred);
   const size_t split = size_t(mid - v.data());
   CHECK(split == size_t(std::count_if(before.begin(), before.end(), pred)));
   CHECK(std::all_of(v.begin(), v.begin() + split, pred));

@@ -299,8 +299,7 @@ class Dacrt final : public Backend {
       }
       uint32_t rb = uint32_t(count * c / chunks), re = uint32_t(count * (c + 1) / chunks);
       Traversal t{
-          *this, refs, hits, occluded, own.refs.data(), Pcg32(hash(params_.seed, calls_, c)),
-          {}};
+          *this, refs, hits, occluded, own.refs.data(), Pcg32(hash(params_.seed, calls_, c)), {}};
       if (!bounds_.empty() && rb < re)
         t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
       std::lock_guard lock(total_mutex);
@@ -398,11 +397,12 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
 }
 
 #ifdef DACRT_X86
-// Ray::box_hits for the 64 records p[0..64), eight per AVX2 instruction: the same operations in
-// the same order (_mm256_min_ps(b, a) is std::min(a, b) exactly, NaN and signed zeros included),
-// so the mask is bit for bit the scalar test's. Bit i is p[i].
-__attribute__((target("avx2"))) uint64_t box_mask64(const RayRef* p, const Box& box,
-                                                    float magnitude) {
+// Ray::box_hits for the records p[0..n), n <= 64, eight per AVX2 instruction: the same operations
+// in the same order (_mm256_min_ps(b, a) is std::min(a, b) exactly, NaN and signed zeros
+// included), so the mask is bit for bit the scalar test's. Bit i is p[i]; nothing past p[n - 1] is
+// read.
+__attribute__((target("avx2"))) uint64_t box_mask(const RayRef* p, int n, const Box& box,
+                                                  float magnitude) {
   static_assert(sizeof(RayRef) == 9 * sizeof(float) && offsetof(RayRef, d) == 12 &&
                 offsetof(RayRef, tmin) == 24 && offsetof(RayRef, far) == 28);
   const float* base = reinterpret_cast<const float*>(p);
@@ -412,20 +412,23 @@ __attribute__((target("avx2"))) uint64_t box_mask64(const RayRef* p, const Box& 
   const __m256 sign = _mm256_set1_ps(-0.f), mag = _mm256_set1_ps(magnitude),
                scale = _mm256_set1_ps(0x1p-16f), tiny = _mm256_set1_ps(1e-30f),
                one = _mm256_set1_ps(1.f);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   uint64_t mask = 0;
-  for (int g = 0; g < 8; ++g) {
+  for (int g = 0; 8 * g < n; ++g) {
     const float* r = base + 72 * g;
+    // Lanes past the last record gather nothing (and give 0, a ray that hits nothing: dropped).
+    const __m256 live = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(n - 8 * g), lane));
     __m256 o[3], inv[3];
     for (int a = 0; a < 3; ++a) {
-      o[a] = _mm256_i32gather_ps(r + a, stride, 4);
+      o[a] = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + a, stride, live, 4);
       // Ray::inverse: 1/d, with |d| < 1e-30 replaced by ±1e-30
-      const __m256 d = _mm256_i32gather_ps(r + 3 + a, stride, 4);
+      const __m256 d = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + 3 + a, stride, live, 4);
       const __m256 small = _mm256_cmp_ps(_mm256_andnot_ps(sign, d), tiny, _CMP_LT_OQ);
       const __m256 clamped = _mm256_or_ps(_mm256_and_ps(sign, d), tiny);
       inv[a] = _mm256_div_ps(one, _mm256_blendv_ps(d, clamped, small));
     }
-    __m256 near = _mm256_i32gather_ps(r + 6, stride, 4),
-           far = _mm256_i32gather_ps(r + 7, stride, 4);
+    __m256 near = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + 6, stride, live, 4),
+           far = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + 7, stride, live, 4);
     // Ray::pad_for: 2^-16 (max |o| + magnitude)
     const __m256 om =
         _mm256_max_ps(_mm256_max_ps(_mm256_andnot_ps(sign, o[0]), _mm256_andnot_ps(sign, o[1])),
@@ -437,7 +440,8 @@ __attribute__((target("avx2"))) uint64_t box_mask64(const RayRef* p, const Box& 
       near = _mm256_max_ps(_mm256_min_ps(tb, ta), near);  // std::max(near, std::min(ta, tb))
       far = _mm256_min_ps(_mm256_max_ps(tb, ta), far);    // std::min(far, std::max(ta, tb))
     }
-    mask |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(near, far, _CMP_LE_OQ)))) << (8 * g);
+    const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(near, far, _CMP_LE_OQ), live);
+    mask |= uint64_t(uint32_t(_mm256_movemask_ps(hit))) << (8 * g);
   }
   return mask;
 }
@@ -447,15 +451,14 @@ __attribute__((target("avx2"))) uint64_t box_mask64(const RayRef* p, const Box& 
 __attribute__((noinline)) uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
   stats.box_tests += re - rb;
   const float m = k.magnitude();
-  auto pred = [&](const RayRef& r) { return r.hits(box, m); };
   RayRef* mid;
 #ifdef DACRT_X86
   if (k.params_.simd && block_test_available())
-    mid = block_partition(
-        rays + rb, rays + re, [&](const RayRef* p) { return box_mask64(p, box, m); }, pred);
+    mid = block_partition(rays + rb, rays + re,
+                          [&](const RayRef* p, int n) { return box_mask(p, n, box, m); });
   else
 #endif
-    mid = block_partition(rays + rb, rays + re, pred);
+    mid = block_partition_by(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box, m); });
   return uint32_t(mid - rays);
 }
 
@@ -634,8 +637,8 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   const double leaf_cost = p.cost_intersect * nt;
   if (best_cost >= leaf_cost && nt <= uint32_t(p.max_leaf_triangles)) return {};
 
-  TriangleRef* tri_mid =
-      block_partition(tris + tb, tris + te, [&](const TriangleRef& t) { return bin_of(t) < best; });
+  TriangleRef* tri_mid = block_partition_by(tris + tb, tris + te,
+                                            [&](const TriangleRef& t) { return bin_of(t) < best; });
   const uint32_t tm = uint32_t(tri_mid - tris);
   Box left_centres, right_centres;
   for (int b = 0; b < K; ++b) (b < best ? left_centres : right_centres).extend(bin[b].centres);
