@@ -280,6 +280,7 @@ class Dacrt final : public Backend {
         refs[out++] = {batch.origin(i), d, batch.tmin[i], batch.tmax[i], uint32_t(i)};
       }
     });
+    const uint64_t call = calls_++;
     // Chunks of the batch run as independent traversals, one per thread at a time.
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const size_t chunks = count >= 8192 * threads ? threads : 1;
@@ -298,8 +299,8 @@ class Dacrt final : public Backend {
         }
       }
       uint32_t rb = uint32_t(count * c / chunks), re = uint32_t(count * (c + 1) / chunks);
-      Traversal t{
-          *this, refs, hits, occluded, own.refs.data(), Pcg32(hash(params_.seed, calls_, c)), {}};
+      Traversal t{*this, refs, hits, occluded, own.refs.data(), Pcg32(hash(params_.seed, call, c)),
+                  {}};
       if (!bounds_.empty() && rb < re)
         t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
       std::lock_guard lock(total_mutex);
@@ -311,7 +312,6 @@ class Dacrt final : public Backend {
     std::lock_guard lock(stats_mutex_);
     stats_ += total;
     stats_.peak_bytes = std::max(stats_.peak_bytes, bytes);
-    ++calls_;
   }
 
   struct Triangles {
@@ -325,7 +325,7 @@ class Dacrt final : public Backend {
   Box bounds_;
   float magnitude_ = 0.f;
   double build_seconds_ = 0.0;
-  uint64_t calls_ = 0;
+  std::atomic<uint64_t> calls_{0};  // numbers each call's random stream
   mutable std::mutex stats_mutex_;
   Stats stats_;
 };
