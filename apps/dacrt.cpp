@@ -66,7 +66,7 @@ Ray tracing
   --backend NAME             dacrt (default), dacrt-naive, embree, brute
   --backend-option KEY=VALUE backend setting, repeatable (dacrt: bins, leaf_rays, leaf_work, leaf_triangles,
                              max_leaf_triangles, sample_size, sample_threshold, small_nodes, filter_skip,
-                             cost_traversal, cost_intersect, seed, max_depth)
+                             cost_traversal, cost_intersect, simd, seed, max_depth)
   --wavefront N              live paths per wavefront (default 524288)
   --threads T                worker threads (default: all cores)
 Other

@@ -105,8 +105,8 @@ TEST_CASE("a ray spawned from a hit never hits its own triangle again") {
         Backend::create(name, g)->intersect(spawned, again);
         size_t self = 0;
         for (size_t i = 0; i < spawned.size(); ++i) self += again.prim[i] == from[i];
-        INFO(std::string(name) << (thin ? ", slivers" : ", soup") << ", scale " << scale << ", offset "
-                  << offset.x << ", " << spawned.size() << " rays");
+        INFO(std::string(name) << (thin ? ", slivers" : ", soup") << ", scale " << scale
+                               << ", offset " << offset.x << ", " << spawned.size() << " rays");
         CHECK(self == 0);
       }
     }

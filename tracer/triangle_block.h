@@ -4,8 +4,9 @@
 // The vector test is a filter in front of the scalar one, not a second implementation: it performs
 // intersect_triangle's float operations in the same order (IEEE results are the same in a vector
 // lane), and returns every lane that test could accept, plus every lane where the scalar test
-// switches to double (an edge function of exactly zero, a t that is not finite). The caller runs intersect_triangle on
-// those lanes only, so hits, t, u and v are the scalar test's, bit for bit, with or without AVX2.
+// switches to double (an edge function of exactly zero, a t that is not finite). The caller runs
+// intersect_triangle on those lanes only, so hits, t, u and v are the scalar test's, bit for bit,
+// with or without AVX2.
 #pragma once
 
 #include <cstdint>
