@@ -143,75 +143,53 @@ class Embree final : public Backend {
   Embree& operator=(const Embree&) = delete;
 
   void intersect(const RayBatch& rays, HitBatch& hits) override {
-    const size_t n = rays.size();
-    hits.resize(n);
-    const bool coherent = rays.type == RayType::primary;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, block), [&](const auto& range) {
-      FlushDenormals flush;
-      RTCIntersectContext context;
-      rtcInitIntersectContext(&context);
-      if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    hits.resize(rays.size());
+    in_blocks(rays, [&](RTCIntersectContext& context, size_t first, size_t last) {
       alignas(64) RTCRayHit rh[block];
       uint32_t index[block];
-      for (size_t first = range.begin(); first < range.end(); first += block) {
-        const size_t last = std::min(first + block, range.end());
-        unsigned m = 0;
-        for (size_t i = first; i < last; ++i) {
-          hits.prim[i] = HitBatch::miss;
-          hits.t[i] = rays.tmax[i];
-          hits.u[i] = hits.v[i] = 0.f;
-          float tnear;
-          if (!live(rays, i, tnear)) continue;
-          RTCRayHit& r = rh[m];
-          set_ray(r.ray, rays, i, tnear);
-          r.hit.geomID = r.hit.primID = RTC_INVALID_GEOMETRY_ID;
-          r.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-          index[m++] = uint32_t(i - first);
-        }
-        if (m == 0) continue;
-        rtcIntersect1M(scene_, &context, rh, m, sizeof(RTCRayHit));
-        for (unsigned k = 0; k < m; ++k) {
-          if (rh[k].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-          const size_t i = first + index[k];
-          hits.prim[i] = rh[k].hit.primID;
-          hits.t[i] = rh[k].ray.tfar;
-          hits.u[i] = rh[k].hit.u;
-          hits.v[i] = rh[k].hit.v;
-        }
+      unsigned m = 0;
+      for (size_t i = first; i < last; ++i) {
+        hits.prim[i] = HitBatch::miss;
+        hits.t[i] = rays.tmax[i];
+        hits.u[i] = hits.v[i] = 0.f;
+        float tnear;
+        if (!live(rays, i, tnear)) continue;
+        RTCRayHit& r = rh[m];
+        set_ray(r.ray, rays, i, tnear);
+        r.hit.geomID = r.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        r.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        index[m++] = uint32_t(i - first);
+      }
+      if (m == 0) return;
+      rtcIntersect1M(scene_, &context, rh, m, sizeof(RTCRayHit));
+      for (unsigned k = 0; k < m; ++k) {
+        if (rh[k].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+        const size_t i = first + index[k];
+        hits.prim[i] = rh[k].hit.primID;
+        hits.t[i] = rh[k].ray.tfar;
+        hits.u[i] = rh[k].hit.u;
+        hits.v[i] = rh[k].hit.v;
       }
     });
-    throw_if_error();
-    rays_ += n;
   }
 
   void occluded(const RayBatch& rays, std::span<uint8_t> occluded) override {
-    const size_t n = rays.size();
-    const bool coherent = rays.type == RayType::primary;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, block), [&](const auto& range) {
-      FlushDenormals flush;
-      RTCIntersectContext context;
-      rtcInitIntersectContext(&context);
-      if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    in_blocks(rays, [&](RTCIntersectContext& context, size_t first, size_t last) {
       alignas(64) RTCRay ray[block];
       uint32_t index[block];
-      for (size_t first = range.begin(); first < range.end(); first += block) {
-        const size_t last = std::min(first + block, range.end());
-        unsigned m = 0;
-        for (size_t i = first; i < last; ++i) {
-          occluded[i] = 0;
-          float tnear;
-          if (!live(rays, i, tnear)) continue;
-          set_ray(ray[m], rays, i, tnear);
-          index[m++] = uint32_t(i - first);
-        }
-        if (m == 0) continue;
-        rtcOccluded1M(scene_, &context, ray, m, sizeof(RTCRay));
-        for (unsigned k = 0; k < m; ++k)
-          occluded[first + index[k]] = ray[k].tfar == -std::numeric_limits<float>::infinity();
+      unsigned m = 0;
+      for (size_t i = first; i < last; ++i) {
+        occluded[i] = 0;
+        float tnear;
+        if (!live(rays, i, tnear)) continue;
+        set_ray(ray[m], rays, i, tnear);
+        index[m++] = uint32_t(i - first);
       }
+      if (m == 0) return;
+      rtcOccluded1M(scene_, &context, ray, m, sizeof(RTCRay));
+      for (unsigned k = 0; k < m; ++k)
+        occluded[first + index[k]] = ray[k].tfar == -std::numeric_limits<float>::infinity();
     });
-    throw_if_error();
-    rays_ += n;
   }
 
   Stats stats() const override {
@@ -223,6 +201,24 @@ class Embree final : public Backend {
   }
 
  private:
+  // Calls body(context, first, last) for blocks of at most `block` rays of the batch, in parallel,
+  // each task with denormals flushed and one intersect context (COHERENT for primary batches).
+  template <typename Body>
+  void in_blocks(const RayBatch& rays, const Body& body) {
+    const size_t n = rays.size();
+    const bool coherent = rays.type == RayType::primary;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, block), [&](const auto& range) {
+      FlushDenormals flush;
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      for (size_t first = range.begin(); first < range.end(); first += block)
+        body(context, first, std::min(first + block, range.end()));
+    });
+    throw_if_error();
+    rays_ += n;
+  }
+
   void add_triangles(const Geometry& g, RTCBuildQuality quality) {
     const size_t n = g.size();
     RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
