@@ -539,6 +539,9 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   struct VBin {
     f4 lo, hi, clo, chi;
   };
+  // Lane-wise std::min(b, a) / std::max(b, a): the values the scalar Box::extend would give.
+  auto vmin = [](f4 a, f4 b) { return a < b ? a : b; };
+  auto vmax = [](f4 a, f4 b) { return b < a ? a : b; };
   constexpr int sets = 4;
   VBin vbins[sets][256];
   uint32_t count[sets][256];
@@ -555,18 +558,16 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     const int b = std::min(K - 1, int((c[axis] - lo) * scale));
     VBin& v = vbins[j % sets][b];
     ++count[j % sets][b];
-    v.lo = tlo < v.lo ? tlo : v.lo;
-    v.hi = v.hi < thi ? thi : v.hi;
-    v.clo = c < v.clo ? c : v.clo;
-    v.chi = v.chi < c ? c : v.chi;
+    v.lo = vmin(tlo, v.lo), v.hi = vmax(thi, v.hi);
+    v.clo = vmin(c, v.clo), v.chi = vmax(c, v.chi);
   }
   for (int b = 0; b < K; ++b) {
     VBin v = vbins[0][b];
     uint32_t n = count[0][b];
     for (int set = 1; set < sets; ++set) {
       const VBin& w = vbins[set][b];
-      v.lo = w.lo < v.lo ? w.lo : v.lo, v.hi = v.hi < w.hi ? w.hi : v.hi;
-      v.clo = w.clo < v.clo ? w.clo : v.clo, v.chi = v.chi < w.chi ? w.chi : v.chi;
+      v.lo = vmin(w.lo, v.lo), v.hi = vmax(w.hi, v.hi);
+      v.clo = vmin(w.clo, v.clo), v.chi = vmax(w.chi, v.chi);
       n += count[set][b];
     }
     Bin& out = bins[b];
@@ -576,19 +577,18 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
       out.centres.lo[a] = v.clo[a], out.centres.hi[a] = v.chi[a];
     }
   }
-  const auto& bin = bins;
   // Split s puts bins [0, s) left and [s, K) right.
   {
     Box acc;
     uint32_t n = 0;
     for (int s = 1; s < K; ++s) {
-      acc.extend(bin[s - 1].box), n += bin[s - 1].count;
+      acc.extend(bins[s - 1].box), n += bins[s - 1].count;
       left_box[s] = acc, left_n[s] = n;
     }
     acc = Box();
     n = 0;
     for (int s = K - 1; s >= 1; --s) {
-      acc.extend(bin[s].box), n += bin[s].count;
+      acc.extend(bins[s].box), n += bins[s].count;
       right_box[s] = acc, right_n[s] = n;
     }
   }
@@ -641,7 +641,7 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
                                             [&](const TriangleRef& t) { return bin_of(t) < best; });
   const uint32_t tm = uint32_t(tri_mid - tris);
   Box left_centres, right_centres;
-  for (int b = 0; b < K; ++b) (b < best ? left_centres : right_centres).extend(bin[b].centres);
+  for (int b = 0; b < K; ++b) (b < best ? left_centres : right_centres).extend(bins[b].centres);
   Split split{
       true,
       {{{left_box[best], left_centres, tb, tm, all_splits ? double(hit_l) / samples : -1.0},
