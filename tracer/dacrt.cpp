@@ -344,7 +344,7 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
       hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
     }
   };
-  if (!k.params_.simd || !block_test_available()) {
+  if (!k.params_.simd || !avx2_available()) {
     for (uint32_t r = rb; r < re; ++r) {
       RayRef& ref = rays[r];
       if (!(ref.far >= ref.tmin)) continue;  // occluded already
@@ -453,7 +453,7 @@ __attribute__((noinline)) uint32_t Traversal::filter(const Box& box, uint32_t rb
   const float m = k.magnitude();
   RayRef* mid;
 #ifdef DACRT_X86
-  if (k.params_.simd && block_test_available())
+  if (k.params_.simd && avx2_available())
     mid = block_partition(rays + rb, rays + re,
                           [&](const RayRef* p, int n) { return box_mask(p, n, box, m); });
   else

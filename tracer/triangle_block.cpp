@@ -11,7 +11,7 @@ namespace dacrt {
 
 #ifdef DACRT_X86
 
-bool block_test_available() {
+bool avx2_available() {
   static const bool yes = __builtin_cpu_supports("avx2");
   return yes;
 }
@@ -70,7 +70,7 @@ __attribute__((target("avx2"))) uint32_t block_candidates(const TriangleBlock& b
 
 #else
 
-bool block_test_available() {
+bool avx2_available() {
   return false;
 }
 uint32_t block_candidates(const TriangleBlock& b, const Ray&, float, float) {

@@ -33,11 +33,11 @@ struct TriangleBlock {
   }
 };
 
-// True if this CPU runs block_candidates (x86-64 with AVX2).
-bool block_test_available();
+// True if this CPU runs the AVX2 kernels: block_candidates here and the DACRT box test.
+bool avx2_available();
 
 // Bit l set: lane l's triangle may be accepted by intersect_triangle(r, ..., tmin, tmax), or has an
-// edge function of exactly zero. Only call when block_test_available().
+// edge function of exactly zero, or a t that is not finite. Only call when avx2_available().
 uint32_t block_candidates(const TriangleBlock& b, const Ray& r, float tmin, float tmax);
 
 }  // namespace dacrt
