@@ -66,7 +66,8 @@ Ray tracing
   --backend NAME             dacrt (default), dacrt-naive, embree, brute
   --backend-option KEY=VALUE backend setting, repeatable (dacrt: bins, leaf_rays, leaf_work, leaf_triangles,
                              max_leaf_triangles, sample_size, sample_threshold, small_nodes, filter_skip,
-                             cost_traversal, cost_intersect, simd, seed, max_depth)
+                             cost_traversal, cost_intersect, simd, task_rays, chunks, seed,
+                             max_depth)
   --wavefront N              live paths per wavefront (default 524288)
   --threads T                worker threads (default: all cores)
 Other
@@ -269,6 +270,7 @@ int render(const std::vector<std::string>& args) {
                           {"nodes", b.nodes},
                           {"leaves", b.leaves},
                           {"filter_skips", b.filter_skips},
+                          {"tasks", b.tasks},
                           {"build_seconds", b.build_seconds},
                           {"peak_bytes", b.peak_bytes}}}};
     for (int t = 0; t < ray_type_count; ++t)

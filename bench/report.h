@@ -137,7 +137,8 @@ inline nlohmann::ordered_json to_json(const BenchReport& report) {
                          {"box_tests", r.stats.box_tests},
                          {"nodes", r.stats.nodes},
                          {"leaves", r.stats.leaves},
-                         {"filter_skips", r.stats.filter_skips}}},
+                         {"filter_skips", r.stats.filter_skips},
+                         {"tasks", r.stats.tasks}}},
                        {"trace_s_runs", r.trace_runs}});
   }
   return {{"scene", report.scene},

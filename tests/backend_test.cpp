@@ -39,7 +39,7 @@ size_t compare(const Geometry& g, const RayBatch& rays, const HitBatch& expected
                 (!expected.hit(i) ||
                  (same_bits(expected.u[i], got.u[i]) && same_bits(expected.v[i], got.v[i])));
     if (!same && ++mismatches <= 5)
-      FAIL_CHECK(backend << " ray " << i << ": prim " << got.prim[i] << " t " << got.t[i]
+      FAIL_CHECK(std::string(backend) << " ray " << i << ": prim " << got.prim[i] << " t " << got.t[i]
                          << ", brute: prim " << expected.prim[i] << " t " << expected.t[i]);
   }
   CHECK(mismatches == 0);
@@ -51,7 +51,7 @@ size_t compare(const Geometry& g, const RayBatch& rays, const HitBatch& expected
   size_t occ_mismatches = 0;
   for (size_t i = 0; i < rays.size(); ++i) occ_mismatches += occ_got[i] != uint8_t(expected.hit(i));
   CHECK(occ_mismatches == 0);
-  MESSAGE(backend << ": " << rays.size() << " rays, " << hits << " hits, " << g.size()
+  MESSAGE(std::string(backend) << ": " << rays.size() << " rays, " << hits << " hits, " << g.size()
                   << " triangles");
   return rays.size();
 }
@@ -113,6 +113,10 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
       {{"max_depth", "3"}},
       {{"cost_traversal", "1000"}},  // leaves everywhere the size allows
       {{"cost_traversal", "1000"}, {"max_leaf_triangles", "100000"}},  // leaves everywhere
+      {{"task_rays", "1"}, {"chunks", "64"}},  // as many chunks as threads, forks everywhere
+      {{"task_rays", "1"}, {"filter_skip", "0"}},    // forks whose children take every ray
+      {{"task_rays", "1"}, {"filter_skip", "0.5"}},  // forks where one child may
+      {{"task_rays", "100000000"}, {"chunks", "1"}},  // one traversal on one thread
   };
   for (const auto& s : settings) {
     Options o;
@@ -190,7 +194,8 @@ TEST_CASE("NaN, inf, zero-direction and inactive rays miss without harm") {
 
 TEST_CASE("dacrt builds the same recursion with and without AVX2") {
   // The vector box and triangle tests reproduce the scalar ones bit for bit, so every filtering
-  // decision, and with it every counter, is the same.
+  // decision, and with it every counter, is the same (on one thread: a subtree another thread
+  // takes while its sibling runs is traversed in two parts, which changes the counters).
   Geometry g = random_soup(5000, 61);
   RayBatch rays = random_rays(g, 50000, 62, RayType::bounce);
   Stats s[2];
@@ -199,7 +204,7 @@ TEST_CASE("dacrt builds the same recursion with and without AVX2") {
     Options o;
     o.set("simd", i ? "none" : "auto");
     auto b = Backend::create("dacrt", g, o);
-    b->intersect(rays, h[i]);
+    tbb::task_arena(1).execute([&] { b->intersect(rays, h[i]); });
     s[i] = b->stats();
   }
   CHECK(s[0].nodes == s[1].nodes);
@@ -211,22 +216,56 @@ TEST_CASE("dacrt builds the same recursion with and without AVX2") {
   CHECK(h[0].t == h[1].t);
 }
 
+TEST_CASE("dacrt's parallel subtrees give the closest hits of one thread") {
+  // With task_rays=64 nearly every node forks: its second child runs as a task, beside the first
+  // child when another thread takes it, and the rays both children need visit it afterwards.
+  Geometry g = random_soup(20000, 81);
+  for (const RayBatch& rays : {random_rays(g, 60000, 82, RayType::bounce),
+                               surface_rays(g, 60000, 83, true), axis_rays(g, 60000, 84)}) {
+    const HitBatch expected = brute_hits(g, rays);
+    for (const char* name : {"dacrt", "dacrt-naive"}) {
+      for (int threads : {1, 2, 4}) {
+        INFO(std::string(name) << ", " << threads << " threads");
+        Options o;
+        o.set("task_rays", "64");
+        tbb::task_arena(threads).execute([&] { compare(g, rays, expected, name, o); });
+      }
+    }
+  }
+  // The concurrent path is taken (and so tested above) whenever another thread is free; on a
+  // loaded machine it may take a few calls.
+  auto b = Backend::create("dacrt", g, [] {
+    Options o;
+    o.set("task_rays", "64");
+    return o;
+  }());
+  RayBatch rays = random_rays(g, 60000, 90, RayType::bounce);
+  HitBatch hits;
+  tbb::task_arena arena(4);
+  for (int call = 0; call < 50 && b->stats().tasks == 0; ++call)
+    arena.execute([&] { b->intersect(rays, hits); });
+  CHECK(b->stats().tasks > 0);
+}
+
 TEST_CASE("dacrt's working memory is the bound it states before tracing") {
   Geometry g = random_soup(20000, 71);
-  const unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
+  DacrtParams one_chunk;
+  one_chunk.chunks = 1;
   for (size_t n : {size_t(1000), size_t(100000)}) {
     RayBatch rays = random_rays(g, n, 72, RayType::bounce);
     for (const char* name : {"dacrt", "dacrt-naive"}) {
-      INFO(std::string(name) << ", " << n << " rays");
-      auto b = Backend::create(name, g);
-      HitBatch hits;
-      b->intersect(rays, hits);
-      const uint64_t peak = b->stats().peak_bytes;
-      CHECK(peak <= dacrt_memory_bound(n, g.size(), threads));
-      CHECK(peak >= dacrt_memory_bound(n, g.size(), 1));
-      // The issue's budget: at most 48 bytes per ray and 48 per triangle on this machine's 2
-      // threads.
-      CHECK(dacrt_memory_bound(n, g.size(), 2) <= 48 * n + 48 * g.size());
+      // However many threads trace.
+      for (int threads : {1, 2, 4}) {
+        INFO(std::string(name) << ", " << n << " rays, " << threads << " threads");
+        auto b = Backend::create(name, g);
+        HitBatch hits;
+        tbb::task_arena(threads).execute([&] { b->intersect(rays, hits); });
+        const uint64_t peak = b->stats().peak_bytes;
+        CHECK(peak <= dacrt_memory_bound(n, g.size()));
+        CHECK(peak >= dacrt_memory_bound(n / 2, g.size(), one_chunk));
+      }
+      // The issue's budget: at most 48 bytes per ray and 48 per triangle.
+      CHECK(dacrt_memory_bound(n, g.size()) <= 48 * n + 48 * g.size());
     }
   }
 }

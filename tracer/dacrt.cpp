@@ -5,10 +5,10 @@
 #include <immintrin.h>
 #define DACRT_X86 1
 #endif
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
@@ -36,7 +36,8 @@ const std::set<std::string, std::less<>>& DacrtParams::keys() {
                                                        "filter_skip",    "cost_traversal",
                                                        "cost_intersect", "seed",
                                                        "max_depth",      "max_leaf_triangles",
-                                                       "small_nodes",    "simd"};
+                                                       "small_nodes",    "simd",
+                                                       "task_rays",      "chunks"};
   return k;
 }
 
@@ -56,6 +57,8 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.cost_intersect = o.get("cost_intersect", p.cost_intersect);
   p.seed = uint64_t(o.get("seed", int(p.seed)));
   p.max_depth = o.get("max_depth", p.max_depth);
+  p.task_rays = o.get("task_rays", p.task_rays);
+  p.chunks = o.get("chunks", p.chunks);
   std::string small = o.get("small_nodes", std::string("sah"));
   if (small != "sah" && small != "all") throw Error("option small_nodes must be sah or all");
   p.small_nodes_sah = small == "sah";
@@ -68,6 +71,7 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   if (p.sample_size < 1 || p.sample_threshold < p.sample_size)
     throw Error("option sample_size must be >= 1 and <= sample_threshold");
   if (p.max_depth < 1) throw Error("option max_depth must be at least 1");
+  if (p.task_rays < 1 || p.chunks < 1) throw Error("options task_rays and chunks must be >= 1");
   return p;
 }
 
@@ -144,15 +148,33 @@ static_assert(sizeof(RayRef) == 36);
 
 class Dacrt;
 
-// One traversal over a contiguous chunk of the batch's rays. Allocates nothing: ray and triangle
-// records are partitioned in place and its scratch has a fixed size, so a call's memory is known
-// before it starts.
+// choose_split's scratch. choose_split returns before the recursion goes on and never waits for
+// other tasks, so one set per thread serves every node of every traversal (and keeps recursion
+// frames small).
+struct SplitScratch {
+  struct Bin {
+    Box box, centres;
+    uint32_t count = 0;
+  };
+  // Per candidate split: sampled rays that hit the left / right box, and that enter it first.
+  struct Counts {
+    std::array<uint32_t, 256> left, right, left_first, right_first;  // sample_splits zeroes them
+  };
+  std::array<Bin, 256> bins{};
+  std::array<Box, 256> left_box{}, right_box{};
+  std::array<uint32_t, 256> left_n{}, right_n{};
+  Counts counts{};
+};
+
+// A traversal of a subtree: a range of ray records and a range of triangle records, both
+// partitioned in place. Allocates nothing, so a call's memory is known before it starts. Large
+// nodes run their second child as a parallel task on its own Traversal (see fork).
 struct Traversal {
   const Dacrt& k;
-  RayRef* rays;       // this chunk's live rays, partitioned in place
+  RayRef* rays;       // the call's live rays
   HitBatch* hits;     // closest-hit mode; null for occlusion
   uint8_t* occluded;  // occlusion mode; null for closest hit
-  TriangleRef* tris;  // every triangle, partitioned in place
+  TriangleRef* tris;  // every triangle
   Pcg32 rng;
   Stats stats;
 
@@ -169,28 +191,15 @@ struct Traversal {
 
   void node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
             int depth);
+  void fork(const Split& split, uint32_t rb, uint32_t re, int depth);
   Split choose_split(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
                      uint32_t re);
+  bool skips_filter(const Split::Child& c);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
-  uint32_t filter(const Box& box, uint32_t rb, uint32_t re);
-  // Per candidate split: sampled rays that hit the left / right box, and that enter it first.
-  struct Counts {
-    std::array<uint32_t, 256> left, right, left_first, right_first;  // sample_splits zeroes them
-  };
+  uint32_t filter(const Box& box, uint32_t rb, uint32_t re, bool hits_first = true);
   void sample_splits(const Box* left, const Box* right, int n, uint32_t rb, uint32_t samples,
-                     Counts& counts);
+                     SplitScratch::Counts& counts);
   uint32_t draw_samples(uint32_t rb, uint32_t re, uint32_t wanted);
-
-  // choose_split's scratch: it returns before the recursion goes on, so one set per traversal
-  // serves every node (and keeps recursion frames small).
-  struct Bin {
-    Box box, centres;
-    uint32_t count = 0;
-  };
-  std::array<Bin, 256> bins{};
-  std::array<Box, 256> left_box{}, right_box{};
-  std::array<uint32_t, 256> left_n{}, right_n{};
-  Counts counts{};
 };
 
 class Dacrt final : public Backend {
@@ -258,19 +267,22 @@ class Dacrt final : public Backend {
       for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) offset[b + 1] += live(i);
     });
     std::partial_sum(offset.begin(), offset.end(), offset.begin());
-    // The records' memory is kept from call to call (no page faults, nothing zeroed); a call that
-    // finds it in use by a concurrent one allocates its own.
+    // The ray and triangle records are kept from call to call (no page faults, nothing zeroed,
+    // triangles encoded once); a call that finds them in use by a concurrent one makes its own.
     const size_t count = offset[blocks];
-    std::unique_lock buffer_lock(ray_buffer_mutex_, std::try_to_lock);
-    std::unique_ptr<RayRef[]> own_buffer;
+    std::unique_lock buffer_lock(buffer_mutex_, std::try_to_lock);
+    std::unique_ptr<RayRef[]> own_rays;
+    std::vector<Triangles> own_triangles;
     RayRef* refs;
+    std::vector<Triangles>* triangles = &own_triangles;
     if (buffer_lock.owns_lock()) {
       if (ray_capacity_ < count) ray_buffer_.reset(), ray_buffer_.reset(new RayRef[count]);
       ray_capacity_ = std::max(ray_capacity_, count);
       refs = ray_buffer_.get();
+      triangles = &triangles_;
     } else {
-      own_buffer.reset(new RayRef[count]);
-      refs = own_buffer.get();
+      own_rays.reset(new RayRef[count]);
+      refs = own_rays.get();
     }
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       size_t out = offset[b];
@@ -280,25 +292,20 @@ class Dacrt final : public Backend {
         refs[out++] = {batch.origin(i), d, batch.tmin[i], batch.tmax[i], uint32_t(i)};
       }
     });
-    const uint64_t call = calls_++;
-    // Chunks of the batch run as independent traversals, one per thread at a time.
+    // Large batches are cut into chunks that trace at once, each with its own triangle records:
+    // right from the root every thread has work. Inside a chunk, large nodes hand subtrees to
+    // other threads (Traversal::fork), which also evens out chunks that take unequal time.
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-    const size_t chunks = count >= 8192 * threads ? threads : 1;
+    const size_t chunks =
+        std::min({threads, size_t(params_.chunks), std::max<size_t>(1, count / params_.task_rays)});
+    if (triangles->empty()) triangles->emplace_back().encode(geometry_);
+    while (triangles->size() < chunks) triangles->push_back(triangles->front());
+    const uint64_t call = calls_++;
     Stats total;
     std::mutex total_mutex;
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-      // Each thread partitions its own triangle records, encoded on its first call. Later calls
-      // start from whatever order the last one left: the recursion only depends on the set.
-      Triangles& own = triangles_.local();
-      if (own.refs.size() != geometry_.size()) {
-        own.refs.resize(geometry_.size());
-        for (uint32_t i = 0; i < own.refs.size(); ++i) {
-          const TriangleRef& r = own.refs[i] = TriangleRef::encode(geometry_, i);
-          const float step = r.step();
-          own.centres.extend(glm::vec3(r.center(0, step), r.center(1, step), r.center(2, step)));
-        }
-      }
-      uint32_t rb = uint32_t(count * c / chunks), re = uint32_t(count * (c + 1) / chunks);
+      const uint32_t rb = uint32_t(count * c / chunks), re = uint32_t(count * (c + 1) / chunks);
+      Triangles& own = (*triangles)[c];
       Traversal t{*this, refs, hits, occluded, own.refs.data(), Pcg32(hash(params_.seed, call, c)),
                   {}};
       if (!bounds_.empty() && rb < re)
@@ -308,7 +315,7 @@ class Dacrt final : public Backend {
     });
     total.rays = n;
     uint64_t bytes = (buffer_lock.owns_lock() ? ray_capacity_ : count) * sizeof(RayRef) +
-                     triangles_.size() * geometry_.size() * sizeof(TriangleRef);
+                     triangles->size() * geometry_.size() * sizeof(TriangleRef);
     std::lock_guard lock(stats_mutex_);
     stats_ += total;
     stats_.peak_bytes = std::max(stats_.peak_bytes, bytes);
@@ -317,9 +324,27 @@ class Dacrt final : public Backend {
   struct Triangles {
     std::vector<TriangleRef> refs;  // every triangle, in any order
     Box centres;                    // of their boxes
+
+    void encode(const Geometry& g) {
+      refs.resize(g.size());
+      centres = tbb::parallel_reduce(
+          tbb::blocked_range<uint32_t>(0, uint32_t(g.size()), 16384), Box(),
+          [&](const auto& range, Box box) {
+            for (uint32_t i = range.begin(); i != range.end(); ++i) {
+              const TriangleRef& r = refs[i] = TriangleRef::encode(g, i);
+              const float step = r.step();
+              box.extend(glm::vec3(r.center(0, step), r.center(1, step), r.center(2, step)));
+            }
+            return box;
+          },
+          [](Box x, const Box& y) {
+            x.extend(y);
+            return x;
+          });
+    }
   };
-  tbb::enumerable_thread_specific<Triangles> triangles_;  // one per thread that traced
-  std::mutex ray_buffer_mutex_;
+  std::mutex buffer_mutex_;  // held by the call that uses the records below
+  std::vector<Triangles> triangles_;  // one per chunk
   std::unique_ptr<RayRef[]> ray_buffer_;
   size_t ray_capacity_ = 0;
   Box bounds_;
@@ -447,18 +472,23 @@ __attribute__((target("avx2"))) uint64_t box_mask(const RayRef* p, int n, const 
 }
 #endif
 
-// Moves the rays of [rb, re) that may touch `box` to the front; returns the end of that range.
-__attribute__((noinline)) uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re) {
+// Moves the rays of [rb, re) that may touch `box` to the front (with hits_first false: those that
+// cannot); returns the end of them.
+__attribute__((noinline)) uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re,
+                                                     bool hits_first) {
   stats.box_tests += re - rb;
   const float m = k.magnitude();
   RayRef* mid;
 #ifdef DACRT_X86
   if (k.params_.simd && avx2_available())
-    mid = block_partition(rays + rb, rays + re,
-                          [&](const RayRef* p, int n) { return box_mask(p, n, box, m); });
+    mid = block_partition(rays + rb, rays + re, [&](const RayRef* p, int n) {
+      const uint64_t hit = box_mask(p, n, box, m);
+      return hits_first ? hit : ~hit & (~uint64_t(0) >> (64 - n));
+    });
   else
 #endif
-    mid = block_partition_by(rays + rb, rays + re, [&](const RayRef& r) { return r.hits(box, m); });
+    mid = block_partition_by(rays + rb, rays + re,
+                             [&](const RayRef& r) { return r.hits(box, m) == hits_first; });
   return uint32_t(mid - rays);
 }
 
@@ -466,7 +496,7 @@ __attribute__((noinline)) uint32_t Traversal::filter(const Box& box, uint32_t rb
 // split loop is branch-free over structure-of-arrays boxes so that it vectorises; it is the same
 // conservative slab test as Ray::box_hits.
 void Traversal::sample_splits(const Box* left, const Box* right, int n, uint32_t rb,
-                              uint32_t samples, Counts& c) {
+                              uint32_t samples, SplitScratch::Counts& c) {
   constexpr int max_splits = 256;
   alignas(32) float l_lo[3][max_splits], l_hi[3][max_splits];
   alignas(32) float r_lo[3][max_splits], r_hi[3][max_splits];
@@ -519,6 +549,9 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
                                                                    uint32_t re) {
   const DacrtParams& p = k.params_;
   const uint32_t nt = te - tb, nr = re - rb;
+  static thread_local SplitScratch scratch;
+  auto& [bins, left_box, right_box, left_n, right_n, counts] = scratch;
+  using Bin = SplitScratch::Bin;
   // Binning on triangle box centres along the longest axis of the centres' box (Wald 2007). Each
   // bin also keeps its centres' box, so the children know theirs without another pass.
   const int axis = centres.longest_axis();
@@ -651,6 +684,15 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   return split;
 }
 
+// Filtering costs one box test per ray; it pays only if enough rays miss the child.
+bool Traversal::skips_filter(const Split::Child& c) {
+  const DacrtParams& p = k.params_;
+  const double threshold = p.filter_skip_alpha >= 0
+                               ? p.filter_skip_alpha
+                               : 1.0 - p.cost_traversal / (double(c.te - c.tb) * p.cost_intersect);
+  return c.alpha >= 0.0 && c.alpha > threshold;
+}
+
 void Traversal::node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
                      uint32_t re, int depth) {
   const DacrtParams& p = k.params_;
@@ -661,26 +703,65 @@ void Traversal::node(const Box& box, const Box& centres, uint32_t tb, uint32_t t
   const Split split = choose_split(box, centres, tb, te, rb, re);
   if (!split.valid) return leaf(tb, te, rb, re);
   ++stats.nodes;
+  if (nr >= uint32_t(p.task_rays)) return fork(split, rb, re, depth);
   for (const Split::Child& c : split.children) {
-    const uint32_t n = c.te - c.tb;
-    // Filtering costs one box test per ray; it pays only if enough rays miss the child.
-    double threshold = p.filter_skip_alpha >= 0
-                           ? p.filter_skip_alpha
-                           : 1.0 - p.cost_traversal / (double(n) * p.cost_intersect);
     uint32_t end = re;
-    if (c.alpha >= 0.0 && c.alpha > threshold) {
+    if (skips_filter(c))
       ++stats.filter_skips;
-    } else {
+    else
       end = filter(c.box, rb, re);
-    }
     if (end > rb) node(c.box, c.centres, c.tb, c.te, rb, end, depth + 1);
   }
 }
 
+// A large node's children as two tasks. The triangle ranges are disjoint, but a ray may need both
+// children, and the second, B, must see the closest hit the first, A, found. So the rays are
+// partitioned [rb, b_only) neither box, [b_only, a_begin) only B's, [a_begin, re) A's. A traverses
+// its rays here while a task traverses B with the rays only B needs; when both are done, the rays
+// of A that still reach B's box (with their new closest hits) traverse B too. If the task only
+// starts once A is done (nobody stole it), it traverses B once with all its rays, as one thread
+// would: the same box tests, in the same order, as the sequential loop in node().
+void Traversal::fork(const Split& split, uint32_t rb, uint32_t re, int depth) {
+  const Split::Child &a = split.children[0], &b = split.children[1];
+  const bool skip_a = skips_filter(a), skip_b = skips_filter(b);
+  stats.filter_skips += skip_a + skip_b;
+  // Moves the rays of [from, to) that miss the child to the front and returns their end; a child
+  // that skips filtering takes every ray.
+  auto misses = [&](const Split::Child& c, bool skip, uint32_t from, uint32_t to) {
+    return skip ? from : filter(c.box, from, to, false);
+  };
+  const uint32_t a_begin = misses(a, skip_a, rb, re);
+  const uint32_t b_only = misses(b, skip_b, rb, a_begin);
+  // B after A: the rays of [first, from) and those of [from, re) that still reach B's box.
+  auto after_a = [&](Traversal& t, uint32_t first, uint32_t from) {
+    const uint32_t end = skip_b ? re : t.filter(b.box, from, re);
+    if (end > first) t.node(b.box, b.centres, b.tb, b.te, first, end, depth + 1);
+  };
+  if (b_only == a_begin || a_begin == re) {  // nothing to run beside A
+    if (re > a_begin) node(a.box, a.centres, a.tb, a.te, a_begin, re, depth + 1);
+    return after_a(*this, b_only, a_begin);
+  }
+  Traversal task{k, rays, hits, occluded, tris, Pcg32(rng.next()), {}};
+  std::atomic<bool> a_done{false};
+  bool beside = false;  // the task ran while A was running
+  tbb::task_group group;
+  group.run([&] {
+    if (a_done.load(std::memory_order_acquire)) return after_a(task, b_only, a_begin);
+    beside = true;
+    ++task.stats.tasks;
+    task.node(b.box, b.centres, b.tb, b.te, b_only, a_begin, depth + 1);
+  });
+  node(a.box, a.centres, a.tb, a.te, a_begin, re, depth + 1);
+  a_done.store(true, std::memory_order_release);
+  group.wait();
+  stats += task.stats;
+  if (beside) after_a(*this, a_begin, a_begin);
+}
+
 }  // namespace
 
-uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, unsigned threads) {
-  return rays * sizeof(RayRef) + uint64_t(threads) * triangles * sizeof(TriangleRef);
+uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, const DacrtParams& params) {
+  return rays * sizeof(RayRef) + uint64_t(params.chunks) * triangles * sizeof(TriangleRef);
 }
 
 namespace {

@@ -45,6 +45,12 @@ struct DacrtParams {
   double cost_intersect = 1.0;  // C_I, relative cost of one ray/triangle test
   uint64_t seed = 1;            // ray sampling's random stream
   int max_depth = 512;          // recursion bound; deeper nodes become leaves
+  // A node with at least this many rays runs its two children as parallel tasks (rays that need
+  // both visit the second child after the first, as in one thread; see Traversal::fork).
+  int task_rays = 8192;
+  // A batch of at least 2 × task_rays rays is cut into up to this many chunks (no more than the
+  // threads), traced at once, each with its own copy of the triangle records.
+  int chunks = 2;
 
   static const std::set<std::string, std::less<>>& keys();
   // Reads every key of keys() from the options (filter_skip=paper or a number).
@@ -52,8 +58,8 @@ struct DacrtParams {
 };
 
 // The most memory one dacrt or dacrt-naive call uses beyond its inputs and outputs, known before
-// it starts: a 36-byte record per ray and, for each worker thread that traces, a 20-byte record
-// per triangle (kept from call to call). Nothing is allocated per node.
-uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, unsigned threads);
+// it starts: a 36-byte record per ray and a 20-byte record per triangle for each chunk (both kept
+// from call to call), however many threads trace. Nothing is allocated per node.
+uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, const DacrtParams& params = {});
 
 }  // namespace dacrt

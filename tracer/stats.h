@@ -12,12 +12,14 @@ struct Stats {
   uint64_t nodes = 0;           // inner nodes (DACRT)
   uint64_t leaves = 0;          // leaves (DACRT)
   uint64_t filter_skips = 0;    // children entered without ray filtering (DACRT)
+  uint64_t tasks = 0;           // subtrees traversed by another thread beside their sibling (DACRT)
   double build_seconds = 0.0;   // preparation at create()
   uint64_t peak_bytes = 0;      // largest working memory of one call, beyond inputs and outputs
 
   Stats& operator+=(const Stats& o) {
     rays += o.rays, triangle_tests += o.triangle_tests, box_tests += o.box_tests;
     nodes += o.nodes, leaves += o.leaves, filter_skips += o.filter_skips;
+    tasks += o.tasks;
     return *this;
   }
 };
