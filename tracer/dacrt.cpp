@@ -63,8 +63,9 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   if (small != "sah" && small != "all") throw Error("option small_nodes must be sah or all");
   p.small_nodes_sah = small == "sah";
   std::string simd = o.get("simd", std::string("auto"));
-  if (simd != "auto" && simd != "none") throw Error("option simd must be auto or none");
-  p.simd = simd == "auto";
+  if (simd != "auto" && simd != "avx2" && simd != "none")
+    throw Error("option simd must be auto, avx2 or none");
+  p.simd = simd == "auto" ? Simd::avx512 : simd == "avx2" ? Simd::avx2 : Simd::none;
   if (p.bins < 2 || p.bins > 256) throw Error("option bins must be in [2, 256]");
   if (p.leaf_rays < 1 || p.leaf_triangles < 1 || p.leaf_work < 1 || p.max_leaf_triangles < 1)
     throw Error("options leaf_rays, leaf_triangles, leaf_work and max_leaf_triangles must be >= 1");
@@ -78,6 +79,7 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
 namespace {
 
 constexpr float inf = std::numeric_limits<float>::infinity();
+using Simd = DacrtParams::Simd;
 
 // What binning and partitioning read of a triangle, in one 20-byte record, so that a node streams
 // through a contiguous range of them instead of gathering from scattered arrays by index. The box
@@ -369,7 +371,7 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
       hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
     }
   };
-  if (!k.params_.simd || !avx2_available()) {
+  if (k.params_.simd < Simd::avx2 || !avx2_available()) {
     for (uint32_t r = rb; r < re; ++r) {
       RayRef& ref = rays[r];
       if (!(ref.far >= ref.tmin)) continue;  // occluded already
@@ -426,8 +428,8 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
 // in the same order (_mm256_min_ps(b, a) is std::min(a, b) exactly, NaN and signed zeros
 // included), so the mask is bit for bit the scalar test's. Bit i is p[i]; nothing past p[n - 1] is
 // read.
-__attribute__((target("avx2"))) uint64_t box_mask(const RayRef* p, int n, const Box& box,
-                                                  float magnitude) {
+__attribute__((target("avx2"))) uint64_t box_mask_avx2(const RayRef* p, int n, const Box& box,
+                                                       float magnitude) {
   static_assert(sizeof(RayRef) == 9 * sizeof(float) && offsetof(RayRef, d) == 12 &&
                 offsetof(RayRef, tmin) == 24 && offsetof(RayRef, far) == 28);
   const float* base = reinterpret_cast<const float*>(p);
@@ -470,6 +472,64 @@ __attribute__((target("avx2"))) uint64_t box_mask(const RayRef* p, int n, const 
   }
   return mask;
 }
+
+// GCC 12's AVX-512 headers start masked intrinsics from _mm512_undefined_*(), which
+// -Wmaybe-uninitialized reports once inlined (GCC bug 105593, fixed in GCC 13).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+// |x| for AVX512F, which has float logic only as integer logic.
+__attribute__((target("avx512f"))) inline __m512 abs_avx512(__m512 x) {
+  return _mm512_castsi512_ps(
+      _mm512_andnot_epi32(_mm512_set1_epi32(int32_t(0x80000000u)), _mm512_castps_si512(x)));
+}
+
+// Field `field` of up to 16 records of 9 floats from r; lanes outside `live` read nothing, give 0.
+__attribute__((target("avx512f"))) inline __m512 gather_avx512(const float* r, int field,
+                                                               __mmask16 live) {
+  const __m512i stride = _mm512_mullo_epi32(
+      _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15), _mm512_set1_epi32(9));
+  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), live, stride, r + field, 4);
+}
+
+// box_mask_avx2 sixteen rays per instruction.
+__attribute__((target("avx512f"))) uint64_t box_mask_avx512(const RayRef* p, int n, const Box& box,
+                                                            float magnitude) {
+  const float* base = reinterpret_cast<const float*>(p);
+  __m512 lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = _mm512_set1_ps(box.lo[a]), hi[a] = _mm512_set1_ps(box.hi[a]);
+  const __m512i sign = _mm512_set1_epi32(int32_t(0x80000000u));
+  const __m512 mag = _mm512_set1_ps(magnitude), scale = _mm512_set1_ps(0x1p-16f),
+               tiny = _mm512_set1_ps(1e-30f), one = _mm512_set1_ps(1.f);
+  uint64_t mask = 0;
+  for (int g = 0; 16 * g < n; ++g) {
+    const float* r = base + 144 * g;
+    const int left = n - 16 * g;
+    const __mmask16 live = left >= 16 ? __mmask16(0xffff) : __mmask16((1u << left) - 1u);
+    __m512 o[3], inv[3];
+    for (int a = 0; a < 3; ++a) {
+      o[a] = gather_avx512(r, a, live);
+      const __m512 d = gather_avx512(r, 3 + a, live);
+      const __mmask16 small = _mm512_cmp_ps_mask(abs_avx512(d), tiny, _CMP_LT_OQ);
+      const __m512 clamped = _mm512_castsi512_ps(_mm512_or_epi32(
+          _mm512_and_epi32(sign, _mm512_castps_si512(d)), _mm512_castps_si512(tiny)));
+      inv[a] = _mm512_div_ps(one, _mm512_mask_blend_ps(small, d, clamped));
+    }
+    __m512 near = gather_avx512(r, 6, live), far = gather_avx512(r, 7, live);
+    const __m512 om =
+        _mm512_max_ps(_mm512_max_ps(abs_avx512(o[0]), abs_avx512(o[1])), abs_avx512(o[2]));
+    const __m512 pad = _mm512_mul_ps(scale, _mm512_add_ps(om, mag));
+    for (int a = 0; a < 3; ++a) {
+      const __m512 ta = _mm512_mul_ps(_mm512_sub_ps(_mm512_sub_ps(lo[a], pad), o[a]), inv[a]);
+      const __m512 tb = _mm512_mul_ps(_mm512_sub_ps(_mm512_add_ps(hi[a], pad), o[a]), inv[a]);
+      near = _mm512_max_ps(_mm512_min_ps(tb, ta), near);
+      far = _mm512_min_ps(_mm512_max_ps(tb, ta), far);
+    }
+    mask |= uint64_t(_mm512_mask_cmp_ps_mask(live, near, far, _CMP_LE_OQ)) << (16 * g);
+  }
+  return mask;
+}
+#pragma GCC diagnostic pop
 #endif
 
 // Moves the rays of [rb, re) that may touch `box` to the front (with hits_first false: those that
@@ -480,11 +540,16 @@ __attribute__((noinline)) uint32_t Traversal::filter(const Box& box, uint32_t rb
   const float m = k.magnitude();
   RayRef* mid;
 #ifdef DACRT_X86
-  if (k.params_.simd && avx2_available())
-    mid = block_partition(rays + rb, rays + re, [&](const RayRef* p, int n) {
-      const uint64_t hit = box_mask(p, n, box, m);
+  auto partition = [&](auto mask) {
+    return block_partition(rays + rb, rays + re, [&](const RayRef* p, int n) {
+      const uint64_t hit = mask(p, n, box, m);
       return hits_first ? hit : ~hit & (~uint64_t(0) >> (64 - n));
     });
+  };
+  if (k.params_.simd >= Simd::avx512 && avx512_available())
+    mid = partition(box_mask_avx512);
+  else if (k.params_.simd >= Simd::avx2 && avx2_available())
+    mid = partition(box_mask_avx2);
   else
 #endif
     mid = block_partition_by(rays + rb, rays + re,

@@ -35,9 +35,12 @@ struct DacrtParams {
   // estimates α of every candidate from every ray, the literal reading of the paper, which costs
   // 2(K−1) box tests per ray in each of the many small nodes of incoherent batches.
   bool small_nodes_sah = true;
-  // Leaves test each ray against eight triangles at a time with AVX2 when the CPU has it (`auto`);
-  // `none` uses the scalar test only. Both give bit-identical answers (see triangle_block.h).
-  bool simd = true;
+  // The widest vector tests to use when the CPU has them: `auto` filters 16 rays per AVX-512
+  // instruction and leaves test eight triangles per AVX2 instruction, `avx2` filters 8 rays per
+  // instruction, `none` uses the scalar tests only. All give bit-identical answers (see
+  // triangle_block.h and box_mask in dacrt.cpp), so the recursion is the same.
+  enum class Simd : uint8_t { none, avx2, avx512 };
+  Simd simd = Simd::avx512;
   // Skip filtering a child when its sampled α exceeds this; negative = the paper's rule
   // α > 1 − C_T / (N_child · C_I). Children without a sampled α are always filtered.
   double filter_skip_alpha = -1.0;

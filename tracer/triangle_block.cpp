@@ -16,6 +16,11 @@ bool avx2_available() {
   return yes;
 }
 
+bool avx512_available() {
+  static const bool yes = __builtin_cpu_supports("avx512f");
+  return yes;
+}
+
 // Mirrors intersect_triangle line by line; -ffp-contract=off keeps every multiply and add apart.
 __attribute__((target("avx2"))) uint32_t block_candidates(const TriangleBlock& b, const Ray& r,
                                                           float tmin, float tmax) {
@@ -71,6 +76,9 @@ __attribute__((target("avx2"))) uint32_t block_candidates(const TriangleBlock& b
 #else
 
 bool avx2_available() {
+  return false;
+}
+bool avx512_available() {
   return false;
 }
 uint32_t block_candidates(const TriangleBlock& b, const Ray&, float, float) {

@@ -35,6 +35,8 @@ struct TriangleBlock {
 
 // True if this CPU runs the AVX2 kernels: block_candidates here and the DACRT box test.
 bool avx2_available();
+// True if this CPU runs the DACRT box test's AVX-512 (AVX512F) variant.
+bool avx512_available();
 
 // Bit l set: lane l's triangle may be accepted by intersect_triangle(r, ..., tmin, tmax), or has an
 // edge function of exactly zero, or a t that is not finite. Only call when avx2_available().
