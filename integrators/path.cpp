@@ -2,9 +2,10 @@
 // every bounce runs the same short list of stages on whole batches:
 //   camera rays → intersect → shade (escaped rays, emitters hit, Russian roulette, next-event
 //   estimation, BSDF sampling) → occluded(shadow rays) → intersect(bounce rays) → …
-// Materials are Lambertian (the glTF base colour) for now. Next-event estimation samples emissive
-// triangles by power and is combined with BSDF sampling by multiple importance sampling (power
-// heuristic), so emitters of any size converge well. Scenes without emitters trace no shadow rays.
+// Surfaces reflect by the glTF metallic-roughness BRDF (materials/gltf_brdf.h) around the
+// shading normal. Next-event estimation samples emissive triangles by power and is combined with
+// BRDF sampling by multiple importance sampling (power heuristic), so emitters of any size and
+// lobes of any width converge well. Scenes without emitters trace no shadow rays.
 #include <tbb/parallel_for.h>
 
 #include <chrono>
@@ -29,7 +30,8 @@ enum Dimension : uint32_t {
   light_u,
   light_v,
   bsdf_u,
-  bsdf_v
+  bsdf_v,
+  bsdf_lobe
 };
 
 class PathTracer final : public Integrator {
@@ -172,26 +174,32 @@ class PathTracer final : public Integrator {
       if (len > 0.f) ns = interpolated / len;
       if (glm::dot(ns, ng) < 0.f) ns = -ns;
     }
-    const glm::vec3 f = m.base_color * glm::one_over_pi<float>();  // Lambert
+    // Interpolated normals can face away from the viewer where the geometric one does not; the
+    // BRDF is then evaluated around the geometric normal.
+    if (glm::dot(ns, d) >= 0.f) ns = ng;
+    const Frame frame(ns);
+    const GltfBrdf brdf(m.brdf());
+    const glm::vec3 wo = frame.to_local(-d);
     const glm::vec3 origin = offset_ray_origin(p, ng);
 
-    if (!lights_.empty()) next_event(i, path, depth, p, ng, ns, f, origin);
+    if (!lights_.empty()) next_event(i, path, depth, p, ng, frame, brdf, wo, origin);
 
-    // BSDF sampling: cosine-weighted around the shading normal, kept above the surface.
-    glm::vec3 local =
-        sample_cosine_hemisphere(random(path, depth, bsdf_u), random(path, depth, bsdf_v));
-    glm::vec3 wi = Frame(ns).to_world(local);
-    float pdf = cosine_hemisphere_pdf(local.z);
-    if (!(pdf > 0.f) || glm::dot(wi, ng) <= 0.f) return;
-    beta *= f * local.z / pdf;
-    if (beta.x <= 0.f && beta.y <= 0.f && beta.z <= 0.f) return;
-    bsdf_pdf_[path] = pdf;
+    // BRDF sampling, kept above the surface.
+    const auto s = brdf.sample(wo, random(path, depth, bsdf_lobe), random(path, depth, bsdf_u),
+                               random(path, depth, bsdf_v));
+    if (!s) return;
+    const glm::vec3 wi = frame.to_world(s->wi);
+    if (glm::dot(wi, ng) <= 0.f) return;
+    beta *= s->weight;
+    if (!(beta.x > 0.f || beta.y > 0.f || beta.z > 0.f)) return;
+    bsdf_pdf_[path] = s->pdf;
     next_.set(i, origin, wi, 0.f, INFINITY, path);
     has_next_[i] = 1;
   }
 
   void next_event(size_t i, uint32_t path, int depth, const glm::vec3& p, const glm::vec3& ng,
-                  const glm::vec3& ns, const glm::vec3& f, const glm::vec3& origin) {
+                  const Frame& frame, const GltfBrdf& brdf, const glm::vec3& wo,
+                  const glm::vec3& origin) {
     const Geometry& g = scene_.geometry;
     LightSampler::Sample ls =
         lights_.sample(random(path, depth, light_pick), random(path, depth, light_u),
@@ -206,11 +214,13 @@ class PathTracer final : public Integrator {
     nl = glm::normalize(nl);
     float cos_light = -glm::dot(wi, nl);
     if (light.double_sided) cos_light = std::abs(cos_light);
-    float cos_surface = glm::dot(wi, ns);
+    const glm::vec3 wi_local = frame.to_local(wi);
+    const float cos_surface = wi_local.z;
     if (cos_light <= 0.f || cos_surface <= 0.f || glm::dot(wi, ng) <= 0.f) return;
     float light_pdf = ls.pmf * dist2 / (cos_light * light_area);
-    float weight = power_heuristic(light_pdf, cosine_hemisphere_pdf(cos_surface));
-    glm::vec3 c = throughput_[path] * f * light.emission * (cos_surface * weight / light_pdf);
+    float weight = power_heuristic(light_pdf, brdf.pdf(wo, wi_local));
+    glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) * light.emission *
+                  (cos_surface * weight / light_pdf);
     if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
     // The segment runs between the two offset points, so neither surface can occlude it.
     glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);

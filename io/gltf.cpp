@@ -292,19 +292,51 @@ class Loader {
       // The spec bounds the factors to [0, 1]; clamping keeps the albedo energy-conserving.
       m.base_color = glm::clamp(glm::vec3(base[0], base[1], base[2]), 0.f, 1.f);
       glm::vec3 emission = glm::clamp(glm::vec3(emissive[0], emissive[1], emissive[2]), 0.f, 1.f);
-      double strength = 1.0;
-      auto ext = src.extensions.find("KHR_materials_emissive_strength");
-      if (ext != src.extensions.end() && ext->second.IsObject() &&
-          ext->second.Has("emissiveStrength")) {
-        const tinygltf::Value& value = ext->second.Get("emissiveStrength");
-        strength = value.IsNumber() ? value.GetNumberAsDouble() : -1.0;
-        if (!(strength >= 0.0) || !std::isfinite(float(strength)))
-          fail(what +
-               ": KHR_materials_emissive_strength.emissiveStrength is not a finite number >= 0");
-      }
+      // A number member of an extension object, or `fallback` when it is absent.
+      auto extension_number = [&](const char* extension, const char* member, double fallback) {
+        auto e = src.extensions.find(extension);
+        if (e == src.extensions.end() || !e->second.IsObject() || !e->second.Has(member))
+          return fallback;
+        const tinygltf::Value& value = e->second.Get(member);
+        if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
+          fail(what + ": " + extension + "." + member + " is not a finite number");
+        return value.GetNumberAsDouble();
+      };
+      const double strength =
+          extension_number("KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+      if (!(strength >= 0.0) || !std::isfinite(float(strength)))
+        fail(what +
+             ": KHR_materials_emissive_strength.emissiveStrength is not a finite number >= 0");
       m.emission = emission * float(strength);
       if (!finite(m.base_color) || !finite(m.emission))
         fail(what + ": a colour factor is not finite");
+      // Factors the spec bounds to [0, 1] are clamped; what is not a number is an error.
+      auto unit = [&](double value, const char* name) {
+        if (!std::isfinite(value)) fail(what + ": " + name + " is not a finite number");
+        return std::clamp(float(value), 0.f, 1.f);
+      };
+      m.metallic = unit(src.pbrMetallicRoughness.metallicFactor, "metallicFactor");
+      m.roughness = unit(src.pbrMetallicRoughness.roughnessFactor, "roughnessFactor");
+      // KHR_materials_ior: 1 or more, or exactly 0 (Fresnel 1, for converted spec-gloss files).
+      const double ior = extension_number("KHR_materials_ior", "ior", 1.5);
+      if (!(ior >= 1.0 || ior == 0.0))
+        fail(what + ": KHR_materials_ior.ior is " + std::to_string(ior) + ", not 0 or >= 1");
+      m.ior = float(ior);
+      m.specular = unit(extension_number("KHR_materials_specular", "specularFactor", 1.0),
+                        "KHR_materials_specular.specularFactor");
+      auto specular = src.extensions.find("KHR_materials_specular");
+      if (specular != src.extensions.end() && specular->second.IsObject() &&
+          specular->second.Has("specularColorFactor")) {
+        const tinygltf::Value& c = specular->second.Get("specularColorFactor");
+        if (!c.IsArray() || c.ArrayLen() != 3)
+          fail(what + ": KHR_materials_specular.specularColorFactor is not 3 numbers");
+        for (int k = 0; k < 3; ++k) {
+          if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble()) ||
+              c.Get(k).GetNumberAsDouble() < 0.0)
+            fail(what + ": KHR_materials_specular.specularColorFactor is not 3 numbers >= 0");
+          m.specular_color[k] = float(c.Get(k).GetNumberAsDouble());
+        }
+      }
       scene_.materials.push_back(m);
     }
   }

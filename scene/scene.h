@@ -7,18 +7,36 @@
 #include <string>
 #include <vector>
 
+#include "materials/gltf_brdf.h"
 #include "tracer/geometry.h"
 
 namespace dacrt {
 
-// The glTF material, as far as this version renders it: a Lambert albedo and an emitter.
+// The glTF material, as far as this version renders it: the metallic-roughness BRDF (with
+// KHR_materials_ior and KHR_materials_specular) and an emitter. Defaults are glTF's.
 struct Material {
   std::string name;
-  glm::vec3 base_color{1.f};  // baseColorFactor.rgb, the Lambert albedo
+  glm::vec3 base_color{1.f};  // baseColorFactor.rgb
+  float metallic = 1.f;       // metallicFactor
+  float roughness = 1.f;      // roughnessFactor (perceptual)
+  float ior = 1.5f;           // KHR_materials_ior
+  float specular = 1.f;       // KHR_materials_specular.specularFactor
+  glm::vec3 specular_color{1.f};  // KHR_materials_specular.specularColorFactor
   glm::vec3 emission{0.f};    // emissiveFactor × KHR_materials_emissive_strength (radiance)
   bool double_sided = false;  // emitters emit from their back face too
 
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
+  BrdfParams brdf() const {
+    return {base_color, metallic, roughness, ior, specular, specular_color};
+  }
+  // A Lambertian surface: no metal, no specular layer.
+  static Material lambert(const glm::vec3& color) {
+    Material m;
+    m.base_color = color;
+    m.metallic = 0.f;
+    m.specular = 0.f;
+    return m;
+  }
 };
 
 // A pinhole camera in glTF's convention: it looks down its local -Z with +Y up.

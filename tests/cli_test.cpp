@@ -174,7 +174,10 @@ TEST_CASE("cli: a white sphere under --environment 1,1,1 renders 1 everywhere") 
   for (size_t i = 0; i < g.size(); ++i)
     for (int c = 0; c < 3; ++c) positions.push_back(g.vertex(i, c));
   GltfWriter w;
-  w.add_triangles(positions);
+  // The furnace: base colour 1, metallic 0, KHR_materials_specular factor 0.
+  w.add_material({{"pbrMetallicRoughness", {{"metallicFactor", 0}}},
+                  {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}});
+  w.add_triangles(positions, {{"material", 0}});
   w.write_glb(dir / "sphere.glb");
   Run r = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "sphere.exr") +
                        " --environment 1,1,1 --width 16 --height 16 --spp 4 --quiet");

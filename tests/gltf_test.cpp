@@ -232,6 +232,42 @@ TEST_CASE("gltf: materials, emissive strength and the default material") {
   REQUIRE(scene.geometry.size() == 4);
   CHECK(scene.geometry.material == std::vector<uint32_t>{1, 2, 0, 2});
   CHECK(scene.primitive_count == 4);
+  // glTF's defaults: a rough metal, IOR 1.5, full specular.
+  CHECK(scene.materials[2].metallic == 1.f);
+  CHECK(scene.materials[2].roughness == 1.f);
+  CHECK(scene.materials[2].ior == 1.5f);
+  CHECK(scene.materials[2].specular == 1.f);
+  CHECK(scene.materials[2].specular_color == glm::vec3(1.f));
+}
+
+TEST_CASE("gltf: metallic-roughness factors, KHR_materials_ior and KHR_materials_specular") {
+  TempDir dir("brdf");
+  GltfWriter w;
+  w.add_material({{"pbrMetallicRoughness", {{"metallicFactor", 0.25}, {"roughnessFactor", 0.6}}},
+                  {"extensions",
+                   {{"KHR_materials_ior", {{"ior", 1.33}}},
+                    {"KHR_materials_specular",
+                     {{"specularFactor", 0.4}, {"specularColorFactor", {1.0, 0.5, 0.25}}}}}}});
+  // Out-of-range factors are clamped to the spec's [0, 1]; ior 0 is the spec-gloss compatibility
+  // value (Fresnel 1).
+  w.add_material({{"pbrMetallicRoughness", {{"metallicFactor", 1.5}, {"roughnessFactor", -2}}},
+                  {"extensions", {{"KHR_materials_ior", {{"ior", 0}}}}}});
+  int position = w.add_vec3(kTriangle);
+  w.set_scene({w.add_node({{"mesh", w.add_mesh({GltfWriter::primitive(position, {{"material", 0}}),
+                                                GltfWriter::primitive(position, {{"material", 1}})})}})});
+  Scene scene = load_gltf(w.write_gltf(dir / "brdf.gltf"));
+  REQUIRE(scene.materials.size() == 2);
+  const dacrt::Material& a = scene.materials[0];
+  CHECK(a.metallic == 0.25f);
+  CHECK(a.roughness == doctest::Approx(0.6f));
+  CHECK(a.ior == doctest::Approx(1.33f));
+  CHECK(a.specular == doctest::Approx(0.4f));
+  CHECK(near(a.specular_color, {1.f, 0.5f, 0.25f}));
+  const dacrt::Material& b = scene.materials[1];
+  CHECK(b.metallic == 1.f);
+  CHECK(b.roughness == 0.f);
+  CHECK(b.ior == 0.f);
+  CHECK(b.specular == 1.f);
 }
 
 TEST_CASE("gltf: an empty scene is valid and still has a material and a camera") {
@@ -521,6 +557,29 @@ TEST_CASE("gltf errors: nodes, meshes, materials and cameras") {
                {{"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", -1}}}}}}};
          },
          {"material 0", "emissiveStrength"});
+  broken("ior.gltf",
+         [](json& d) {
+           d["materials"] = {{{"extensions", {{"KHR_materials_ior", {{"ior", 0.5}}}}}}};
+         },
+         {"material 0", "KHR_materials_ior.ior"});
+  broken("ior-type.gltf",
+         [](json& d) {
+           d["materials"] = {{{"extensions", {{"KHR_materials_ior", {{"ior", "glass"}}}}}}};
+         },
+         {"material 0", "KHR_materials_ior.ior"});
+  broken("specular-color.gltf",
+         [](json& d) {
+           d["materials"] = {{{"extensions",
+                               {{"KHR_materials_specular", {{"specularColorFactor", {1, 1}}}}}}}};
+         },
+         {"material 0", "specularColorFactor"});
+  broken("specular-negative.gltf",
+         [](json& d) {
+           d["materials"] = {
+               {{"extensions",
+                 {{"KHR_materials_specular", {{"specularColorFactor", {1, -1, 1}}}}}}}};
+         },
+         {"material 0", "specularColorFactor"});
   broken("draco.gltf", [](json& d) { d["extensionsRequired"] = {"KHR_draco_mesh_compression"}; },
          {"KHR_draco_mesh_compression"});
 }

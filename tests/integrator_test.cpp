@@ -73,8 +73,7 @@ void check_renders(const Film& film, double expected, double z = 5.0) {
 TEST_CASE("furnace: inside a closed box of albedo 0.5 and emission 0.5, everything is 1") {
   Scene scene;
   scene.geometry = inward_box();
-  Material wall;
-  wall.base_color = glm::vec3(0.5f);
+  Material wall = Material::lambert(glm::vec3(0.5f));
   wall.emission = glm::vec3(0.5f);
   scene.materials = {wall};
   scene.cameras = {looking_at(glm::vec3(0.2f, -0.1f, 0.3f), glm::vec3(1, 0.3f, -1), 1.4f)};
@@ -95,7 +94,8 @@ TEST_CASE("furnace: inside a closed box of albedo 0.5 and emission 0.5, everythi
 TEST_CASE("furnace: a white diffuse sphere under a uniform environment of 1 renders 1") {
   Scene scene;
   scene.geometry = sphere(32, 64, glm::vec3(0.f), 1.f);
-  scene.materials = {Material{}};  // base colour 1, not emissive
+  // KHR_materials_specular's factor 0 leaves the glTF BRDF's Lambert base: white renders 1.
+  scene.materials = {Material::lambert(glm::vec3(1.f))};
   scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
   RenderSettings s;
   s.width = 32, s.height = 32, s.spp = 16, s.environment = glm::vec3(1.f);
@@ -112,6 +112,33 @@ TEST_CASE("furnace: a white diffuse sphere under a uniform environment of 1 rend
   size_t centre = size_t(16) * 32 + 16;
   CHECK(half.film.mean_and_error(centre).x == doctest::Approx(0.5).epsilon(1e-5));
   CHECK(half.film.mean_and_error(0).x == doctest::Approx(1.0));
+}
+
+TEST_CASE("furnace: a smooth white metal sphere under a uniform environment of 1 renders 1") {
+  // glTF metallic 1, roughness 0, base colour 1: a mirror whose Fresnel is 1 at every angle; every
+  // camera ray that meets the sphere leaves it for the sky after one reflection.
+  Scene scene;
+  scene.geometry = sphere(32, 64, glm::vec3(0.f), 1.f);
+  Material mirror;
+  mirror.metallic = 1.f, mirror.roughness = 0.f;
+  scene.materials = {mirror};
+  scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
+  RenderSettings s;
+  s.width = 32, s.height = 32, s.spp = 8, s.environment = glm::vec3(1.f);
+  Result r = render(scene, s);
+  size_t far_off = 0;
+  for (size_t p = 0; p < r.film.pixels(); ++p)
+    far_off += std::abs(r.film.mean_and_error(p).x - 1.0) > 2e-3;
+  CHECK(far_off == 0);
+  // A rough white metal loses what single scattering cannot return: darker, never brighter.
+  scene.materials[0].roughness = 1.f;
+  Result rough = render(scene, s);
+  const size_t centre = size_t(16) * 32 + 16;
+  CHECK(rough.film.mean_and_error(centre).x < 0.99);
+  for (size_t p = 0; p < rough.film.pixels(); ++p) {
+    const glm::dvec2 m = rough.film.mean_and_error(p);
+    CHECK(m.x <= 1.0 + 5.0 * m.y + 1e-5);
+  }
 }
 
 TEST_CASE("renders are deterministic: same image for any backend and wavefront size") {
@@ -142,8 +169,7 @@ TEST_CASE("renders are deterministic: same image for any backend and wavefront s
 TEST_CASE("max depth 0 shows emitters only, and unknown integrators and cameras are errors") {
   Scene scene;
   scene.geometry = inward_box();
-  Material wall;
-  wall.base_color = glm::vec3(0.9f);
+  Material wall = Material::lambert(glm::vec3(0.9f));
   wall.emission = glm::vec3(0.25f);
   scene.materials = {wall};
   scene.cameras = {looking_at(glm::vec3(0.f), glm::vec3(0, 0, -1), 1.f)};

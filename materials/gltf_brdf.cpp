@@ -1,0 +1,115 @@
+// The glTF metallic-roughness BRDF (see gltf_brdf.h).
+#include "materials/gltf_brdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/constants.hpp>
+
+#include "materials/sampling.h"
+
+namespace dacrt {
+
+float ggx_d(float cos_h, float alpha) {
+  if (cos_h <= 0.f) return 0.f;
+  const float a2 = alpha * alpha, t = cos_h * cos_h * (a2 - 1.f) + 1.f;
+  return a2 / (glm::pi<float>() * t * t);
+}
+
+// Λ(θ) = (√(1 + α² tan²θ) − 1) / 2, written without the tangent so that it stays finite near
+// grazing angles: √(α² + (1 − α²) cos²θ) / cos θ = √(1 + α² tan²θ).
+float ggx_lambda(float cos_theta, float alpha) {
+  const float a2 = alpha * alpha, c2 = cos_theta * cos_theta;
+  return 0.5f * (std::sqrt(a2 + (1.f - a2) * c2) / cos_theta - 1.f);
+}
+
+// G₂ = 1 / (1 + Λ(o) + Λ(i)), and G₂ / (4 cos_o cos_i) simplifies to this.
+float ggx_visibility(float cos_o, float cos_i, float alpha) {
+  const float a2 = alpha * alpha;
+  const float so = std::sqrt(a2 + (1.f - a2) * cos_o * cos_o);
+  const float si = std::sqrt(a2 + (1.f - a2) * cos_i * cos_i);
+  return 0.5f / (cos_i * so + cos_o * si);
+}
+
+glm::vec3 sample_ggx_visible_normal(const glm::vec3& wo, float alpha, float u1, float u2) {
+  // The view direction in the frame where the distribution is the unit hemisphere.
+  const glm::vec3 v = glm::normalize(glm::vec3(alpha * wo.x, alpha * wo.y, wo.z));
+  const float len2 = v.x * v.x + v.y * v.y;
+  const glm::vec3 t1 =
+      len2 > 0.f ? glm::vec3(-v.y, v.x, 0.f) / std::sqrt(len2) : glm::vec3(1.f, 0.f, 0.f);
+  const glm::vec3 t2 = glm::cross(v, t1);
+  // A uniform point on the disk, squeezed onto the part of it the visible hemisphere projects to.
+  const float r = std::sqrt(u1), phi = glm::two_pi<float>() * u2;
+  const float p1 = r * std::cos(phi);
+  const float s = 0.5f * (1.f + v.z);
+  const float p2 = (1.f - s) * std::sqrt(std::max(0.f, 1.f - p1 * p1)) + s * r * std::sin(phi);
+  const glm::vec3 n = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.f, 1.f - p1 * p1 - p2 * p2)) * v;
+  // Back to the ellipsoid's frame.
+  return glm::normalize(glm::vec3(alpha * n.x, alpha * n.y, std::max(0.f, n.z)));
+}
+
+GltfBrdf::GltfBrdf(const BrdfParams& p)
+    : base_(glm::clamp(p.base_color, 0.f, 1.f)),
+      metallic_(std::clamp(p.metallic, 0.f, 1.f)),
+      alpha_(std::max(min_alpha, std::clamp(p.roughness, 0.f, 1.f) * std::clamp(p.roughness, 0.f, 1.f))) {
+  // KHR_materials_ior's F0 = ((ior − 1) / (ior + 1))², times specularColor (at most 1) and
+  // specular; F90 = specular (KHR_materials_specular).
+  const float r = (p.ior - 1.f) / (p.ior + 1.f);
+  const float specular = std::clamp(p.specular, 0.f, 1.f);
+  f0_ = glm::min(r * r * glm::max(p.specular_color, 0.f), glm::vec3(1.f)) * specular;
+  f90_ = specular;
+}
+
+glm::vec3 GltfBrdf::eval(const glm::vec3& wo, const glm::vec3& wi) const {
+  if (wo.z <= 0.f || wi.z <= 0.f) return glm::vec3(0.f);
+  const glm::vec3 h = glm::normalize(wo + wi);
+  const float w = std::pow(1.f - std::clamp(glm::dot(wo, h), 0.f, 1.f), 5.f);
+  const float specular = ggx_d(h.z, alpha_) * ggx_visibility(wo.z, wi.z, alpha_);
+  const glm::vec3 fd = f0_ + (f90_ - f0_) * w;
+  const glm::vec3 fm = base_ + (1.f - base_) * w;
+  const glm::vec3 dielectric = (1.f - fd) * base_ * glm::one_over_pi<float>() + fd * specular;
+  return (1.f - metallic_) * dielectric + metallic_ * fm * specular;
+}
+
+float GltfBrdf::specular_probability(const glm::vec3& wo) const {
+  // The lobes' Fresnel weights as if the microfacet normal were the macro normal.
+  const float w = std::pow(1.f - std::clamp(wo.z, 0.f, 1.f), 5.f);
+  const glm::vec3 fd = f0_ + (f90_ - f0_) * w;
+  const glm::vec3 fm = base_ + (1.f - base_) * w;
+  const float specular = (1.f - metallic_) * luminance(fd) + metallic_ * luminance(fm);
+  const float diffuse = (1.f - metallic_) * luminance((1.f - fd) * base_);
+  if (!(specular + diffuse > 0.f)) return 0.5f;  // black: either will do
+  return specular / (specular + diffuse);
+}
+
+float GltfBrdf::specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const {
+  const glm::vec3 h = glm::normalize(wo + wi);
+  if (glm::dot(wo, h) <= 0.f) return 0.f;
+  // Visible normals: D_wo(h) = G₁(wo) max(0, wo·h) D(h) / cos θo, and the reflection's Jacobian
+  // 1 / (4 wo·h).
+  const float g1 = 1.f / (1.f + ggx_lambda(wo.z, alpha_));
+  return g1 * ggx_d(h.z, alpha_) / (4.f * wo.z);
+}
+
+float GltfBrdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
+  if (wo.z <= 0.f || wi.z <= 0.f) return 0.f;
+  const float p = specular_probability(wo);
+  return p * specular_pdf(wo, wi) + (1.f - p) * cosine_hemisphere_pdf(wi.z);
+}
+
+std::optional<GltfBrdf::Sample> GltfBrdf::sample(const glm::vec3& wo, float u_lobe, float u1,
+                                                 float u2) const {
+  if (wo.z <= 0.f) return std::nullopt;
+  glm::vec3 wi;
+  if (u_lobe < specular_probability(wo)) {
+    const glm::vec3 h = sample_ggx_visible_normal(wo, alpha_, u1, u2);
+    wi = 2.f * glm::dot(wo, h) * h - wo;
+  } else {
+    wi = sample_cosine_hemisphere(u1, u2);
+  }
+  if (wi.z <= 0.f) return std::nullopt;
+  const float density = pdf(wo, wi);
+  if (!(density > 0.f) || !std::isfinite(density)) return std::nullopt;
+  return Sample{wi, eval(wo, wi) * (wi.z / density), density};
+}
+
+}  // namespace dacrt
