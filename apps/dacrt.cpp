@@ -322,9 +322,11 @@ int info(const std::vector<std::string>& args) {
   for (size_t c = 0; c < scene.cameras.size(); ++c) {
     const Camera& cam = scene.cameras[c];
     glm::vec3 p = cam.position();
-    std::printf("  camera %zu %s: position (%g, %g, %g), yfov %.1f°, aspect %s\n", c,
-                cam.name.empty() ? "(unnamed)" : cam.name.c_str(), p.x, p.y, p.z,
-                cam.yfov * 180.0 / M_PI,
+    const std::string view =
+        cam.orthographic ? "orthographic, height " + std::to_string(2.f * cam.ymag)
+                         : "yfov " + std::to_string(cam.yfov * 180.0 / M_PI) + "°";
+    std::printf("  camera %zu %s: position (%g, %g, %g), %s, aspect %s\n", c,
+                cam.name.empty() ? "(unnamed)" : cam.name.c_str(), p.x, p.y, p.z, view.c_str(),
                 cam.aspect > 0 ? std::to_string(cam.aspect).c_str() : "from image");
   }
   if (b.empty())

@@ -5,10 +5,11 @@
 //
 // Supported: .gltf (external .bin or data URIs) and .glb; TRS and matrix nodes; triangle lists,
 // indexed (u8/u16/u32) or not; sparse accessors and accessors without a bufferView (zeros);
-// NORMAL; baseColorFactor, emissiveFactor × KHR_materials_emissive_strength, doubleSided;
-// perspective cameras.
+// NORMAL; the metallic-roughness factors with KHR_materials_ior and KHR_materials_specular,
+// emissiveFactor × KHR_materials_emissive_strength, doubleSided; perspective and orthographic
+// cameras.
 // Skipped with one warning line each: primitives of other modes (strips and fans come later),
-// primitives without POSITION (the spec says to skip them), orthographic cameras.
+// primitives without POSITION (the spec says to skip them).
 // Ignored: images and textures (a no-op image loader accepts anything), skins, morph targets,
 // animations, and extensions that are only "used" (the spec says the asset renders without them).
 // Rejected: files that *require* compressed, quantised or GPU-instanced meshes.
@@ -146,7 +147,6 @@ class Loader {
     };
     warn(skipped_modes_, "primitives that are not triangle lists");
     warn(skipped_unpositioned_, "primitives without POSITION");
-    warn(skipped_cameras_, "orthographic cameras");
     return std::move(scene_);
   }
 
@@ -542,17 +542,26 @@ class Loader {
     if (index < 0 || size_t(index) >= model_.cameras.size())
       fail("node " + str(node) + " refers to camera " + str(index) + ", which does not exist");
     const tinygltf::Camera& src = model_.cameras[size_t(index)];
-    if (src.type != "perspective") {
-      ++skipped_cameras_;
-      return;
-    }
     std::string what = "camera " + str(index);
     Camera cam;
     cam.name = src.name;
-    cam.yfov = float(src.perspective.yfov);
-    cam.aspect = float(src.perspective.aspectRatio);
-    cam.znear = float(src.perspective.znear);
-    if (!(cam.yfov > 0.f && cam.yfov < 3.14159f))
+    if (src.type == "orthographic") {
+      // xmag and ymag are half the view's width and height; the spec forbids zero.
+      const double xmag = std::abs(src.orthographic.xmag), ymag = std::abs(src.orthographic.ymag);
+      if (!(xmag > 0.0 && ymag > 0.0) || !std::isfinite(xmag / ymag) || !std::isfinite(ymag))
+        fail(what + ": orthographic xmag and ymag must be finite and non-zero");
+      cam.orthographic = true;
+      cam.ymag = float(ymag);
+      cam.aspect = float(xmag / ymag);
+      cam.znear = float(src.orthographic.znear);
+    } else if (src.type == "perspective") {
+      cam.yfov = float(src.perspective.yfov);
+      cam.aspect = float(src.perspective.aspectRatio);
+      cam.znear = float(src.perspective.znear);
+    } else {
+      fail(what + ": type \"" + src.type + "\" is neither perspective nor orthographic");
+    }
+    if (!cam.orthographic && !(cam.yfov > 0.f && cam.yfov < 3.14159f))
       fail(what + ": yfov " + str(cam.yfov) + " is not in (0, pi)");
     if (!(cam.aspect >= 0.f) || !std::isfinite(cam.aspect))
       fail(what + ": aspectRatio is not a finite number >= 0");
@@ -577,7 +586,7 @@ class Loader {
   bool keep_normals_ = false;
   int default_material_ = -1;
   std::vector<bool> mesh_seen_;
-  size_t skipped_modes_ = 0, skipped_unpositioned_ = 0, skipped_cameras_ = 0;
+  size_t skipped_modes_ = 0, skipped_unpositioned_ = 0;
 };
 
 }  // namespace

@@ -39,13 +39,16 @@ struct Material {
   }
 };
 
-// A pinhole camera in glTF's convention: it looks down its local -Z with +Y up.
+// A camera in glTF's convention: it looks down its local -Z with +Y up. Perspective (a pinhole)
+// or orthographic.
 struct Camera {
   std::string name;
   glm::mat4 to_world{1.f};  // camera-to-world, rigid (scale removed)
-  float yfov = 0.7f;        // vertical field of view, radians
+  float yfov = 0.7f;        // perspective: vertical field of view, radians
   float aspect = 0.f;       // width / height; 0 when the file does not say
   float znear = 0.f;
+  bool orthographic = false;
+  float ymag = 1.f;  // orthographic: half the view's height (its width follows the aspect)
 
   glm::vec3 position() const { return glm::vec3(to_world[3]); }
 };

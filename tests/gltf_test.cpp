@@ -172,7 +172,7 @@ TEST_CASE("gltf: normals mixed with primitives without NORMAL, bad normals fall 
   for (const glm::vec3& n : scene.normals) CHECK(near(n, {0, 0, 1}));  // geometric or given
 }
 
-TEST_CASE("gltf: perspective camera and its rigid transform") {
+TEST_CASE("gltf: perspective and orthographic cameras and their rigid transforms") {
   TempDir dir("camera");
   GltfWriter w;
   w.add_triangles(kTriangle);
@@ -191,8 +191,12 @@ TEST_CASE("gltf: perspective camera and its rigid transform") {
   int ortho = w.add_node({{"camera", 2}});
   w.doc["scenes"][0]["nodes"] = {0, cam0, cam1, ortho};
   Scene scene = load_gltf(w.write_gltf(dir / "camera.gltf"));
-  CHECK(scene.cameras_from_file == 2);
-  REQUIRE(scene.cameras.size() == 2);
+  CHECK(scene.cameras_from_file == 3);
+  REQUIRE(scene.cameras.size() == 3);
+  const dacrt::Camera& o = scene.cameras[2];
+  CHECK(o.orthographic);
+  CHECK(o.ymag == 1.f);
+  CHECK(o.aspect == 1.f);
   const dacrt::Camera& c = scene.cameras[0];
   CHECK(c.name == "cam");
   CHECK(near(c.position(), {1, 2, 3}));

@@ -141,6 +141,30 @@ TEST_CASE("furnace: a smooth white metal sphere under a uniform environment of 1
   }
 }
 
+TEST_CASE("an orthographic camera sees parallel rays: a unit quad covers exactly its pixels") {
+  // ymag 1 over 16 × 16 pixels: 8 pixels per unit, whatever the distance.
+  Scene scene;
+  scene.geometry = quad_grid(1);  // [0, 1]² at z = 0, facing +z
+  Material light = Material::lambert(glm::vec3(0.f));
+  light.emission = glm::vec3(1.f);
+  scene.materials = {light};
+  for (float distance : {2.f, 50.f}) {
+    Camera cam = looking_at(glm::vec3(0.5f, 0.5f, distance), glm::vec3(0.5f, 0.5f, 0.f), 1.f);
+    cam.orthographic = true;
+    cam.ymag = 1.f;
+    scene.cameras = {cam};
+    RenderSettings s;
+    s.width = s.height = 16, s.spp = 4;
+    Result r = render(scene, s);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) {
+        INFO("distance " << distance << ", pixel " << x << ", " << y);
+        const bool inside = x >= 4 && x < 12 && y >= 4 && y < 12;
+        CHECK(r.film.mean_and_error(size_t(y) * 16 + x).x == (inside ? 1.0 : 0.0));
+      }
+  }
+}
+
 TEST_CASE("renders are deterministic: same image for any backend and wavefront size") {
   Scene scene;
   scene.geometry = inward_box();
