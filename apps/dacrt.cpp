@@ -174,6 +174,7 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
 }
 
 bool has_emitters(const Scene& scene) {
+  if (!scene.lights.empty()) return true;
   for (uint32_t m : scene.geometry.material)
     if (scene.materials[m].emissive()) return true;
   return false;
@@ -223,7 +224,8 @@ int render(const std::vector<std::string>& args) {
     s.environment = glm::vec3(1.f);
     if (!r.quiet)
       std::fprintf(stderr,
-                   "%s: the scene has no emitters: lighting it with a uniform environment of 1\n",
+                   "%s: the scene has no emitters and no lights: lighting it with a uniform "
+                   "environment of 1\n",
                    r.scene.c_str());
   }
   if (!r.quiet && scene.cameras_from_file == 0)
@@ -316,7 +318,10 @@ int info(const std::vector<std::string>& args) {
   std::printf("meshes     %zu (%zu triangle primitives, %zu nodes)\n", scene.mesh_count,
               scene.primitive_count, scene.node_count);
   std::printf("materials  %zu (%zu emissive)\n", scene.materials.size(), emissive_materials);
-  std::printf("lights     %zu emissive triangles\n", emissive_triangles);
+  size_t punctual[3] = {0, 0, 0};
+  for (const PunctualLight& l : scene.lights) ++punctual[size_t(l.type)];
+  std::printf("lights     %zu emissive triangles, %zu punctual (%zu point, %zu spot, %zu directional)\n",
+              emissive_triangles, scene.lights.size(), punctual[0], punctual[1], punctual[2]);
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {

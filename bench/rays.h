@@ -167,8 +167,15 @@ inline RayBatch shadow_rays(const Scene& scene, const LightSampler& lights,
       auto s = lights.sample(random01(seed, BenchRay::shadow, i, 0),
                              random01(seed, BenchRay::shadow, i, 1),
                              random01(seed, BenchRay::shadow, i, 2));
-      target = s.point;
-      light = s.triangle;
+      if (s.light < 0) {
+        target = s.point;
+        light = s.triangle;
+      } else {  // a punctual light: its position, or far up its beam for a directional one
+        const PunctualLight& l = scene.lights[size_t(s.light)];
+        target = l.type == PunctualLight::Type::directional
+                     ? p - l.direction * (2.f * glm::length(scene.bounds().extent()) + 1.f)
+                     : l.position;
+      }
     }
     if (glm::dot(n, target - p) < 0.f) n = -n;
     glm::vec3 o = offset_ray_origin(p, n);

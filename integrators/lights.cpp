@@ -1,6 +1,7 @@
 #include "integrators/lights.h"
 
 #include <algorithm>
+#include <glm/gtc/constants.hpp>
 
 #include "materials/sampling.h"
 
@@ -12,34 +13,56 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
   for (uint32_t tri = 0; tri < g.size(); ++tri) {
     const Material& m = scene.materials[g.material[tri]];
     if (!m.emissive()) continue;
-    double p = double(luminance(m.emission)) * g.area(tri) * (m.double_sided ? 2.0 : 1.0);
+    double p = glm::pi<double>() * luminance(m.emission) * g.area(tri) * (m.double_sided ? 2 : 1);
     if (!(p > 0.0)) continue;  // zero-area or black emitters can never be sampled usefully
     triangles_.push_back(tri);
     power.push_back(p);
   }
-  if (triangles_.empty()) return;
+  const Box bounds = scene.bounds();
+  const double radius = bounds.empty() ? 1.0 : 0.5 * glm::length(bounds.extent());
+  for (const PunctualLight& l : scene.lights) {
+    const double i = luminance(l.intensity);
+    switch (l.type) {
+      case PunctualLight::Type::point:
+        power.push_back(4.0 * glm::pi<double>() * i);
+        break;
+      case PunctualLight::Type::spot:  // the solid angle of the cone halfway through the falloff
+        power.push_back(glm::pi<double>() * (2.0 - l.cos_inner - l.cos_outer) * i);
+        break;
+      case PunctualLight::Type::directional:
+        power.push_back(glm::pi<double>() * radius * radius * i);
+        break;
+    }
+  }
   double total = 0.0;
   for (double p : power) total += p;
-  pmf_by_triangle_.assign(g.size(), 0.f);
+  if (!(total > 0.0)) return;  // nothing emits
   cdf_.resize(power.size());
+  pmf_.resize(power.size());
   double running = 0.0;
   for (size_t i = 0; i < power.size(); ++i) {
     running += power[i];
     cdf_[i] = float(running / total);
-    pmf_by_triangle_[triangles_[i]] = float(power[i] / total);
+    pmf_[i] = float(power[i] / total);
   }
   cdf_.back() = 1.f;
+  if (!triangles_.empty()) {
+    pmf_by_triangle_.assign(g.size(), 0.f);
+    for (size_t i = 0; i < triangles_.size(); ++i) pmf_by_triangle_[triangles_[i]] = pmf_[i];
+  }
 }
 
 LightSampler::Sample LightSampler::sample(float u, float u1, float u2) const {
   size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
   i = std::min(i, cdf_.size() - 1);
+  // A light whose pmf is 0 (black) sits on a flat stretch of the cdf and is never returned.
+  if (i >= triangles_.size()) return {int(i - triangles_.size()), 0, glm::vec3(0.f), pmf_[i]};
   uint32_t tri = triangles_[i];
   glm::vec2 b = sample_triangle(u1, u2);
   const Geometry& g = scene_.geometry;
   glm::vec3 p =
       (1.f - b.x - b.y) * g.vertex(tri, 0) + b.x * g.vertex(tri, 1) + b.y * g.vertex(tri, 2);
-  return {tri, p, pmf_by_triangle_[tri]};
+  return {-1, tri, p, pmf_[i]};
 }
 
 }  // namespace dacrt

@@ -1,6 +1,9 @@
-// LightSampler: next-event estimation's choice of emitter. Emissive triangles are picked in
-// proportion to their power (luminance of emitted radiance × area × sides), then a point uniformly
-// on the triangle; pdf() answers for any triangle, so MIS can weigh hits found by BSDF sampling.
+// LightSampler: next-event estimation's choice of emitter. Emissive triangles and punctual lights
+// (KHR_lights_punctual) are picked in proportion to their power: π × luminance of the emitted
+// radiance × area × sides for a triangle (then a point uniformly on it), 4π I for a point light,
+// the cone's solid angle × I for a spot, and the irradiance over the scene's bounding disk for a
+// directional light. pmf() answers for any triangle, so MIS can weigh emitters found by BSDF
+// sampling; punctual lights are deltas that only next-event estimation can reach.
 #pragma once
 
 #include <cstdint>
@@ -15,23 +18,25 @@ class LightSampler {
  public:
   explicit LightSampler(const Scene& scene);
 
-  bool empty() const { return triangles_.empty(); }
-  size_t size() const { return triangles_.size(); }
+  bool empty() const { return cdf_.empty(); }
+  size_t triangles() const { return triangles_.size(); }
 
   struct Sample {
-    uint32_t triangle;
-    glm::vec3 point;
-    float pmf;  // probability of having picked this triangle
+    int light;          // index into Scene::lights, or -1 for an emissive triangle
+    uint32_t triangle;  // the emissive triangle, when light is -1
+    glm::vec3 point;    // on the triangle
+    float pmf;          // probability of having picked this emitter
   };
-  // u picks the triangle, (u1, u2) the point on it.
+  // u picks the emitter, (u1, u2) the point on a triangle.
   Sample sample(float u, float u1, float u2) const;
   // Probability of picking triangle `tri` (0 for triangles that do not emit).
   float pmf(uint32_t tri) const { return pmf_by_triangle_.empty() ? 0.f : pmf_by_triangle_[tri]; }
 
  private:
   const Scene& scene_;
-  std::vector<uint32_t> triangles_;  // emissive triangles
-  std::vector<float> cdf_;           // over triangles_, cdf_.back() == 1
+  std::vector<uint32_t> triangles_;  // emissive triangles, then scene_.lights in cdf_'s order
+  std::vector<float> cdf_;           // over triangles_ then the punctual lights; back() == 1
+  std::vector<float> pmf_;           // the same, per entry
   std::vector<float> pmf_by_triangle_;
 };
 

@@ -41,7 +41,8 @@ class PathTracer final : public Integrator {
     if (s_.camera < 0 || size_t(s_.camera) >= scene.cameras.size())
       throw Error("camera " + std::to_string(s_.camera) + " does not exist (the scene has " +
                   std::to_string(scene.cameras.size()) + ")");
-    if (lights_.empty()) stats_.skipped.push_back("shadow rays (the scene has no emitters)");
+    if (lights_.empty())
+      stats_.skipped.push_back("shadow rays (the scene has no emitters and no lights)");
   }
 
   const RenderStats& stats() const override { return stats_; }
@@ -204,6 +205,8 @@ class PathTracer final : public Integrator {
     LightSampler::Sample ls =
         lights_.sample(random(path, depth, light_pick), random(path, depth, light_u),
                        random(path, depth, light_v));
+    if (ls.light >= 0) return punctual(i, path, p, scene_.lights[size_t(ls.light)], ls.pmf, ng,
+                                       frame, brdf, wo, origin);
     const Material& light = scene_.materials[g.material[ls.triangle]];
     glm::vec3 to = ls.point - p;
     float dist2 = glm::dot(to, to);
@@ -225,6 +228,29 @@ class PathTracer final : public Integrator {
     // The segment runs between the two offset points, so neither surface can occlude it.
     glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);
     shadow_.set(i, origin, target - origin, 0.f, 1.f, path);
+    shadow_contribution_[i] = c;
+    has_shadow_[i] = 1;
+  }
+
+  // Next-event estimation towards a punctual light: a delta, so no MIS (BRDF sampling never
+  // finds it). The shadow segment ends at the light, or leaves the scene towards a directional one.
+  void punctual(size_t i, uint32_t path, const glm::vec3& p, const PunctualLight& light,
+                float pmf, const glm::vec3& ng, const Frame& frame, const GltfBrdf& brdf,
+                const glm::vec3& wo, const glm::vec3& origin) {
+    const bool directional = light.type == PunctualLight::Type::directional;
+    const glm::vec3 to = directional ? light.direction : p - light.position;  // light → point
+    const float dist = glm::length(to);
+    if (!(dist > 0.f)) return;
+    const glm::vec3 wi = -to / dist;
+    const glm::vec3 wi_local = frame.to_local(wi);
+    if (wi_local.z <= 0.f || glm::dot(wi, ng) <= 0.f) return;
+    const glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) *
+                        light.irradiance_towards(to) * (wi_local.z / pmf);
+    if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
+    if (directional)
+      shadow_.set(i, origin, wi, 0.f, INFINITY, path);
+    else
+      shadow_.set(i, origin, light.position - origin, 0.f, 1.f, path);
     shadow_contribution_[i] = c;
     has_shadow_[i] = 1;
   }

@@ -429,6 +429,7 @@ class Loader {
       glm::mat4 world = item.parent_world * local_transform(item.node);
       if (node.mesh != -1) add_mesh(node.mesh, world, item.node);
       if (node.camera != -1) add_camera(node.camera, world, item.node);
+      add_light(node, world, item.node);
       for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
         push(*it, item.node, world);
     }
@@ -577,6 +578,56 @@ class Loader {
     cam.to_world = glm::mat4(glm::vec4(glm::cross(y, z), 0.f), glm::vec4(y, 0.f), glm::vec4(z, 0.f),
                              glm::vec4(glm::vec3(world[3]), 1.f));
     scene_.cameras.push_back(cam);
+  }
+
+  // KHR_lights_punctual: {"extensions": {"KHR_lights_punctual": {"light": index}}} on a node.
+  void add_light(const tinygltf::Node& node, const glm::mat4& world, int index) {
+    auto ext = node.extensions.find("KHR_lights_punctual");
+    if (ext == node.extensions.end()) return;
+    const std::string where = "node " + str(index);
+    if (!ext->second.IsObject() || !ext->second.Has("light") ||
+        !ext->second.Get("light").IsNumber())
+      fail(where + ": KHR_lights_punctual has no light index");
+    const double light = ext->second.Get("light").GetNumberAsDouble();
+    if (!(light >= 0.0 && light < double(model_.lights.size())) || light != std::floor(light))
+      fail(where + " refers to light " + std::to_string(light) + ", which does not exist (" +
+           str(model_.lights.size()) + " lights)");
+    const tinygltf::Light& src = model_.lights[size_t(light)];
+    const std::string what = "light " + str(int(light));
+    PunctualLight l;
+    l.name = src.name;
+    if (src.type == "point")
+      l.type = PunctualLight::Type::point;
+    else if (src.type == "spot")
+      l.type = PunctualLight::Type::spot;
+    else if (src.type == "directional")
+      l.type = PunctualLight::Type::directional;
+    else
+      fail(what + ": type \"" + src.type + "\" is not point, spot or directional");
+    glm::vec3 color(1.f);
+    if (!src.color.empty()) {
+      if (src.color.size() != 3) fail(what + ": color has " + str(src.color.size()) + " numbers");
+      color = glm::vec3(src.color[0], src.color[1], src.color[2]);
+    }
+    if (!finite(color) || glm::any(glm::lessThan(color, glm::vec3(0.f))))
+      fail(what + ": color is not 3 finite numbers >= 0");
+    if (!(src.intensity >= 0.0) || !std::isfinite(src.intensity))
+      fail(what + ": intensity is not a finite number >= 0");
+    if (!(src.range >= 0.0) || !std::isfinite(src.range))
+      fail(what + ": range is not a finite number > 0");
+    l.intensity = color * float(src.intensity);
+    l.range = float(src.range);
+    if (l.type == PunctualLight::Type::spot) {
+      const double inner = src.spot.innerConeAngle, outer = src.spot.outerConeAngle;
+      if (!(inner >= 0.0 && inner < outer && outer <= 0.5 * M_PI))
+        fail(what + ": spot cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= pi/2");
+      l.cos_inner = float(std::cos(inner)), l.cos_outer = float(std::cos(outer));
+    }
+    l.position = glm::vec3(world[3]);
+    l.direction = unit_or(-glm::vec3(world[2]), glm::vec3(0.f));
+    if (l.direction == glm::vec3(0.f) && l.type != PunctualLight::Type::point)
+      fail(where + " gives " + what + " a degenerate transform (zero scale)");
+    scene_.lights.push_back(l);
   }
 
   const std::string& path_;

@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -22,6 +23,24 @@ Camera frame_bounds(const Box& bounds, float aspect, float yfov) {
   cam.to_world = glm::inverse(glm::lookAt(eye, center, glm::vec3(0.f, 1.f, 0.f)));
   cam.znear = 0.f;
   return cam;
+}
+
+glm::vec3 PunctualLight::irradiance_towards(const glm::vec3& to) const {
+  if (type == Type::directional) return intensity;
+  const float d2 = glm::dot(to, to);
+  if (!(d2 > 0.f)) return glm::vec3(0.f);
+  float falloff = 1.f / d2;
+  if (range > 0.f) {  // KHR_lights_punctual's recommended window: smooth, 0 from `range` on
+    const float r = d2 / (range * range);
+    falloff *= std::pow(std::clamp(1.f - r * r, 0.f, 1.f), 2.f);
+  }
+  if (type == Type::spot) {
+    const float cd = glm::dot(direction, to) / std::sqrt(d2);
+    const float scale = 1.f / std::max(1e-3f, cos_inner - cos_outer);
+    const float t = std::clamp((cd - cos_outer) * scale, 0.f, 1.f);
+    falloff *= t * t;
+  }
+  return intensity * falloff;
 }
 
 }  // namespace dacrt

@@ -53,6 +53,24 @@ struct Camera {
   glm::vec3 position() const { return glm::vec3(to_world[3]); }
 };
 
+// A KHR_lights_punctual light, placed by its node. Intensities are taken as renderer units, like
+// emissive factors: `intensity` (colour × intensity) is radiant intensity for point and spot lights
+// (irradiance I / d² at distance d) and irradiance for directional lights.
+struct PunctualLight {
+  enum class Type : uint8_t { point, spot, directional };
+  Type type = Type::point;
+  std::string name;
+  glm::vec3 intensity{1.f};
+  float range = 0.f;  // beyond it nothing; 0 = unlimited
+  glm::vec3 position{0.f};
+  glm::vec3 direction{0.f, 0.f, -1.f};  // where it shines: the node's -Z
+  float cos_inner = 1.f, cos_outer = 0.70710678f;  // spot cone (defaults 0 and π/4)
+
+  // What reaches a point `to` away from the light (|to| = distance), before the cosine there:
+  // I / d² with the spec's recommended range window and spot falloff.
+  glm::vec3 irradiance_towards(const glm::vec3& to) const;
+};
+
 struct Scene {
   std::string path;   // the file it came from, for messages
   Geometry geometry;  // world space; geometry.material indexes `materials`
@@ -61,6 +79,7 @@ struct Scene {
   std::vector<glm::vec3> normals;
   std::vector<Material> materials;  // never empty: the glTF default material is appended if used
   std::vector<Camera> cameras;      // never empty after loading: see `cameras_from_file`
+  std::vector<PunctualLight> lights;  // KHR_lights_punctual, one per node that has one
   size_t cameras_from_file = 0;     // if 0, cameras[0] was made to frame the scene's bounds
 
   // Counts from the file, for `dacrt info`.

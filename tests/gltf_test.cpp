@@ -274,6 +274,42 @@ TEST_CASE("gltf: metallic-roughness factors, KHR_materials_ior and KHR_materials
   CHECK(b.specular == 1.f);
 }
 
+TEST_CASE("gltf: KHR_lights_punctual lights, placed by their nodes") {
+  TempDir dir("lights");
+  GltfWriter w;
+  w.add_triangles(kTriangle);
+  w.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "point"}, {"name", "bulb"}, {"color", {1, 0.5, 0.25}}, {"intensity", 8},
+       {"range", 3}},
+      {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}},
+      {{"type", "directional"}, {"intensity", 2}}};
+  float s = std::sqrt(0.5f);  // 90° about +X: -Z turns to +Y
+  int bulb = w.add_node({{"translation", {1, 2, 3}},
+                         {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  int spot = w.add_node({{"rotation", {s, 0, 0, s}},
+                         {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  int sun = w.add_node({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+  w.doc["scenes"][0]["nodes"] = {0, bulb, spot, sun};
+  Scene scene = load_gltf(w.write_gltf(dir / "lights.gltf"));
+  REQUIRE(scene.lights.size() == 3);
+  const dacrt::PunctualLight& p = scene.lights[0];
+  CHECK(p.type == dacrt::PunctualLight::Type::point);
+  CHECK(p.name == "bulb");
+  CHECK(near(p.intensity, {8, 4, 2}));
+  CHECK(p.range == 3.f);
+  CHECK(near(p.position, {1, 2, 3}));
+  const dacrt::PunctualLight& sp = scene.lights[1];
+  CHECK(sp.type == dacrt::PunctualLight::Type::spot);
+  CHECK(near(sp.direction, {0, 1, 0}));
+  CHECK(sp.cos_inner == doctest::Approx(std::cos(0.2)));
+  CHECK(sp.cos_outer == doctest::Approx(std::cos(0.5)));
+  CHECK(near(sp.intensity, {1, 1, 1}));
+  const dacrt::PunctualLight& sun_light = scene.lights[2];
+  CHECK(sun_light.type == dacrt::PunctualLight::Type::directional);
+  CHECK(near(sun_light.direction, {0, 0, -1}));
+  CHECK(sun_light.range == 0.f);
+}
+
 TEST_CASE("gltf: an empty scene is valid and still has a material and a camera") {
   TempDir dir("empty");
   GltfWriter w;
@@ -584,6 +620,22 @@ TEST_CASE("gltf errors: nodes, meshes, materials and cameras") {
                  {{"KHR_materials_specular", {{"specularColorFactor", {1, -1, 1}}}}}}}};
          },
          {"material 0", "specularColorFactor"});
+  auto with_light = [](json light) {
+    return [light](json& d) {
+      d["extensions"]["KHR_lights_punctual"]["lights"] = {light};
+      d["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 0;
+    };
+  };
+  broken("light-type.gltf", with_light({{"type", "area"}}), {"light 0", "area"});
+  broken("light-cone.gltf",
+         with_light({{"type", "spot"}, {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}}),
+         {"light 0", "innerConeAngle"});
+  broken("light-intensity.gltf", with_light({{"type", "point"}, {"intensity", -1}}),
+         {"light 0", "intensity"});
+  broken("light-color.gltf", with_light({{"type", "point"}, {"color", {1, 1}}}), {"light 0", "color"});
+  broken("light-index.gltf",
+         [](json& d) { d["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 4; },
+         {"node 0", "light 4"});
   broken("draco.gltf", [](json& d) { d["extensionsRequired"] = {"KHR_draco_mesh_compression"}; },
          {"KHR_draco_mesh_compression"});
 }

@@ -165,6 +165,118 @@ TEST_CASE("an orthographic camera sees parallel rays: a unit quad covers exactly
   }
 }
 
+// A Lambert square of albedo 0.5 in z = 0 ([-2, 2]², facing +z) seen from straight above by an
+// orthographic camera whose 16 × 16 pixels cover [-1, 1]²: a pixel's value is the direct light
+// on the part of the plane it sees, times 0.5 / π (bounces leave for a black sky).
+Scene lit_plane() {
+  Scene scene;
+  const glm::vec3 a(-2, -2, 0), b(2, -2, 0), c(2, 2, 0), d(-2, 2, 0);
+  scene.geometry.add(a, b, c, 0);
+  scene.geometry.add(a, c, d, 0);
+  scene.materials = {Material::lambert(glm::vec3(0.5f))};
+  Camera cam = looking_at(glm::vec3(0, 0, 5), glm::vec3(0), 1.f);
+  cam.orthographic = true;
+  cam.ymag = 1.f;
+  scene.cameras = {cam};
+  return scene;
+}
+
+// The mean over pixel (x, y) of f at the plane point it sees.
+template <typename F>
+double pixel_mean(int x, int y, F f) {
+  double sum = 0.0;
+  constexpr int n = 16;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      sum += f(glm::vec3(-1.f + (x + (i + 0.5f) / n) / 8.f, 1.f - (y + (j + 0.5f) / n) / 8.f, 0.f));
+  return sum / (n * n);
+}
+
+TEST_CASE("punctual lights: point, spot and directional light a Lambert plane as the spec says") {
+  RenderSettings s;
+  s.width = s.height = 16, s.spp = 64;
+  const double brdf = 0.5 / glm::pi<double>();
+  SUBCASE("a point light: I cos θ / d²") {
+    Scene scene = lit_plane();
+    PunctualLight l;
+    l.intensity = glm::vec3(2.f);
+    l.position = glm::vec3(0.3f, -0.2f, 1.f);
+    scene.lights = {l};
+    Result r = render(scene, s);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) {
+        const double expected = pixel_mean(x, y, [&](glm::vec3 p) {
+          const glm::vec3 to = l.position - p;
+          const double d2 = glm::dot(to, to);
+          return brdf * 2.0 * (to.z / std::sqrt(d2)) / d2;
+        });
+        const glm::dvec2 m = r.film.mean_and_error(size_t(y) * 16 + x);
+        INFO("pixel " << x << ", " << y);
+        CHECK(std::abs(m.x - expected) <= 5.0 * m.y + 2e-3 * expected);
+      }
+    // With a range of 0.5 the plane, 1 away, gets nothing.
+    scene.lights[0].range = 0.5f;
+    Result out_of_range = render(scene, s);
+    for (size_t p = 0; p < out_of_range.film.pixels(); ++p)
+      CHECK(out_of_range.film.mean_and_error(p).x == 0.0);
+  }
+  SUBCASE("a directional light: E cos θ everywhere, and a blocker's shadow") {
+    Scene scene = lit_plane();
+    PunctualLight l;
+    l.type = PunctualLight::Type::directional;
+    l.intensity = glm::vec3(1.5f);
+    l.direction = glm::vec3(0.6f, 0.f, -0.8f);
+    scene.lights = {l};
+    Result r = render(scene, s);
+    for (size_t p = 0; p < r.film.pixels(); ++p)
+      CHECK(r.film.mean_and_error(p).x == doctest::Approx(brdf * 1.5 * 0.8).epsilon(1e-5));
+    // A square at z = 0.5 over [-0.25, 0.25]²: its shadow falls 0.375 further along +x.
+    const glm::vec3 a(-0.25f, -0.25f, 0.5f), b(0.25f, -0.25f, 0.5f), c(0.25f, 0.25f, 0.5f),
+        d(-0.25f, 0.25f, 0.5f);
+    scene.geometry.add(a, b, c, 0);
+    scene.geometry.add(a, c, d, 0);
+    s.max_depth = 1;  // direct light only: the blocker's underside reflects the lit plane
+    Result shadowed = render(scene, s);
+    // Pixels 10..12 cover x in [0.25, 0.625], 6..9 y in [-0.25, 0.25].
+    for (int y = 6; y < 10; ++y)
+      for (int x = 10; x < 13; ++x) {
+        INFO("pixel " << x << ", " << y);
+        CHECK(shadowed.film.mean_and_error(size_t(y) * 16 + x).x == 0.0);
+      }
+    CHECK(shadowed.film.mean_and_error(size_t(8) * 16 + 15).x ==
+          doctest::Approx(brdf * 1.5 * 0.8).epsilon(1e-5));
+  }
+  SUBCASE("a spot light: full inside the inner cone, nothing outside the outer one") {
+    Scene scene = lit_plane();
+    PunctualLight l;
+    l.type = PunctualLight::Type::spot;
+    l.intensity = glm::vec3(1.f);
+    l.position = glm::vec3(0.f, 0.f, 1.f);
+    l.direction = glm::vec3(0.f, 0.f, -1.f);
+    l.cos_inner = std::cos(glm::radians(20.f)), l.cos_outer = std::cos(glm::radians(30.f));
+    scene.lights = {l};
+    Result r = render(scene, s);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) {
+        // Pixel centres farther than tan 30° + a pixel diagonal are dark; nearer than tan 20° minus
+        // one are fully lit, as by a point light.
+        const glm::vec3 centre(-1.f + (x + 0.5f) / 8.f, 1.f - (y + 0.5f) / 8.f, 0.f);
+        const float r_xy = glm::length(glm::vec2(centre));
+        const glm::dvec2 m = r.film.mean_and_error(size_t(y) * 16 + x);
+        INFO("pixel " << x << ", " << y);
+        if (r_xy > std::tan(glm::radians(30.f)) + 0.09f) CHECK(m.x == 0.0);
+        if (r_xy < std::tan(glm::radians(20.f)) - 0.09f) {
+          const double expected = pixel_mean(x, y, [&](glm::vec3 p) {
+            const glm::vec3 to = l.position - p;
+            const double d2 = glm::dot(to, to);
+            return brdf * (to.z / std::sqrt(d2)) / d2;
+          });
+          CHECK(std::abs(m.x - expected) <= 5.0 * m.y + 2e-3 * expected);
+        }
+      }
+  }
+}
+
 TEST_CASE("renders are deterministic: same image for any backend and wavefront size") {
   Scene scene;
   scene.geometry = inward_box();
