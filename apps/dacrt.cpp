@@ -41,7 +41,7 @@ constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer 
 
 Usage:
   dacrt render SCENE [options]   render a glTF 2.0 scene (.gltf or .glb) to OpenEXR
-  dacrt info SCENE               triangles, meshes, materials, lights, cameras, bounds
+  dacrt info SCENE [--scene N]   triangles, meshes, materials, lights, cameras, bounds
   dacrt bench SCENE [options]    every backend on the same rays of each type: build and trace
                                  time, Mrays/s, peak memory (`dacrt bench --help`)
   dacrt --help                   this text; `dacrt render --help` lists the render options
@@ -57,6 +57,7 @@ Image
   --width W, --height H      resolution (default 512 × 512, or the camera's aspect ratio)
   --spp N                    samples per pixel (default 64)
   --camera INDEX             which of the scene's cameras (default 0; without one, the scene is framed)
+  --scene INDEX              which of the file's scenes (default: the file's default scene)
 Light transport
   --integrator NAME          path (default)
   --max-depth D              scattering events per path (default 64; Russian roulette after 3)
@@ -77,6 +78,7 @@ Other
 
 struct RenderArgs {
   std::string scene, output, preview, stats;
+  GltfOptions gltf;
   std::optional<int> width, height;
   std::optional<glm::vec3> environment;
   std::string backend = "dacrt", integrator = "path";
@@ -139,6 +141,8 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
       r.height = int(parse_int(a, value(), 1, 1 << 15));
     else if (a == "--camera")
       r.settings.camera = int(parse_int(a, value(), 0, 1 << 20));
+    else if (a == "--scene")
+      r.gltf.scene = int(parse_int(a, value(), 0, 1 << 20));
     else if (a == "--backend")
       r.backend = value();
     else if (a == "--backend-option") {
@@ -194,7 +198,7 @@ int render(const std::vector<std::string>& args) {
                                                     size_t(r.threads));
 
   auto t_load = std::chrono::steady_clock::now();
-  Scene scene = load_gltf(r.scene);
+  Scene scene = load_gltf(r.scene, r.gltf);
   double load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
 
@@ -303,11 +307,15 @@ int render(const std::vector<std::string>& args) {
 
 int info(const std::vector<std::string>& args) {
   if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help")) {
-    std::puts("Usage: dacrt info SCENE");
+    std::puts("Usage: dacrt info SCENE [--scene INDEX]");
     return 0;
   }
-  if (args.size() != 1) throw UsageError("info needs exactly one SCENE");
-  Scene scene = load_gltf(args[0]);
+  GltfOptions options;
+  if (args.size() == 3 && args[1] == "--scene")
+    options.scene = int(parse_int(args[1], args[2], 0, 1 << 20));
+  else if (args.size() != 1)
+    throw UsageError("info needs one SCENE, and optionally --scene INDEX");
+  Scene scene = load_gltf(args[0], options);
   const Geometry& g = scene.geometry;
   size_t emissive_triangles = 0, emissive_materials = 0;
   for (uint32_t m : g.material) emissive_triangles += scene.materials[m].emissive();

@@ -8,7 +8,7 @@
 // NORMAL; the metallic-roughness factors with KHR_materials_ior and KHR_materials_specular,
 // emissiveFactor × KHR_materials_emissive_strength, doubleSided; perspective and orthographic
 // cameras.
-// Skipped with one warning line each: primitives of other modes (strips and fans come later),
+// Triangle lists, strips and fans. Skipped with one warning line each: point and line primitives,
 // primitives without POSITION (the spec says to skip them).
 // Ignored: images and textures (a no-op image loader accepts anything), skins, morph targets,
 // animations, and extensions that are only "used" (the spec says the asset renders without them).
@@ -145,7 +145,7 @@ class Loader {
     auto warn = [&](size_t n, const char* what) {
       if (n > 0) std::cerr << "warning: " << path_ << ": skipped " << n << " " << what << "\n";
     };
-    warn(skipped_modes_, "primitives that are not triangle lists");
+    warn(skipped_modes_, "point and line primitives");
     warn(skipped_unpositioned_, "primitives without POSITION");
     return std::move(scene_);
   }
@@ -467,8 +467,10 @@ class Loader {
   void add_primitive(int mesh, int index, const Transform& xf, bool first_instance) {
     const tinygltf::Primitive& prim = model_.meshes[size_t(mesh)].primitives[size_t(index)];
     std::string where = "mesh " + str(mesh) + " primitive " + str(index);
-    if (prim.mode != TINYGLTF_MODE_TRIANGLES) {
-      skipped_modes_ += first_instance;
+    const int mode = prim.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      skipped_modes_ += first_instance;  // points and lines
       return;
     }
     auto position = prim.attributes.find("POSITION");
@@ -518,15 +520,26 @@ class Loader {
       }
       corner_count = v.count;
     }
-    size_t triangles = corner_count / 3;  // a trailing incomplete triangle is ignored
+    // Lists: a trailing incomplete triangle is ignored. Strips and fans: the spec's corner order
+    // (every strip triangle keeps the first one's winding); their degenerate triangles (repeated
+    // indices, used to join strips) are dropped.
+    const size_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? corner_count / 3
+                             : corner_count >= 3             ? corner_count - 2
+                                                             : 0;
     if (triangles > kMaxTriangles - scene_.geometry.size())
       fail("has more than " + str(kMaxTriangles) + " triangles");
 
     Geometry& geometry = scene_.geometry;
     for (size_t t = 0; t < triangles; ++t) {
       size_t c[3] = {3 * t, 3 * t + 1, 3 * t + 2};
+      if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+        c[0] = t, c[1] = t + 1 + t % 2, c[2] = t + 2 - t % 2;
+      else if (mode == TINYGLTF_MODE_TRIANGLE_FAN)
+        c[0] = t + 1, c[1] = t + 2, c[2] = 0;
       if (!indices.empty())
         for (size_t& k : c) k = indices[k];
+      if (mode != TINYGLTF_MODE_TRIANGLES && (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]))
+        continue;
       // A mirrored instance turns counter-clockwise (front) into clockwise: swap back.
       if (xf.flips) std::swap(c[1], c[2]);
       const glm::vec3 &a = points[c[0]], &b = points[c[1]], &d = points[c[2]];

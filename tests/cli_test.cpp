@@ -167,6 +167,28 @@ TEST_CASE("cli: render writes the EXR, the preview and the statistics") {
   CHECK(info.out.find("lights     2 emissive triangles") != std::string::npos);
 }
 
+TEST_CASE("cli: --scene picks one of the file's scenes, for render and info") {
+  TempDir dir("cli-scenes");
+  GltfWriter w;
+  const std::vector<glm::vec3> one = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<glm::vec3> two = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  int a = w.add_node({{"mesh", w.add_mesh({GltfWriter::primitive(w.add_vec3(one))})}});
+  int b = w.add_node({{"mesh", w.add_mesh({GltfWriter::primitive(w.add_vec3(two))})}});
+  w.doc["scenes"] = {{{"nodes", {a}}}, {{"nodes", {b}}}};
+  w.doc["scene"] = 0;
+  const std::string file = dir / "scenes.gltf";
+  w.write_gltf(file);
+  CHECK(run(dir, "info " + file).out.find("triangles  1\n") != std::string::npos);
+  CHECK(run(dir, "info " + file + " --scene 1").out.find("triangles  2\n") != std::string::npos);
+  Run ok = run(dir, "render " + file + " --scene 1 -o " + (dir / "one.exr") +
+                        " --width 4 --height 4 --spp 1 --quiet");
+  CHECK(ok.code == 0);
+  Run missing = run(dir, "render " + file + " --scene 2 -o " + (dir / "two.exr") + " --quiet");
+  CHECK(missing.code != 0);
+  CHECK(missing.err.find("scene 2") != std::string::npos);
+  CHECK(!fs::exists(dir / "two.exr"));
+}
+
 TEST_CASE("cli: a white sphere under --environment 1,1,1 renders 1 everywhere") {
   TempDir dir("cli-furnace");
   Geometry g = sphere(24, 48, glm::vec3(0.f), 1.f);

@@ -334,7 +334,7 @@ TEST_CASE("gltf: GLB gives the same scene as .gltf") {
   CHECK(load_gltf(dir / "quad-glb.gltf").geometry.size() == 2);
 }
 
-TEST_CASE("gltf: primitives that are not triangle lists are skipped") {
+TEST_CASE("gltf: triangle strips and fans become triangles; points and lines are skipped") {
   TempDir dir("modes");
   GltfWriter w;
   int position = w.add_vec3(kQuad);
@@ -344,8 +344,34 @@ TEST_CASE("gltf: primitives that are not triangle lists are skipped") {
   primitives.push_back(GltfWriter::primitive(position));  // mode absent = 4
   w.set_scene({w.add_node({{"mesh", w.add_mesh(primitives)}})});
   Scene scene = load_gltf(w.write_gltf(dir / "modes.gltf"));
-  CHECK(scene.geometry.size() == 2);
-  CHECK(scene.primitive_count == 2);
+  // Lists: 1 triangle each (the fourth vertex is an incomplete triangle); strip and fan: 2.
+  REQUIRE(scene.geometry.size() == 6);
+  CHECK(scene.primitive_count == 4);
+  const dacrt::Geometry& g = scene.geometry;
+  auto corners = [&](size_t t, int a, int b, int c) {
+    return g.vertex(t, 0) == kQuad[a] && g.vertex(t, 1) == kQuad[b] && g.vertex(t, 2) == kQuad[c];
+  };
+  // The strip: (0, 1, 2), then (1, 3, 2), which keeps the first triangle's winding.
+  CHECK(corners(1, 0, 1, 2));
+  CHECK(corners(2, 1, 3, 2));
+  // The fan: (1, 2, 0) and (2, 3, 0), both counter-clockwise seen from +z like the quad.
+  CHECK(corners(3, 1, 2, 0));
+  CHECK(corners(4, 2, 3, 0));
+  CHECK(g.normal(3).z > 0.f);
+  CHECK(g.normal(4).z > 0.f);
+}
+
+TEST_CASE("gltf: an indexed strip drops the degenerate triangles that join its parts") {
+  TempDir dir("strip");
+  GltfWriter w;
+  int position = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 0, 0}, {2, 1, 0}});
+  // Two strips, (0 1 2 3) and (1 4 3 5), joined by repeating 3 and 1.
+  int indices = w.add_indices(std::vector<uint16_t>{0, 1, 2, 3, 3, 1, 1, 4, 3, 5});
+  w.set_scene({w.add_node(
+      {{"mesh", w.add_mesh({GltfWriter::primitive(position, {{"mode", 5}, {"indices", indices}})})}})});
+  Scene scene = load_gltf(w.write_gltf(dir / "strip.gltf"));
+  CHECK(scene.geometry.size() == 4);
+  for (size_t t = 0; t < scene.geometry.size(); ++t) CHECK(scene.geometry.area(t) > 0.f);
 }
 
 TEST_CASE("gltf: sparse accessors and accessors without bufferView") {
