@@ -62,6 +62,8 @@ Light transport
   --integrator NAME          path (default)
   --max-depth D              scattering events per path (default 64; Russian roulette after 3)
   --environment R,G,B        uniform environment radiance (default 0, or 1 when the scene has no emitters)
+  --environment FILE.exr     an equirectangular environment map (+Y up, image centre towards -Z),
+                             importance-sampled
   --seed S                   random seed (default 0)
 Ray tracing
   --backend NAME             dacrt (default), dacrt-naive, embree, brute
@@ -81,6 +83,7 @@ struct RenderArgs {
   GltfOptions gltf;
   std::optional<int> width, height;
   std::optional<glm::vec3> environment;
+  std::string environment_file;  // an equirectangular .exr instead
   std::string backend = "dacrt", integrator = "path";
   Options backend_options;
   int threads = 0;
@@ -153,8 +156,15 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
       }
     } else if (a == "--integrator")
       r.integrator = value();
-    else if (a == "--environment")
-      r.environment = parse_rgb(a, value());
+    else if (a == "--environment") {
+      const std::string v = value();
+      const bool exr = v.size() > 4 && (v.compare(v.size() - 4, 4, ".exr") == 0 ||
+                                        v.compare(v.size() - 4, 4, ".EXR") == 0);
+      if (exr)
+        r.environment_file = v, r.environment.reset();
+      else
+        r.environment = parse_rgb(a, v), r.environment_file.clear();
+    }
     else if (a == "--max-depth")
       r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
     else if (a == "--seed")
@@ -222,7 +232,10 @@ int render(const std::vector<std::string>& args) {
     s.width = r.width.value_or(r.height.value_or(512));
     s.height = r.height.value_or(r.width.value_or(512));
   }
-  if (r.environment) {
+  if (!r.environment_file.empty()) {
+    s.environment_map =
+        std::make_shared<const EnvironmentMap>(read_exr(r.environment_file), r.environment_file);
+  } else if (r.environment) {
     s.environment = *r.environment;
   } else if (!has_emitters(scene)) {
     s.environment = glm::vec3(1.f);

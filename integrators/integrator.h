@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "integrators/environment.h"
 #include "integrators/film.h"
 #include "scene/scene.h"
 #include "tracer/backend.h"
@@ -30,6 +31,8 @@ struct RenderSettings {
   int roulette_depth = 3;  // Russian roulette from this many bounces on
   uint64_t seed = 0;
   glm::vec3 environment{0.f};          // uniform radiance of everything the rays escape to
+  // An equirectangular map instead (importance-sampled in next-event estimation); null: uniform.
+  std::shared_ptr<const EnvironmentMap> environment_map;
   size_t wavefront = size_t(1) << 19;  // live paths at most per wavefront
 };
 

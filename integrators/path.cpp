@@ -31,18 +31,26 @@ enum Dimension : uint32_t {
   light_v,
   bsdf_u,
   bsdf_v,
-  bsdf_lobe
+  bsdf_lobe,
+  environment_u,
+  environment_v
 };
 
 class PathTracer final : public Integrator {
  public:
   PathTracer(const Scene& scene, Backend& backend, const RenderSettings& settings)
-      : scene_(scene), backend_(backend), s_(settings), lights_(scene) {
+      : scene_(scene), backend_(backend), s_(settings), lights_(scene),
+        map_(settings.environment_map && !settings.environment_map->black()
+                 ? settings.environment_map.get()
+                 : nullptr),
+        // Next-event estimation picks the map or the scene's lights: half and half when both.
+        map_share_(map_ ? (lights_.empty() ? 1.f : 0.5f) : 0.f) {
     if (s_.camera < 0 || size_t(s_.camera) >= scene.cameras.size())
       throw Error("camera " + std::to_string(s_.camera) + " does not exist (the scene has " +
                   std::to_string(scene.cameras.size()) + ")");
-    if (lights_.empty())
-      stats_.skipped.push_back("shadow rays (the scene has no emitters and no lights)");
+    if (lights_.empty() && !map_)
+      stats_.skipped.push_back(
+          "shadow rays (the scene has no emitters and no lights, and no environment map)");
   }
 
   const RenderStats& stats() const override { return stats_; }
@@ -135,7 +143,14 @@ class PathTracer final : public Integrator {
     const glm::vec3 d = rays_.direction(i);
     glm::vec3& beta = throughput_[path];
     if (!hits_.hit(i)) {
-      radiance_[path] += beta * s_.environment;
+      if (!s_.environment_map) {
+        radiance_[path] += beta * s_.environment;
+      } else if (map_) {
+        // Also reachable by next-event estimation, after the first bounce: MIS.
+        const float weight =
+            depth > 0 ? power_heuristic(bsdf_pdf_[path], map_share_ * map_->pdf(d)) : 1.f;
+        radiance_[path] += beta * map_->radiance(d) * weight;
+      }
       return;
     }
     const Geometry& g = scene_.geometry;
@@ -150,7 +165,8 @@ class PathTracer final : public Integrator {
       float weight = 1.f;
       if (depth > 0) {
         float t = hits_.t[i];
-        float light_pdf = lights_.pmf(tri) * t * t / (std::abs(glm::dot(ng, d)) * 0.5f * area2);
+        float light_pdf = (1.f - map_share_) * lights_.pmf(tri) * t * t /
+                          (std::abs(glm::dot(ng, d)) * 0.5f * area2);
         weight = power_heuristic(bsdf_pdf_[path], light_pdf);
       }
       radiance_[path] += beta * m.emission * weight;
@@ -183,7 +199,7 @@ class PathTracer final : public Integrator {
     const glm::vec3 wo = frame.to_local(-d);
     const glm::vec3 origin = offset_ray_origin(p, ng);
 
-    if (!lights_.empty()) next_event(i, path, depth, p, ng, frame, brdf, wo, origin);
+    if (!lights_.empty() || map_) next_event(i, path, depth, p, ng, frame, brdf, wo, origin);
 
     // BRDF sampling, kept above the surface.
     const auto s = brdf.sample(wo, random(path, depth, bsdf_lobe), random(path, depth, bsdf_u),
@@ -202,9 +218,12 @@ class PathTracer final : public Integrator {
                   const Frame& frame, const GltfBrdf& brdf, const glm::vec3& wo,
                   const glm::vec3& origin) {
     const Geometry& g = scene_.geometry;
+    float pick = random(path, depth, light_pick);
+    if (pick < map_share_) return environment(i, path, depth, ng, frame, brdf, wo, origin);
+    pick = std::min((pick - map_share_) / (1.f - map_share_), 0x1.fffffep-1f);
     LightSampler::Sample ls =
-        lights_.sample(random(path, depth, light_pick), random(path, depth, light_u),
-                       random(path, depth, light_v));
+        lights_.sample(pick, random(path, depth, light_u), random(path, depth, light_v));
+    ls.pmf *= 1.f - map_share_;
     if (ls.light >= 0) return punctual(i, path, p, scene_.lights[size_t(ls.light)], ls.pmf, ng,
                                        frame, brdf, wo, origin);
     const Material& light = scene_.materials[g.material[ls.triangle]];
@@ -228,6 +247,24 @@ class PathTracer final : public Integrator {
     // The segment runs between the two offset points, so neither surface can occlude it.
     glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);
     shadow_.set(i, origin, target - origin, 0.f, 1.f, path);
+    shadow_contribution_[i] = c;
+    has_shadow_[i] = 1;
+  }
+
+  // Next-event estimation towards the environment map, weighed against BRDF sampling (MIS).
+  void environment(size_t i, uint32_t path, int depth, const glm::vec3& ng, const Frame& frame,
+                   const GltfBrdf& brdf, const glm::vec3& wo, const glm::vec3& origin) {
+    const EnvironmentMap::Sample es =
+        map_->sample(random(path, depth, environment_u), random(path, depth, environment_v));
+    const float pdf = map_share_ * es.pdf;
+    if (!(pdf > 0.f)) return;
+    const glm::vec3 wi_local = frame.to_local(es.direction);
+    if (wi_local.z <= 0.f || glm::dot(es.direction, ng) <= 0.f) return;
+    const float weight = power_heuristic(pdf, brdf.pdf(wo, wi_local));
+    const glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) * es.radiance *
+                        (wi_local.z * weight / pdf);
+    if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
+    shadow_.set(i, origin, es.direction, 0.f, INFINITY, path);
     shadow_contribution_[i] = c;
     has_shadow_[i] = 1;
   }
@@ -287,6 +324,8 @@ class PathTracer final : public Integrator {
   Backend& backend_;
   const RenderSettings s_;
   const LightSampler lights_;
+  const EnvironmentMap* map_;  // null: uniform (or black) environment, reached by BRDF sampling
+  const float map_share_;      // probability that next-event estimation samples the map
   RenderStats stats_;
 
   // The wavefront's paths, indexed by RayBatch::path.

@@ -209,6 +209,26 @@ TEST_CASE("cli: a white sphere under --environment 1,1,1 renders 1 everywhere") 
   size_t off = 0;
   for (float v : img.rgb) off += std::abs(v - 1.f) > 1e-5f;
   CHECK(off == 0);
+  // The same furnace with --environment FILE.exr holding 1 everywhere: sampled, so 1 on average.
+  Image sky(16, 8);
+  std::fill(sky.rgb.begin(), sky.rgb.end(), 1.f);
+  write_exr(dir / "sky.exr", sky, {});
+  Run map = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "mapped.exr") +
+                         " --environment " + (dir / "sky.exr") +
+                         " --width 16 --height 16 --spp 16 --quiet");
+  INFO(map.err);
+  REQUIRE(map.code == 0);
+  Image mapped = read_exr(dir / "mapped.exr");
+  double mean = 0.0;
+  for (float v : mapped.rgb) mean += v;
+  mean /= double(mapped.rgb.size());
+  CHECK(mean == doctest::Approx(1.0).epsilon(0.02));
+  // A missing map is one error naming it, and no image.
+  Run missing = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "none.exr") +
+                             " --environment " + (dir / "nowhere.exr") + " --quiet");
+  CHECK(missing.code != 0);
+  CHECK(missing.err.find("nowhere.exr") != std::string::npos);
+  CHECK(!fs::exists(dir / "none.exr"));
   // Without --environment the same scene is black where nothing emits: the default is 1 only
   // because the scene has no emitters, and the render says so.
   Run loud = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "sphere2.exr") +

@@ -277,6 +277,48 @@ TEST_CASE("punctual lights: point, spot and directional light a Lambert plane as
   }
 }
 
+TEST_CASE("furnace: under an environment map of 1, a white diffuse sphere renders 1") {
+  // The map is sampled by next-event estimation and reached by BRDF sampling, weighed by MIS:
+  // unbiased, so still 1 within the noise.
+  Scene scene;
+  scene.geometry = sphere(32, 64, glm::vec3(0.f), 1.f);
+  scene.materials = {Material::lambert(glm::vec3(1.f))};
+  scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
+  Image one(16, 8);
+  std::fill(one.rgb.begin(), one.rgb.end(), 1.f);
+  RenderSettings s;
+  s.width = 24, s.height = 24, s.spp = 32;
+  s.environment_map = std::make_shared<const EnvironmentMap>(one, "one");
+  Result r = render(scene, s);
+  check_renders(r.film, 1.0);
+  CHECK(r.stats.by_type[size_t(RayType::shadow)].rays > 0);
+  CHECK(r.stats.skipped.empty());
+  // With a light in the scene next-event estimation samples the map only half of the time, and
+  // every pdf in the MIS weights must say so. This light shines from behind, on nothing the
+  // camera sees (visible normals all have z > 0.14): the image stays 1.
+  PunctualLight behind;
+  behind.type = PunctualLight::Type::directional;
+  behind.direction = glm::vec3(0.f, 0.f, 1.f);
+  behind.intensity = glm::vec3(5.f);
+  scene.lights = {behind};
+  Result shared = render(scene, s);
+  check_renders(shared.film, 1.0);
+  // A map that is bright in one small patch: importance sampling finds it.
+  Image patch(32, 16);
+  for (int y = 5; y < 7; ++y)
+    for (int x = 20; x < 22; ++x) patch.pixel(x, y)[0] = patch.pixel(x, y)[1] = patch.pixel(x, y)[2] = 50.f;
+  s.environment_map = std::make_shared<const EnvironmentMap>(patch, "patch");
+  scene.lights.clear();
+  Result sampled = render(scene, s);
+  double sum = 0.0, var = 0.0;
+  for (size_t p = 0; p < sampled.film.pixels(); ++p) {
+    const glm::dvec2 m = sampled.film.mean_and_error(p);
+    sum += m.x, var += m.y * m.y;
+  }
+  CHECK(sum > 0.0);
+  CHECK(std::sqrt(var) < 0.05 * sum);
+}
+
 TEST_CASE("renders are deterministic: same image for any backend and wavefront size") {
   Scene scene;
   scene.geometry = inward_box();

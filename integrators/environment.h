@@ -1,0 +1,53 @@
+// EnvironmentMap: the radiance of everything rays escape to, from an equirectangular
+// (latitude-longitude) image, importance-sampled by pixel luminance for next-event estimation.
+//
+// Directions use glTF's axes (+Y up). Pixel column u ∈ [0, 1) is the azimuth φ = 2π (u − ½)
+// measured from −Z (the default camera's view) towards +X, so the image's centre is straight ahead;
+// row v ∈ [0, 1) is the polar angle θ = π v from +Y, the top row being the zenith. A pixel's
+// radiance is constant over it (nearest lookup), which is exactly what the sampling distribution
+// assumes, so sample(), radiance() and pdf() agree.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "io/image.h"
+
+namespace dacrt {
+
+class EnvironmentMap {
+ public:
+  // Throws dacrt::Error for an empty image or negative / non-finite pixels, naming `what`.
+  EnvironmentMap(Image image, const std::string& what);
+
+  glm::vec3 radiance(const glm::vec3& direction) const;
+
+  struct Sample {
+    glm::vec3 direction;
+    glm::vec3 radiance;
+    float pdf;  // solid angle
+  };
+  Sample sample(float u1, float u2) const;
+  float pdf(const glm::vec3& direction) const;
+
+  bool black() const { return total_ <= 0.0; }
+  glm::vec3 average() const { return average_; }  // over the sphere (solid-angle weighted)
+  const Image& image() const { return image_; }
+
+  // The (u, v) of a direction, and back.
+  static glm::vec2 to_uv(const glm::vec3& direction);
+  static glm::vec3 from_uv(const glm::vec2& uv);
+
+ private:
+  int pixel_index(const glm::vec3& direction) const;
+
+  Image image_;
+  std::vector<float> marginal_;             // cdf over rows, back() == 1
+  std::vector<float> conditional_;          // per row, cdf over its columns (width each)
+  std::vector<float> pmf_;                  // probability of each pixel
+  double total_ = 0.0;
+  glm::vec3 average_{0.f};
+};
+
+}  // namespace dacrt
