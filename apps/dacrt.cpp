@@ -164,8 +164,7 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
         r.environment_file = v, r.environment.reset();
       else
         r.environment = parse_rgb(a, v), r.environment_file.clear();
-    }
-    else if (a == "--max-depth")
+    } else if (a == "--max-depth")
       r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
     else if (a == "--seed")
       r.settings.seed = uint64_t(parse_int(a, value(), 0, LONG_MAX));
@@ -341,16 +340,17 @@ int info(const std::vector<std::string>& args) {
   std::printf("materials  %zu (%zu emissive)\n", scene.materials.size(), emissive_materials);
   size_t punctual[3] = {0, 0, 0};
   for (const PunctualLight& l : scene.lights) ++punctual[size_t(l.type)];
-  std::printf("lights     %zu emissive triangles, %zu punctual (%zu point, %zu spot, %zu directional)\n",
-              emissive_triangles, scene.lights.size(), punctual[0], punctual[1], punctual[2]);
+  std::printf(
+      "lights     %zu emissive triangles, %zu punctual (%zu point, %zu spot, %zu directional)\n",
+      emissive_triangles, scene.lights.size(), punctual[0], punctual[1], punctual[2]);
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {
     const Camera& cam = scene.cameras[c];
     glm::vec3 p = cam.position();
-    const std::string view =
-        cam.orthographic ? "orthographic, height " + std::to_string(2.f * cam.ymag)
-                         : "yfov " + std::to_string(cam.yfov * 180.0 / M_PI) + "°";
+    const std::string view = cam.orthographic
+                                 ? "orthographic, height " + std::to_string(2.f * cam.ymag)
+                                 : "yfov " + std::to_string(cam.yfov * 180.0 / M_PI) + "°";
     std::printf("  camera %zu %s: position (%g, %g, %g), %s, aspect %s\n", c,
                 cam.name.empty() ? "(unnamed)" : cam.name.c_str(), p.x, p.y, p.z, view.c_str(),
                 cam.aspect > 0 ? std::to_string(cam.aspect).c_str() : "from image");

@@ -43,9 +43,9 @@ class EnvironmentMap {
   int pixel_index(const glm::vec3& direction) const;
 
   Image image_;
-  std::vector<float> marginal_;             // cdf over rows, back() == 1
-  std::vector<float> conditional_;          // per row, cdf over its columns (width each)
-  std::vector<float> pmf_;                  // probability of each pixel
+  std::vector<float> marginal_;     // cdf over rows, back() == 1
+  std::vector<float> conditional_;  // per row, cdf over its columns (width each)
+  std::vector<float> pmf_;          // probability of each pixel
   double total_ = 0.0;
   glm::vec3 average_{0.f};
 };

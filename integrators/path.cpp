@@ -39,7 +39,10 @@ enum Dimension : uint32_t {
 class PathTracer final : public Integrator {
  public:
   PathTracer(const Scene& scene, Backend& backend, const RenderSettings& settings)
-      : scene_(scene), backend_(backend), s_(settings), lights_(scene),
+      : scene_(scene),
+        backend_(backend),
+        s_(settings),
+        lights_(scene),
         map_(settings.environment_map && !settings.environment_map->black()
                  ? settings.environment_map.get()
                  : nullptr),
@@ -224,8 +227,9 @@ class PathTracer final : public Integrator {
     LightSampler::Sample ls =
         lights_.sample(pick, random(path, depth, light_u), random(path, depth, light_v));
     ls.pmf *= 1.f - map_share_;
-    if (ls.light >= 0) return punctual(i, path, p, scene_.lights[size_t(ls.light)], ls.pmf, ng,
-                                       frame, brdf, wo, origin);
+    if (ls.light >= 0)
+      return punctual(i, path, p, scene_.lights[size_t(ls.light)], ls.pmf, ng, frame, brdf, wo,
+                      origin);
     const Material& light = scene_.materials[g.material[ls.triangle]];
     glm::vec3 to = ls.point - p;
     float dist2 = glm::dot(to, to);
@@ -261,8 +265,8 @@ class PathTracer final : public Integrator {
     const glm::vec3 wi_local = frame.to_local(es.direction);
     if (wi_local.z <= 0.f || glm::dot(es.direction, ng) <= 0.f) return;
     const float weight = power_heuristic(pdf, brdf.pdf(wo, wi_local));
-    const glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) * es.radiance *
-                        (wi_local.z * weight / pdf);
+    const glm::vec3 c =
+        throughput_[path] * brdf.eval(wo, wi_local) * es.radiance * (wi_local.z * weight / pdf);
     if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
     shadow_.set(i, origin, es.direction, 0.f, INFINITY, path);
     shadow_contribution_[i] = c;
@@ -271,9 +275,9 @@ class PathTracer final : public Integrator {
 
   // Next-event estimation towards a punctual light: a delta, so no MIS (BRDF sampling never
   // finds it). The shadow segment ends at the light, or leaves the scene towards a directional one.
-  void punctual(size_t i, uint32_t path, const glm::vec3& p, const PunctualLight& light,
-                float pmf, const glm::vec3& ng, const Frame& frame, const GltfBrdf& brdf,
-                const glm::vec3& wo, const glm::vec3& origin) {
+  void punctual(size_t i, uint32_t path, const glm::vec3& p, const PunctualLight& light, float pmf,
+                const glm::vec3& ng, const Frame& frame, const GltfBrdf& brdf, const glm::vec3& wo,
+                const glm::vec3& origin) {
     const bool directional = light.type == PunctualLight::Type::directional;
     const glm::vec3 to = directional ? light.direction : p - light.position;  // light → point
     const float dist = glm::length(to);
@@ -281,8 +285,8 @@ class PathTracer final : public Integrator {
     const glm::vec3 wi = -to / dist;
     const glm::vec3 wi_local = frame.to_local(wi);
     if (wi_local.z <= 0.f || glm::dot(wi, ng) <= 0.f) return;
-    const glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) *
-                        light.irradiance_towards(to) * (wi_local.z / pmf);
+    const glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) * light.irradiance_towards(to) *
+                        (wi_local.z / pmf);
     if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
     if (directional)
       shadow_.set(i, origin, wi, 0.f, INFINITY, path);

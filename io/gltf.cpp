@@ -26,6 +26,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <iostream>
 #include <limits>
@@ -123,7 +124,7 @@ class Loader {
     scene_.path = path_;
     for (const std::string& ext : model_.extensionsRequired)
       if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
-          ext == "KHR_mesh_quantization" || ext == "EXT_mesh_gpu_instancing")
+          ext == "KHR_mesh_quantization")
         fail("requires extension " + ext + ", which is not supported");
 
     bool by_default = scene == -1;
@@ -262,6 +263,86 @@ class Loader {
         fail(what + " has sparse index " + str(i) + ", past its count " + str(v.count));
       std::memcpy(&v.owned[i * element], values + k * element, element);
     }
+  }
+
+  // EXT_mesh_gpu_instancing's per-instance TRANSLATION, ROTATION and SCALE as matrices (T R S);
+  // empty when the node does not use it.
+  std::vector<glm::mat4> instance_transforms(const tinygltf::Node& node, int index) const {
+    auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
+    if (ext == node.extensions.end()) return {};
+    const std::string where = "node " + str(index) + " EXT_mesh_gpu_instancing";
+    if (!ext->second.IsObject() || !ext->second.Has("attributes") ||
+        !ext->second.Get("attributes").IsObject())
+      fail(where + " has no attributes");
+    const tinygltf::Value& attributes = ext->second.Get("attributes");
+    auto accessor = [&](const char* name) {
+      if (!attributes.Has(name)) return -1;
+      const tinygltf::Value& v = attributes.Get(name);
+      if (!v.IsNumber()) fail(where + ": " + name + " is not an accessor index");
+      return int(v.GetNumberAsDouble());
+    };
+    const int t = accessor("TRANSLATION"), r = accessor("ROTATION"), s = accessor("SCALE");
+    std::vector<glm::vec3> translation, scale;
+    std::vector<glm::quat> rotation;
+    size_t count = 0;
+    bool counted = false;
+    auto same_count = [&](size_t n, const char* name) {
+      if (counted && n != count)
+        fail(where + ": " + name + " has " + str(n) + " instances, not " + str(count));
+      count = n, counted = true;
+    };
+    if (t != -1)
+      translation = read_vec3(t, "TRANSLATION of " + where),
+      same_count(translation.size(), "TRANSLATION");
+    if (s != -1) scale = read_vec3(s, "SCALE of " + where), same_count(scale.size(), "SCALE");
+    if (r != -1)
+      rotation = read_rotations(r, "ROTATION of " + where), same_count(rotation.size(), "ROTATION");
+    if (!counted) fail(where + " has none of TRANSLATION, ROTATION and SCALE");
+    std::vector<glm::mat4> out(count);
+    for (size_t i = 0; i < count; ++i) {
+      glm::mat4 m(1.f);
+      if (!translation.empty()) m = glm::translate(m, translation[i]);
+      if (!rotation.empty()) m *= glm::mat4_cast(rotation[i]);
+      if (!scale.empty()) m = glm::scale(m, scale[i]);
+      if (!finite(glm::vec3(m[0])) || !finite(glm::vec3(m[1])) || !finite(glm::vec3(m[2])) ||
+          !finite(glm::vec3(m[3])))
+        fail(where + ": instance " + str(i) + " has a non-finite transform");
+      out[i] = m;
+    }
+    return out;
+  }
+
+  // Unit quaternions (x, y, z, w): FLOAT, or normalised BYTE or SHORT as the spec allows.
+  std::vector<glm::quat> read_rotations(int accessor, const std::string& role) const {
+    View v = view(accessor, role);
+    const int type = v.component_type;
+    if (v.components != 4 ||
+        (type != TINYGLTF_COMPONENT_TYPE_FLOAT && type != TINYGLTF_COMPONENT_TYPE_BYTE &&
+         type != TINYGLTF_COMPONENT_TYPE_SHORT))
+      fail("accessor " + str(accessor) + " (" + role + ") must be a FLOAT, BYTE or SHORT VEC4");
+    std::vector<glm::quat> out(v.count);
+    for (size_t i = 0; i < v.count; ++i) {
+      float q[4];
+      for (int c = 0; c < 4; ++c) {
+        const unsigned char* p = v.data + i * v.stride + c * component_size(type);
+        if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+          std::memcpy(&q[c], p, 4);
+        } else if (type == TINYGLTF_COMPONENT_TYPE_BYTE) {
+          q[c] = std::max(float(int8_t(*p)) / 127.f, -1.f);
+        } else {
+          int16_t x;
+          std::memcpy(&x, p, 2);
+          q[c] = std::max(float(x) / 32767.f, -1.f);
+        }
+      }
+      const glm::quat rotation(q[3], q[0], q[1], q[2]);  // glm: (w, x, y, z)
+      const float len = glm::length(rotation);
+      if (!(len > 0.f) || !std::isfinite(len))
+        fail("accessor " + str(accessor) + " (" + role + ") element " + str(i) +
+             " is not a rotation");
+      out[i] = rotation / len;
+    }
+    return out;
   }
 
   // POSITION and NORMAL: FLOAT VEC3, copied out of their (possibly strided) view.
@@ -427,7 +508,13 @@ class Loader {
       const tinygltf::Node& node = model_.nodes[size_t(item.node)];
       ++scene_.node_count;
       glm::mat4 world = item.parent_world * local_transform(item.node);
-      if (node.mesh != -1) add_mesh(node.mesh, world, item.node);
+      if (node.mesh != -1) {
+        // EXT_mesh_gpu_instancing: the mesh once per instance, never at the node itself.
+        if (auto instances = instance_transforms(node, item.node); instances.empty())
+          add_mesh(node.mesh, world, item.node);
+        else
+          for (const glm::mat4& m : instances) add_mesh(node.mesh, world * m, item.node);
+      }
       if (node.camera != -1) add_camera(node.camera, world, item.node);
       add_light(node, world, item.node);
       for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)

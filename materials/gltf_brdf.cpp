@@ -50,7 +50,8 @@ glm::vec3 sample_ggx_visible_normal(const glm::vec3& wo, float alpha, float u1, 
 GltfBrdf::GltfBrdf(const BrdfParams& p)
     : base_(glm::clamp(p.base_color, 0.f, 1.f)),
       metallic_(std::clamp(p.metallic, 0.f, 1.f)),
-      alpha_(std::max(min_alpha, std::clamp(p.roughness, 0.f, 1.f) * std::clamp(p.roughness, 0.f, 1.f))) {
+      alpha_(std::max(min_alpha,
+                      std::clamp(p.roughness, 0.f, 1.f) * std::clamp(p.roughness, 0.f, 1.f))) {
   // KHR_materials_ior's F0 = ((ior − 1) / (ior + 1))², times specularColor (at most 1) and
   // specular; F90 = specular (KHR_materials_specular).
   const float r = (p.ior - 1.f) / (p.ior + 1.f);

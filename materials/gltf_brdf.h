@@ -19,10 +19,10 @@ namespace dacrt {
 
 struct BrdfParams {
   glm::vec3 base_color{1.f};
-  float metallic = 1.f;   // glTF's default
-  float roughness = 1.f;  // perceptual; α = roughness²
-  float ior = 1.5f;       // KHR_materials_ior
-  float specular = 1.f;   // KHR_materials_specular: specularFactor
+  float metallic = 1.f;           // glTF's default
+  float roughness = 1.f;          // perceptual; α = roughness²
+  float ior = 1.5f;               // KHR_materials_ior
+  float specular = 1.f;           // KHR_materials_specular: specularFactor
   glm::vec3 specular_color{1.f};  // KHR_materials_specular: specularColorFactor
 };
 

@@ -16,14 +16,14 @@ namespace dacrt {
 // KHR_materials_ior and KHR_materials_specular) and an emitter. Defaults are glTF's.
 struct Material {
   std::string name;
-  glm::vec3 base_color{1.f};  // baseColorFactor.rgb
-  float metallic = 1.f;       // metallicFactor
-  float roughness = 1.f;      // roughnessFactor (perceptual)
-  float ior = 1.5f;           // KHR_materials_ior
-  float specular = 1.f;       // KHR_materials_specular.specularFactor
+  glm::vec3 base_color{1.f};      // baseColorFactor.rgb
+  float metallic = 1.f;           // metallicFactor
+  float roughness = 1.f;          // roughnessFactor (perceptual)
+  float ior = 1.5f;               // KHR_materials_ior
+  float specular = 1.f;           // KHR_materials_specular.specularFactor
   glm::vec3 specular_color{1.f};  // KHR_materials_specular.specularColorFactor
-  glm::vec3 emission{0.f};    // emissiveFactor × KHR_materials_emissive_strength (radiance)
-  bool double_sided = false;  // emitters emit from their back face too
+  glm::vec3 emission{0.f};        // emissiveFactor × KHR_materials_emissive_strength (radiance)
+  bool double_sided = false;      // emitters emit from their back face too
 
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
   BrdfParams brdf() const {
@@ -63,7 +63,7 @@ struct PunctualLight {
   glm::vec3 intensity{1.f};
   float range = 0.f;  // beyond it nothing; 0 = unlimited
   glm::vec3 position{0.f};
-  glm::vec3 direction{0.f, 0.f, -1.f};  // where it shines: the node's -Z
+  glm::vec3 direction{0.f, 0.f, -1.f};             // where it shines: the node's -Z
   float cos_inner = 1.f, cos_outer = 0.70710678f;  // spot cone (defaults 0 and π/4)
 
   // What reaches a point `to` away from the light (|to| = distance), before the cosine there:
@@ -77,10 +77,10 @@ struct Scene {
   // Per-corner shading normals, 3 per triangle (corner-major: tri*3 + corner), world space and
   // normalised. Empty when no primitive had NORMAL; primitives without it get geometric normals.
   std::vector<glm::vec3> normals;
-  std::vector<Material> materials;  // never empty: the glTF default material is appended if used
-  std::vector<Camera> cameras;      // never empty after loading: see `cameras_from_file`
+  std::vector<Material> materials;    // never empty: the glTF default material is appended if used
+  std::vector<Camera> cameras;        // never empty after loading: see `cameras_from_file`
   std::vector<PunctualLight> lights;  // KHR_lights_punctual, one per node that has one
-  size_t cameras_from_file = 0;     // if 0, cameras[0] was made to frame the scene's bounds
+  size_t cameras_from_file = 0;       // if 0, cameras[0] was made to frame the scene's bounds
 
   // Counts from the file, for `dacrt info`.
   size_t mesh_count = 0;

@@ -40,8 +40,9 @@ size_t compare(const Geometry& g, const RayBatch& rays, const HitBatch& expected
                 (!expected.hit(i) ||
                  (same_bits(expected.u[i], got.u[i]) && same_bits(expected.v[i], got.v[i])));
     if (!same && ++mismatches <= 5)
-      FAIL_CHECK(std::string(backend) << " ray " << i << ": prim " << got.prim[i] << " t " << got.t[i]
-                         << ", brute: prim " << expected.prim[i] << " t " << expected.t[i]);
+      FAIL_CHECK(std::string(backend)
+                 << " ray " << i << ": prim " << got.prim[i] << " t " << got.t[i]
+                 << ", brute: prim " << expected.prim[i] << " t " << expected.t[i]);
   }
   CHECK(mismatches == 0);
 
@@ -53,7 +54,7 @@ size_t compare(const Geometry& g, const RayBatch& rays, const HitBatch& expected
   for (size_t i = 0; i < rays.size(); ++i) occ_mismatches += occ_got[i] != uint8_t(expected.hit(i));
   CHECK(occ_mismatches == 0);
   MESSAGE(std::string(backend) << ": " << rays.size() << " rays, " << hits << " hits, " << g.size()
-                  << " triangles");
+                               << " triangles");
   return rays.size();
 }
 
@@ -114,9 +115,9 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
       {{"max_depth", "3"}},
       {{"cost_traversal", "1000"}},  // leaves everywhere the size allows
       {{"cost_traversal", "1000"}, {"max_leaf_triangles", "100000"}},  // leaves everywhere
-      {{"task_rays", "1"}, {"chunks", "64"}},  // as many chunks as threads, forks everywhere
-      {{"task_rays", "1"}, {"filter_skip", "0"}},    // forks whose children take every ray
-      {{"task_rays", "1"}, {"filter_skip", "0.5"}},  // forks where one child may
+      {{"task_rays", "1"}, {"chunks", "64"}},         // as many chunks as threads, forks everywhere
+      {{"task_rays", "1"}, {"filter_skip", "0"}},     // forks whose children take every ray
+      {{"task_rays", "1"}, {"filter_skip", "0.5"}},   // forks where one child may
       {{"task_rays", "100000000"}, {"chunks", "1"}},  // one traversal on one thread
   };
   for (const auto& s : settings) {
@@ -200,7 +201,8 @@ TEST_CASE("dacrt builds the same recursion with AVX-512, AVX2 and scalar tests")
   // the CPU lacks a level, the next narrower one runs and the test still holds.
   Geometry g = random_soup(5000, 61);
   // Axis-parallel rays have zero direction components: the clamped inverse.
-  for (const RayBatch& rays : {random_rays(g, 50000, 62, RayType::bounce), axis_rays(g, 30000, 63)}) {
+  for (const RayBatch& rays :
+       {random_rays(g, 50000, 62, RayType::bounce), axis_rays(g, 30000, 63)}) {
     const char* levels[] = {"auto", "avx2", "none"};
     Stats s[3];
     HitBatch h[3];

@@ -2,8 +2,6 @@
 // Mitsuba: an odd grid over the sphere, the pdf integrated per cell, low-expectation cells
 // pooled, significance 0.01 with Šidák's correction over all the tests), the weights it returns
 // are eval · cos / pdf, it is reciprocal, and it never reflects more than it receives.
-#include "materials/gltf_brdf.h"
-
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -14,6 +12,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "materials/gltf_brdf.h"
 #include "materials/sampling.h"
 #include "util/random.h"
 
@@ -108,7 +107,8 @@ TEST_CASE("glTF BRDF samples carry eval · cos / pdf, and pdf() is their density
       REQUIRE(s->wi.z > 0.f);
       CHECK(s->pdf == doctest::Approx(brdf.pdf(wo, s->wi)).epsilon(1e-5));
       const glm::vec3 expected = brdf.eval(wo, s->wi) * s->wi.z / s->pdf;
-      for (int ch = 0; ch < 3; ++ch) CHECK(s->weight[ch] == doctest::Approx(expected[ch]).epsilon(1e-5));
+      for (int ch = 0; ch < 3; ++ch)
+        CHECK(s->weight[ch] == doctest::Approx(expected[ch]).epsilon(1e-5));
     }
   }
 }

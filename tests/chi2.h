@@ -117,5 +117,4 @@ double chi2_p_value(Sample sample, Pdf pdf, uint64_t seed, size_t samples, int s
   return chi2_survival(chi2, cells - 1);
 }
 
-
 }  // namespace dacrt::test

@@ -171,7 +171,8 @@ TEST_CASE("cli: --scene picks one of the file's scenes, for render and info") {
   TempDir dir("cli-scenes");
   GltfWriter w;
   const std::vector<glm::vec3> one = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  const std::vector<glm::vec3> two = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  const std::vector<glm::vec3> two = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0},
+                                      {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
   int a = w.add_node({{"mesh", w.add_mesh({GltfWriter::primitive(w.add_vec3(one))})}});
   int b = w.add_node({{"mesh", w.add_mesh({GltfWriter::primitive(w.add_vec3(two))})}});
   w.doc["scenes"] = {{{"nodes", {a}}}, {{"nodes", {b}}}};

@@ -257,8 +257,9 @@ TEST_CASE("gltf: metallic-roughness factors, KHR_materials_ior and KHR_materials
   w.add_material({{"pbrMetallicRoughness", {{"metallicFactor", 1.5}, {"roughnessFactor", -2}}},
                   {"extensions", {{"KHR_materials_ior", {{"ior", 0}}}}}});
   int position = w.add_vec3(kTriangle);
-  w.set_scene({w.add_node({{"mesh", w.add_mesh({GltfWriter::primitive(position, {{"material", 0}}),
-                                                GltfWriter::primitive(position, {{"material", 1}})})}})});
+  w.set_scene(
+      {w.add_node({{"mesh", w.add_mesh({GltfWriter::primitive(position, {{"material", 0}}),
+                                        GltfWriter::primitive(position, {{"material", 1}})})}})});
   Scene scene = load_gltf(w.write_gltf(dir / "brdf.gltf"));
   REQUIRE(scene.materials.size() == 2);
   const dacrt::Material& a = scene.materials[0];
@@ -279,15 +280,18 @@ TEST_CASE("gltf: KHR_lights_punctual lights, placed by their nodes") {
   GltfWriter w;
   w.add_triangles(kTriangle);
   w.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
-      {{"type", "point"}, {"name", "bulb"}, {"color", {1, 0.5, 0.25}}, {"intensity", 8},
+      {{"type", "point"},
+       {"name", "bulb"},
+       {"color", {1, 0.5, 0.25}},
+       {"intensity", 8},
        {"range", 3}},
       {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}},
       {{"type", "directional"}, {"intensity", 2}}};
   float s = std::sqrt(0.5f);  // 90° about +X: -Z turns to +Y
-  int bulb = w.add_node({{"translation", {1, 2, 3}},
-                         {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
-  int spot = w.add_node({{"rotation", {s, 0, 0, s}},
-                         {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  int bulb = w.add_node(
+      {{"translation", {1, 2, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  int spot = w.add_node(
+      {{"rotation", {s, 0, 0, s}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
   int sun = w.add_node({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
   w.doc["scenes"][0]["nodes"] = {0, bulb, spot, sun};
   Scene scene = load_gltf(w.write_gltf(dir / "lights.gltf"));
@@ -308,6 +312,40 @@ TEST_CASE("gltf: KHR_lights_punctual lights, placed by their nodes") {
   CHECK(sun_light.type == dacrt::PunctualLight::Type::directional);
   CHECK(near(sun_light.direction, {0, 0, -1}));
   CHECK(sun_light.range == 0.f);
+}
+
+TEST_CASE("gltf: EXT_mesh_gpu_instancing draws the mesh once per instance") {
+  TempDir dir("instancing");
+  GltfWriter w;
+  int position = w.add_vec3(kTriangle);
+  int mesh = w.add_mesh({GltfWriter::primitive(position)});
+  int translation = w.add_vec3({{10, 0, 0}, {0, 10, 0}, {0, 0, 10}}, false);
+  // Instance rotations as normalised SHORTs: identity, identity, 90° about +Z.
+  const int16_t s = int16_t(std::lround(32767 * std::sqrt(0.5)));
+  std::vector<int16_t> quats = {0, 0, 0, 32767, 0, 0, 0, 32767, 0, 0, s, s};
+  int rotation = w.add_accessor(w.add_view(quats.data(), quats.size() * 2), 5122, 3, "VEC4");
+  w.doc["accessors"][rotation]["normalized"] = true;
+  int scale = w.add_vec3({{1, 1, 1}, {2, 2, 2}, {1, 1, 1}}, false);
+  int node = w.add_node(
+      {{"mesh", mesh},
+       {"translation", {0, 0, 1}},
+       {"extensions",
+        {{"EXT_mesh_gpu_instancing",
+          {{"attributes",
+            {{"TRANSLATION", translation}, {"ROTATION", rotation}, {"SCALE", scale}}}}}}}});
+  w.set_scene({node});
+  w.doc["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+  w.doc["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
+  Scene scene = load_gltf(w.write_gltf(dir / "instances.gltf"));
+  REQUIRE(scene.geometry.size() == 3);  // never at the node itself
+  const dacrt::Geometry& g = scene.geometry;
+  // The node's transform applies after the instance's: corners + (0, 0, 1).
+  CHECK(near(g.vertex(0, 0), kTriangle[0] + glm::vec3(10, 0, 1)));
+  CHECK(near(g.vertex(1, 1), 2.f * kTriangle[1] + glm::vec3(0, 10, 1)));
+  // 90° about +Z turns +X into +Y.
+  CHECK(near(g.vertex(2, 1) - g.vertex(2, 0),
+             glm::vec3(-(kTriangle[1] - kTriangle[0]).y, (kTriangle[1] - kTriangle[0]).x, 0), 1e-4f));
+  CHECK(scene.mesh_count == 1);
 }
 
 TEST_CASE("gltf: an empty scene is valid and still has a material and a camera") {
@@ -367,8 +405,8 @@ TEST_CASE("gltf: an indexed strip drops the degenerate triangles that join its p
   int position = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 0, 0}, {2, 1, 0}});
   // Two strips, (0 1 2 3) and (1 4 3 5), joined by repeating 3 and 1.
   int indices = w.add_indices(std::vector<uint16_t>{0, 1, 2, 3, 3, 1, 1, 4, 3, 5});
-  w.set_scene({w.add_node(
-      {{"mesh", w.add_mesh({GltfWriter::primitive(position, {{"mode", 5}, {"indices", indices}})})}})});
+  w.set_scene({w.add_node({{"mesh", w.add_mesh({GltfWriter::primitive(
+                                        position, {{"mode", 5}, {"indices", indices}})})}})});
   Scene scene = load_gltf(w.write_gltf(dir / "strip.gltf"));
   CHECK(scene.geometry.size() == 4);
   for (size_t t = 0; t < scene.geometry.size(); ++t) CHECK(scene.geometry.area(t) > 0.f);
@@ -635,17 +673,17 @@ TEST_CASE("gltf errors: nodes, meshes, materials and cameras") {
          {"material 0", "KHR_materials_ior.ior"});
   broken("specular-color.gltf",
          [](json& d) {
-           d["materials"] = {{{"extensions",
-                               {{"KHR_materials_specular", {{"specularColorFactor", {1, 1}}}}}}}};
-         },
-         {"material 0", "specularColorFactor"});
-  broken("specular-negative.gltf",
-         [](json& d) {
            d["materials"] = {
-               {{"extensions",
-                 {{"KHR_materials_specular", {{"specularColorFactor", {1, -1, 1}}}}}}}};
+               {{"extensions", {{"KHR_materials_specular", {{"specularColorFactor", {1, 1}}}}}}}};
          },
          {"material 0", "specularColorFactor"});
+  broken(
+      "specular-negative.gltf",
+      [](json& d) {
+        d["materials"] = {
+            {{"extensions", {{"KHR_materials_specular", {{"specularColorFactor", {1, -1, 1}}}}}}}};
+      },
+      {"material 0", "specularColorFactor"});
   auto with_light = [](json light) {
     return [light](json& d) {
       d["extensions"]["KHR_lights_punctual"]["lights"] = {light};
@@ -653,15 +691,22 @@ TEST_CASE("gltf errors: nodes, meshes, materials and cameras") {
     };
   };
   broken("light-type.gltf", with_light({{"type", "area"}}), {"light 0", "area"});
-  broken("light-cone.gltf",
-         with_light({{"type", "spot"}, {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}}),
-         {"light 0", "innerConeAngle"});
+  broken(
+      "light-cone.gltf",
+      with_light({{"type", "spot"}, {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}}),
+      {"light 0", "innerConeAngle"});
   broken("light-intensity.gltf", with_light({{"type", "point"}, {"intensity", -1}}),
          {"light 0", "intensity"});
-  broken("light-color.gltf", with_light({{"type", "point"}, {"color", {1, 1}}}), {"light 0", "color"});
+  broken("light-color.gltf", with_light({{"type", "point"}, {"color", {1, 1}}}),
+         {"light 0", "color"});
   broken("light-index.gltf",
          [](json& d) { d["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 4; },
          {"node 0", "light 4"});
+  broken("instances.gltf",
+         [](json& d) {
+           d["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"] = {{"attributes", json::object()}};
+         },
+         {"node 0", "EXT_mesh_gpu_instancing"});
   broken("draco.gltf", [](json& d) { d["extensionsRequired"] = {"KHR_draco_mesh_compression"}; },
          {"KHR_draco_mesh_compression"});
 }

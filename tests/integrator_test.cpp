@@ -306,7 +306,8 @@ TEST_CASE("furnace: under an environment map of 1, a white diffuse sphere render
   // A map that is bright in one small patch: importance sampling finds it.
   Image patch(32, 16);
   for (int y = 5; y < 7; ++y)
-    for (int x = 20; x < 22; ++x) patch.pixel(x, y)[0] = patch.pixel(x, y)[1] = patch.pixel(x, y)[2] = 50.f;
+    for (int x = 20; x < 22; ++x)
+      patch.pixel(x, y)[0] = patch.pixel(x, y)[1] = patch.pixel(x, y)[2] = 50.f;
   s.environment_map = std::make_shared<const EnvironmentMap>(patch, "patch");
   scene.lights.clear();
   Result sampled = render(scene, s);

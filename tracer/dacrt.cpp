@@ -30,14 +30,13 @@
 namespace dacrt {
 
 const std::set<std::string, std::less<>>& DacrtParams::keys() {
-  static const std::set<std::string, std::less<>> k = {"bins",           "leaf_rays",
-                                                       "leaf_work",      "leaf_triangles",
-                                                       "sample_size",    "sample_threshold",
-                                                       "filter_skip",    "cost_traversal",
-                                                       "cost_intersect", "seed",
-                                                       "max_depth",      "max_leaf_triangles",
-                                                       "small_nodes",    "simd",
-                                                       "task_rays",      "chunks"};
+  static const std::set<std::string, std::less<>> k = {
+      "bins",           "leaf_rays",      "leaf_work",
+      "leaf_triangles", "sample_size",    "sample_threshold",
+      "filter_skip",    "cost_traversal", "cost_intersect",
+      "seed",           "max_depth",      "max_leaf_triangles",
+      "small_nodes",    "simd",           "task_rays",
+      "chunks"};
   return k;
 }
 
@@ -345,7 +344,7 @@ class Dacrt final : public Backend {
           });
     }
   };
-  std::mutex buffer_mutex_;  // held by the call that uses the records below
+  std::mutex buffer_mutex_;           // held by the call that uses the records below
   std::vector<Triangles> triangles_;  // one per chunk
   std::unique_ptr<RayRef[]> ray_buffer_;
   size_t ray_capacity_ = 0;
@@ -487,8 +486,9 @@ __attribute__((target("avx512f"))) inline __m512 abs_avx512(__m512 x) {
 // Field `field` of up to 16 records of 9 floats from r; lanes outside `live` read nothing, give 0.
 __attribute__((target("avx512f"))) inline __m512 gather_avx512(const float* r, int field,
                                                                __mmask16 live) {
-  const __m512i stride = _mm512_mullo_epi32(
-      _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15), _mm512_set1_epi32(9));
+  const __m512i stride =
+      _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+                         _mm512_set1_epi32(9));
   return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), live, stride, r + field, 4);
 }
 
