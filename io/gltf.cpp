@@ -742,9 +742,13 @@ class Loader {
 
 }  // namespace
 
-Scene load_gltf(const std::string& path, const GltfOptions& options) {
+namespace {
+
+// Runs `read` (which gives the model) and the loader, turning every failure into one Error line.
+template <typename Read>
+Scene load(const std::string& path, const GltfOptions& options, Read read) {
   try {
-    tinygltf::Model model = read_gltf_model(path);
+    tinygltf::Model model = read();
     return Loader(path, model).run(options.scene);
   } catch (const Error&) {
     throw;
@@ -753,6 +757,17 @@ Scene load_gltf(const std::string& path, const GltfOptions& options) {
   } catch (const std::exception& e) {
     throw Error(path + ": cannot be loaded: " + one_line(e.what()));
   }
+}
+
+}  // namespace
+
+Scene load_gltf(const std::string& path, const GltfOptions& options) {
+  return load(path, options, [&] { return read_gltf_model(path); });
+}
+
+Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
+                       const GltfOptions& options) {
+  return load(path, options, [&] { return parse_gltf_model(path, data, size); });
 }
 
 }  // namespace dacrt

@@ -13,5 +13,9 @@ struct GltfOptions {
 };
 
 Scene load_gltf(const std::string& path, const GltfOptions& options = {});
+// The same from a file's bytes in memory (the fuzzer's entry point); `path` names them in
+// messages and is where external buffers are looked for.
+Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
+                       const GltfOptions& options = {});
 
 }  // namespace dacrt

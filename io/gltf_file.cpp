@@ -162,4 +162,8 @@ tinygltf::Model read_gltf_model(const std::string& path) {
   return parse(path, data);  // a GLB's BIN chunk is copied into model.buffers
 }
 
+tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size) {
+  return parse(path, Bytes(data, data + size));
+}
+
 }  // namespace dacrt

@@ -11,5 +11,8 @@
 namespace dacrt {
 
 tinygltf::Model read_gltf_model(const std::string& path);
+// The same from bytes already in memory; `path` names them in messages, and external buffers are
+// looked up beside it.
+tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size);
 
 }  // namespace dacrt

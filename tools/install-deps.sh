@@ -6,6 +6,7 @@ set -euo pipefail
 
 packages=(cmake g++ make pkg-config libtinygltf-dev nlohmann-json3-dev libstb-dev libopenexr-dev
           libglm-dev libopencolorio-dev doctest-dev libtbb-dev libembree-dev)
+packages+=("$@")  # extra packages a target needs (make fuzz: clang and its runtime)
 
 missing=()
 for p in "${packages[@]}"; do
