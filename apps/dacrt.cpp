@@ -343,6 +343,12 @@ int info(const std::vector<std::string>& args) {
   std::printf(
       "lights     %zu emissive triangles, %zu punctual (%zu point, %zu spot, %zu directional)\n",
       emissive_triangles, scene.lights.size(), punctual[0], punctual[1], punctual[2]);
+  const Scene::Ignored& ig = scene.ignored;
+  if (ig.any())
+    std::printf(
+        "ignores    %zu textured, %zu alpha MASK, %zu alpha BLEND, %zu transmissive "
+        "materials; %zu vertex-coloured primitives (this version renders factors only)\n",
+        ig.textured_materials, ig.alpha_mask, ig.alpha_blend, ig.transmissive, ig.vertex_colors);
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {
@@ -360,7 +366,10 @@ int info(const std::vector<std::string>& args) {
   else
     std::printf("bounds     (%g, %g, %g) to (%g, %g, %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y,
                 b.hi.z);
-  std::printf("skips      %s\n", emissive_triangles ? "nothing" : "shadow rays (no emitters)");
+  std::printf("skips      %s\n", emissive_triangles || !scene.lights.empty()
+                                     ? "nothing"
+                                     : "shadow rays (no emitters and no lights; an "
+                                       "--environment FILE.exr map brings them back)");
   return 0;
 }
 

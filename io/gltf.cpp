@@ -148,6 +148,20 @@ class Loader {
     };
     warn(skipped_modes_, "point and line primitives");
     warn(skipped_unpositioned_, "primitives without POSITION");
+    const Scene::Ignored& i = scene_.ignored;
+    if (i.any()) {
+      std::string what;
+      auto add = [&](size_t n, const char* name) {
+        if (n) what += (what.empty() ? "" : ", ") + str(n) + " " + name;
+      };
+      add(i.textured_materials, "materials with textures");
+      add(i.alpha_mask, "alphaMode MASK materials");
+      add(i.alpha_blend, "alphaMode BLEND materials");
+      add(i.transmissive, "KHR_materials_transmission materials");
+      add(i.vertex_colors, "primitives with vertex colours");
+      std::cerr << "warning: " << path_
+                << ": not rendered in this version (factors only, opaque): " << what << "\n";
+    }
     return std::move(scene_);
   }
 
@@ -364,6 +378,13 @@ class Loader {
       Material m;
       m.name = src.name;
       m.double_sided = src.doubleSided;
+      Scene::Ignored& ignored = scene_.ignored;
+      ignored.textured_materials += src.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
+                                    src.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
+                                    src.normalTexture.index >= 0 || src.emissiveTexture.index >= 0;
+      ignored.alpha_mask += src.alphaMode == "MASK";
+      ignored.alpha_blend += src.alphaMode == "BLEND";
+      ignored.transmissive += src.extensions.count("KHR_materials_transmission") > 0;
       const auto& base = src.pbrMetallicRoughness.baseColorFactor;
       const auto& emissive = src.emissiveFactor;
       if (base.size() != 4)
@@ -566,6 +587,7 @@ class Loader {
       return;
     }
     uint32_t material = material_for(prim.material, where);
+    scene_.ignored.vertex_colors += first_instance && prim.attributes.count("COLOR_0") > 0;
 
     std::vector<glm::vec3> points = read_vec3(position->second, "POSITION of " + where);
     size_t vertex_count = points.size();

@@ -82,6 +82,17 @@ struct Scene {
   std::vector<PunctualLight> lights;  // KHR_lights_punctual, one per node that has one
   size_t cameras_from_file = 0;       // if 0, cameras[0] was made to frame the scene's bounds
 
+  // What the file uses that this version does not render yet (the loader warns once): materials
+  // with textures, alpha-masked or blended materials, transmissive materials, and primitives with
+  // vertex colours. Counted per material or primitive of the file.
+  struct Ignored {
+    size_t textured_materials = 0, alpha_mask = 0, alpha_blend = 0, transmissive = 0;
+    size_t vertex_colors = 0;
+    bool any() const {
+      return textured_materials || alpha_mask || alpha_blend || transmissive || vertex_colors;
+    }
+  } ignored;
+
   // Counts from the file, for `dacrt info`.
   size_t mesh_count = 0;
   size_t primitive_count = 0;

@@ -344,8 +344,35 @@ TEST_CASE("gltf: EXT_mesh_gpu_instancing draws the mesh once per instance") {
   CHECK(near(g.vertex(1, 1), 2.f * kTriangle[1] + glm::vec3(0, 10, 1)));
   // 90° about +Z turns +X into +Y.
   CHECK(near(g.vertex(2, 1) - g.vertex(2, 0),
-             glm::vec3(-(kTriangle[1] - kTriangle[0]).y, (kTriangle[1] - kTriangle[0]).x, 0), 1e-4f));
+             glm::vec3(-(kTriangle[1] - kTriangle[0]).y, (kTriangle[1] - kTriangle[0]).x, 0),
+             1e-4f));
   CHECK(scene.mesh_count == 1);
+}
+
+TEST_CASE("gltf: what this version does not render is counted (and warned about)") {
+  TempDir dir("ignored");
+  GltfWriter w;
+  w.add_material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+  w.add_material({{"alphaMode", "MASK"}, {"normalTexture", {{"index", 0}}}});
+  w.add_material({{"alphaMode", "BLEND"},
+                  {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}}}});
+  int position = w.add_vec3(kTriangle);
+  int color = w.add_vec3({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, false);
+  w.set_scene({w.add_node(
+      {{"mesh", w.add_mesh({GltfWriter::primitive(position, {{"material", 0}}),
+                            GltfWriter::primitive(position, {{"material", 1}}),
+                            GltfWriter::primitive(position, {{"material", 2}}),
+                            {{"attributes", {{"POSITION", position}, {"COLOR_0", color}}}}})}})});
+  Scene scene = load_gltf(w.write_gltf(dir / "ignored.gltf"));
+  CHECK(scene.geometry.size() == 4);
+  const Scene::Ignored& i = scene.ignored;
+  CHECK(i.textured_materials == 2);
+  CHECK(i.alpha_mask == 1);
+  CHECK(i.alpha_blend == 1);
+  CHECK(i.transmissive == 1);
+  CHECK(i.vertex_colors == 1);
+  CHECK(i.any());
+  CHECK(!load_gltf(triangle_file().write_gltf(dir / "plain.gltf")).ignored.any());
 }
 
 TEST_CASE("gltf: an empty scene is valid and still has a material and a camera") {
@@ -702,11 +729,12 @@ TEST_CASE("gltf errors: nodes, meshes, materials and cameras") {
   broken("light-index.gltf",
          [](json& d) { d["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 4; },
          {"node 0", "light 4"});
-  broken("instances.gltf",
-         [](json& d) {
-           d["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"] = {{"attributes", json::object()}};
-         },
-         {"node 0", "EXT_mesh_gpu_instancing"});
+  broken(
+      "instances.gltf",
+      [](json& d) {
+        d["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"] = {{"attributes", json::object()}};
+      },
+      {"node 0", "EXT_mesh_gpu_instancing"});
   broken("draco.gltf", [](json& d) { d["extensionsRequired"] = {"KHR_draco_mesh_compression"}; },
          {"KHR_draco_mesh_compression"});
 }
