@@ -12,7 +12,7 @@
 // primitives without POSITION (the spec says to skip them).
 // Ignored: images and textures (a no-op image loader accepts anything), skins, morph targets,
 // animations, and extensions that are only "used" (the spec says the asset renders without them).
-// Rejected: files that *require* compressed, quantised or GPU-instanced meshes.
+// Rejected: files that *require* compressed or quantised meshes.
 // Normals that are NaN, infinite or zero are replaced by the triangle's geometric normal: they are
 // only shading hints. A non-finite position is an error, since the triangle has no place.
 #include "io/gltf.h"
@@ -31,6 +31,7 @@
 #include <iostream>
 #include <limits>
 #include <new>
+#include <optional>
 #include <string_view>
 
 #include "io/gltf_file.h"
@@ -57,6 +58,12 @@ std::string str(Number n) {
 // a + b for messages, saturating instead of wrapping.
 size_t sat_add(size_t a, size_t b) {
   return a > SIZE_MAX - b ? SIZE_MAX : a + b;
+}
+
+// True if the material has extension `extension` with member `member`.
+bool has_member(const tinygltf::Material& m, const char* extension, const char* member) {
+  auto e = m.extensions.find(extension);
+  return e != m.extensions.end() && e->second.IsObject() && e->second.Has(member);
 }
 
 bool finite(const glm::vec3& v) {
@@ -280,10 +287,11 @@ class Loader {
   }
 
   // EXT_mesh_gpu_instancing's per-instance TRANSLATION, ROTATION and SCALE as matrices (T R S);
-  // empty when the node does not use it.
-  std::vector<glm::mat4> instance_transforms(const tinygltf::Node& node, int index) const {
+  // nothing when the node does not use it (and an empty list for zero instances).
+  std::optional<std::vector<glm::mat4>> instance_transforms(const tinygltf::Node& node,
+                                                            int index) const {
     auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
-    if (ext == node.extensions.end()) return {};
+    if (ext == node.extensions.end()) return std::nullopt;
     const std::string where = "node " + str(index) + " EXT_mesh_gpu_instancing";
     if (!ext->second.IsObject() || !ext->second.Has("attributes") ||
         !ext->second.Get("attributes").IsObject())
@@ -334,6 +342,8 @@ class Loader {
         (type != TINYGLTF_COMPONENT_TYPE_FLOAT && type != TINYGLTF_COMPONENT_TYPE_BYTE &&
          type != TINYGLTF_COMPONENT_TYPE_SHORT))
       fail("accessor " + str(accessor) + " (" + role + ") must be a FLOAT, BYTE or SHORT VEC4");
+    if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !model_.accessors[size_t(accessor)].normalized)
+      fail("accessor " + str(accessor) + " (" + role + ") must be normalized (BYTE or SHORT)");
     std::vector<glm::quat> out(v.count);
     for (size_t i = 0; i < v.count; ++i) {
       float q[4];
@@ -379,9 +389,12 @@ class Loader {
       m.name = src.name;
       m.double_sided = src.doubleSided;
       Scene::Ignored& ignored = scene_.ignored;
-      ignored.textured_materials += src.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
-                                    src.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
-                                    src.normalTexture.index >= 0 || src.emissiveTexture.index >= 0;
+      ignored.textured_materials +=
+          src.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
+          src.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
+          src.normalTexture.index >= 0 || src.emissiveTexture.index >= 0 ||
+          has_member(src, "KHR_materials_specular", "specularTexture") ||
+          has_member(src, "KHR_materials_specular", "specularColorTexture");
       ignored.alpha_mask += src.alphaMode == "MASK";
       ignored.alpha_blend += src.alphaMode == "BLEND";
       ignored.transmissive += src.extensions.count("KHR_materials_transmission") > 0;
@@ -423,7 +436,7 @@ class Loader {
       const double ior = extension_number("KHR_materials_ior", "ior", 1.5);
       if (!(ior >= 1.0 || ior == 0.0))
         fail(what + ": KHR_materials_ior.ior is " + std::to_string(ior) + ", not 0 or >= 1");
-      m.ior = float(ior);
+      m.ior = float(std::min(ior, 1e6));  // beyond, F0 is 1 to float precision
       m.specular = unit(extension_number("KHR_materials_specular", "specularFactor", 1.0),
                         "KHR_materials_specular.specularFactor");
       auto specular = src.extensions.find("KHR_materials_specular");
@@ -531,10 +544,10 @@ class Loader {
       glm::mat4 world = item.parent_world * local_transform(item.node);
       if (node.mesh != -1) {
         // EXT_mesh_gpu_instancing: the mesh once per instance, never at the node itself.
-        if (auto instances = instance_transforms(node, item.node); instances.empty())
+        if (auto instances = instance_transforms(node, item.node); !instances)
           add_mesh(node.mesh, world, item.node);
         else
-          for (const glm::mat4& m : instances) add_mesh(node.mesh, world * m, item.node);
+          for (const glm::mat4& m : *instances) add_mesh(node.mesh, world * m, item.node);
       }
       if (node.camera != -1) add_camera(node.camera, world, item.node);
       add_light(node, world, item.node);

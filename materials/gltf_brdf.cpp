@@ -54,7 +54,8 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
                       std::clamp(p.roughness, 0.f, 1.f) * std::clamp(p.roughness, 0.f, 1.f))) {
   // KHR_materials_ior's F0 = ((ior − 1) / (ior + 1))², times specularColor (at most 1) and
   // specular; F90 = specular (KHR_materials_specular).
-  const float r = (p.ior - 1.f) / (p.ior + 1.f);
+  const float ior = std::min(p.ior, 1e6f);  // "infinite" IORs (spec-gloss conversions): F0 → 1
+  const float r = (ior - 1.f) / (ior + 1.f);
   const float specular = std::clamp(p.specular, 0.f, 1.f);
   f0_ = glm::min(r * r * glm::max(p.specular_color, 0.f), glm::vec3(1.f)) * specular;
   f90_ = specular;
@@ -67,7 +68,10 @@ glm::vec3 GltfBrdf::eval(const glm::vec3& wo, const glm::vec3& wi) const {
   const float specular = ggx_d(h.z, alpha_) * ggx_visibility(wo.z, wi.z, alpha_);
   const glm::vec3 fd = f0_ + (f90_ - f0_) * w;
   const glm::vec3 fm = base_ + (1.f - base_) * w;
-  const glm::vec3 dielectric = (1.f - fd) * base_ * glm::one_over_pi<float>() + fd * specular;
+  // KHR_materials_specular's fresnel_mix: the base keeps 1 − max(F) (one number: a coloured
+  // specular does not tint the diffuse), the layer gets F per channel.
+  const float kept = 1.f - std::max({fd.x, fd.y, fd.z});
+  const glm::vec3 dielectric = kept * base_ * glm::one_over_pi<float>() + fd * specular;
   return (1.f - metallic_) * dielectric + metallic_ * fm * specular;
 }
 
@@ -77,7 +81,7 @@ float GltfBrdf::specular_probability(const glm::vec3& wo) const {
   const glm::vec3 fd = f0_ + (f90_ - f0_) * w;
   const glm::vec3 fm = base_ + (1.f - base_) * w;
   const float specular = (1.f - metallic_) * luminance(fd) + metallic_ * luminance(fm);
-  const float diffuse = (1.f - metallic_) * luminance((1.f - fd) * base_);
+  const float diffuse = (1.f - metallic_) * (1.f - std::max({fd.x, fd.y, fd.z})) * luminance(base_);
   if (!(specular + diffuse > 0.f)) return 0.5f;  // black: either will do
   return specular / (specular + diffuse);
 }

@@ -1,6 +1,6 @@
 // The glTF 2.0 metallic-roughness BRDF (specification, Appendix B), with KHR_materials_specular
 // and KHR_materials_ior:
-//   f = (1 − metallic) · [(1 − F_d) · baseColor / π + F_d · D · V] + metallic · F_m · D · V
+//   f = (1 − metallic) · [(1 − max F_d) · baseColor / π + F_d · D · V] + metallic · F_m · D · V
 // D is the Trowbridge-Reitz (GGX) distribution with α = roughness², V the height-correlated Smith
 // visibility G₂ / (4 |n·l| |n·v|), F_d the dielectric Fresnel (Schlick, F0 from the IOR times
 // specularColor and specular, F90 = specular) and F_m the metal's (F0 = baseColor, F90 = 1).

@@ -30,9 +30,9 @@ glm::vec3 PunctualLight::irradiance_towards(const glm::vec3& to) const {
   const float d2 = glm::dot(to, to);
   if (!(d2 > 0.f)) return glm::vec3(0.f);
   float falloff = 1.f / d2;
-  if (range > 0.f) {  // KHR_lights_punctual's recommended window: smooth, 0 from `range` on
+  if (range > 0.f) {  // KHR_lights_punctual's recommended window: clamp(1 − (d/range)⁴, 0, 1)
     const float r = d2 / (range * range);
-    falloff *= std::pow(std::clamp(1.f - r * r, 0.f, 1.f), 2.f);
+    falloff *= std::clamp(1.f - r * r, 0.f, 1.f);
   }
   if (type == Type::spot) {
     const float cd = glm::dot(direction, to) / std::sqrt(d2);

@@ -113,6 +113,24 @@ TEST_CASE("glTF BRDF samples carry eval · cos / pdf, and pdf() is their density
   }
 }
 
+TEST_CASE("glTF BRDF: a coloured specular does not tint the diffuse; an infinite IOR is a mirror") {
+  // Far from the mirror direction of a sharp lobe only the diffuse part is left: grey for a white
+  // base, whatever the specular colour (fresnel_mix keeps 1 − max F of the base).
+  const GltfBrdf tinted({glm::vec3(1.f), 0.f, 0.05f, 1.5f, 1.f, glm::vec3(1.f, 0.f, 0.f)});
+  const glm::vec3 f =
+      tinted.eval(direction(glm::radians(60.f), 0.f), direction(glm::radians(10.f), 2.f));
+  CHECK(f.x > 0.f);
+  CHECK(f.y == doctest::Approx(f.x).epsilon(1e-4));
+  CHECK(f.z == doctest::Approx(f.x).epsilon(1e-4));
+  // Spec-gloss conversions write huge IORs for "F0 = 1": finite values, a full specular layer.
+  const GltfBrdf huge({glm::vec3(0.5f), 0.f, 0.5f, 1e30f, 1.f, glm::vec3(1.f)});
+  const glm::vec3 wo = direction(glm::radians(40.f), 0.f);
+  const glm::vec3 g = huge.eval(wo, direction(glm::radians(40.f), glm::pi<float>()));
+  CHECK(std::isfinite(g.x));
+  CHECK(g.x > 0.f);
+  CHECK(std::isfinite(huge.pdf(wo, glm::vec3(0, 0, 1))));
+}
+
 TEST_CASE("glTF BRDF is reciprocal and zero below the surface") {
   Pcg32 rng(5);
   for (const Config& c : configs()) {

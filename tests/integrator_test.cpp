@@ -214,6 +214,20 @@ TEST_CASE("punctual lights: point, spot and directional light a Lambert plane as
         INFO("pixel " << x << ", " << y);
         CHECK(std::abs(m.x - expected) <= 5.0 * m.y + 2e-3 * expected);
       }
+    // Within a range the spec's window clamp(1 − (d/range)⁴, 0, 1) dims it.
+    scene.lights[0].range = 2.f;
+    Result windowed = render(scene, s);
+    for (int y = 0; y < 16; y += 5)
+      for (int x = 0; x < 16; x += 5) {
+        const double expected = pixel_mean(x, y, [&](glm::vec3 p) {
+          const glm::vec3 to = l.position - p;
+          const double d2 = glm::dot(to, to), q = d2 / 4.0;
+          return brdf * 2.0 * (to.z / std::sqrt(d2)) / d2 * std::clamp(1.0 - q * q, 0.0, 1.0);
+        });
+        const glm::dvec2 m = windowed.film.mean_and_error(size_t(y) * 16 + x);
+        INFO("pixel " << x << ", " << y);
+        CHECK(std::abs(m.x - expected) <= 5.0 * m.y + 2e-3 * expected);
+      }
     // With a range of 0.5 the plane, 1 away, gets nothing.
     scene.lights[0].range = 0.5f;
     Result out_of_range = render(scene, s);
