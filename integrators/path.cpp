@@ -247,10 +247,16 @@ class PathTracer final : public Integrator {
     float weight = power_heuristic(light_pdf, brdf.pdf(wo, wi_local));
     glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) * light.emission *
                   (cos_surface * weight / light_pdf);
-    if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
     // The segment runs between the two offset points, so neither surface can occlude it.
     glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);
-    shadow_.set(i, origin, target - origin, 0.f, 1.f, path);
+    queue_shadow(i, path, origin, target - origin, 1.f, c);
+  }
+
+  // Puts a shadow ray in slot i that adds `c` to the path if nothing occludes it; none if c is 0.
+  void queue_shadow(size_t i, uint32_t path, const glm::vec3& origin, const glm::vec3& direction,
+                    float tmax, const glm::vec3& c) {
+    if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
+    shadow_.set(i, origin, direction, 0.f, tmax, path);
     shadow_contribution_[i] = c;
     has_shadow_[i] = 1;
   }
@@ -267,10 +273,7 @@ class PathTracer final : public Integrator {
     const float weight = power_heuristic(pdf, brdf.pdf(wo, wi_local));
     const glm::vec3 c =
         throughput_[path] * brdf.eval(wo, wi_local) * es.radiance * (wi_local.z * weight / pdf);
-    if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
-    shadow_.set(i, origin, es.direction, 0.f, INFINITY, path);
-    shadow_contribution_[i] = c;
-    has_shadow_[i] = 1;
+    queue_shadow(i, path, origin, es.direction, INFINITY, c);
   }
 
   // Next-event estimation towards a punctual light: a delta, so no MIS (BRDF sampling never
@@ -287,13 +290,10 @@ class PathTracer final : public Integrator {
     if (wi_local.z <= 0.f || glm::dot(wi, ng) <= 0.f) return;
     const glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) * light.irradiance_towards(to) *
                         (wi_local.z / pmf);
-    if (!(c.x > 0.f || c.y > 0.f || c.z > 0.f)) return;
     if (directional)
-      shadow_.set(i, origin, wi, 0.f, INFINITY, path);
+      queue_shadow(i, path, origin, wi, INFINITY, c);
     else
-      shadow_.set(i, origin, light.position - origin, 0.f, 1.f, path);
-    shadow_contribution_[i] = c;
-    has_shadow_[i] = 1;
+      queue_shadow(i, path, origin, light.position - origin, 1.f, c);
   }
 
   void trace_shadows() {

@@ -409,10 +409,8 @@ class Loader {
       glm::vec3 emission = glm::clamp(glm::vec3(emissive[0], emissive[1], emissive[2]), 0.f, 1.f);
       // A number member of an extension object, or `fallback` when it is absent.
       auto extension_number = [&](const char* extension, const char* member, double fallback) {
-        auto e = src.extensions.find(extension);
-        if (e == src.extensions.end() || !e->second.IsObject() || !e->second.Has(member))
-          return fallback;
-        const tinygltf::Value& value = e->second.Get(member);
+        if (!has_member(src, extension, member)) return fallback;
+        const tinygltf::Value& value = src.extensions.at(extension).Get(member);
         if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
           fail(what + ": " + extension + "." + member + " is not a finite number");
         return value.GetNumberAsDouble();
@@ -439,10 +437,9 @@ class Loader {
       m.ior = float(std::min(ior, 1e6));  // beyond, F0 is 1 to float precision
       m.specular = unit(extension_number("KHR_materials_specular", "specularFactor", 1.0),
                         "KHR_materials_specular.specularFactor");
-      auto specular = src.extensions.find("KHR_materials_specular");
-      if (specular != src.extensions.end() && specular->second.IsObject() &&
-          specular->second.Has("specularColorFactor")) {
-        const tinygltf::Value& c = specular->second.Get("specularColorFactor");
+      if (has_member(src, "KHR_materials_specular", "specularColorFactor")) {
+        const tinygltf::Value& c =
+            src.extensions.at("KHR_materials_specular").Get("specularColorFactor");
         if (!c.IsArray() || c.ArrayLen() != 3)
           fail(what + ": KHR_materials_specular.specularColorFactor is not 3 numbers");
         for (int k = 0; k < 3; ++k) {

@@ -64,24 +64,24 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
 glm::vec3 GltfBrdf::eval(const glm::vec3& wo, const glm::vec3& wi) const {
   if (wo.z <= 0.f || wi.z <= 0.f) return glm::vec3(0.f);
   const glm::vec3 h = glm::normalize(wo + wi);
-  const float w = std::pow(1.f - std::clamp(glm::dot(wo, h), 0.f, 1.f), 5.f);
   const float specular = ggx_d(h.z, alpha_) * ggx_visibility(wo.z, wi.z, alpha_);
+  const Fresnel f = fresnel(glm::dot(wo, h));
+  const glm::vec3 dielectric = f.base * base_ * glm::one_over_pi<float>() + f.dielectric * specular;
+  return (1.f - metallic_) * dielectric + metallic_ * f.metal * specular;
+}
+
+GltfBrdf::Fresnel GltfBrdf::fresnel(float cos_theta) const {
+  const float w = std::pow(1.f - std::clamp(cos_theta, 0.f, 1.f), 5.f);
   const glm::vec3 fd = f0_ + (f90_ - f0_) * w;
-  const glm::vec3 fm = base_ + (1.f - base_) * w;
-  // KHR_materials_specular's fresnel_mix: the base keeps 1 − max(F) (one number: a coloured
-  // specular does not tint the diffuse), the layer gets F per channel.
-  const float kept = 1.f - std::max({fd.x, fd.y, fd.z});
-  const glm::vec3 dielectric = kept * base_ * glm::one_over_pi<float>() + fd * specular;
-  return (1.f - metallic_) * dielectric + metallic_ * fm * specular;
+  return {fd, base_ + (1.f - base_) * w, 1.f - std::max({fd.x, fd.y, fd.z})};
 }
 
 float GltfBrdf::specular_probability(const glm::vec3& wo) const {
   // The lobes' Fresnel weights as if the microfacet normal were the macro normal.
-  const float w = std::pow(1.f - std::clamp(wo.z, 0.f, 1.f), 5.f);
-  const glm::vec3 fd = f0_ + (f90_ - f0_) * w;
-  const glm::vec3 fm = base_ + (1.f - base_) * w;
-  const float specular = (1.f - metallic_) * luminance(fd) + metallic_ * luminance(fm);
-  const float diffuse = (1.f - metallic_) * (1.f - std::max({fd.x, fd.y, fd.z})) * luminance(base_);
+  const Fresnel f = fresnel(wo.z);
+  const float specular =
+      (1.f - metallic_) * luminance(f.dielectric) + metallic_ * luminance(f.metal);
+  const float diffuse = (1.f - metallic_) * f.base * luminance(base_);
   if (!(specular + diffuse > 0.f)) return 0.5f;  // black: either will do
   return specular / (specular + diffuse);
 }

@@ -50,6 +50,14 @@ class GltfBrdf {
   float alpha() const { return alpha_; }
 
  private:
+  // Schlick's Fresnel at cos θ (between wo and the microfacet normal): the dielectric's F, the
+  // metal's, and what KHR_materials_specular's fresnel_mix leaves the diffuse base, 1 − max F_d
+  // (one number: a coloured specular does not tint the diffuse).
+  struct Fresnel {
+    glm::vec3 dielectric, metal;
+    float base;
+  };
+  Fresnel fresnel(float cos_theta) const;
   // Probability of sampling the specular lobe when looking from wo.
   float specular_probability(const glm::vec3& wo) const;
   float specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const;
