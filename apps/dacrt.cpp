@@ -343,12 +343,27 @@ int info(const std::vector<std::string>& args) {
   std::printf(
       "lights     %zu emissive triangles, %zu punctual (%zu point, %zu spot, %zu directional)\n",
       emissive_triangles, scene.lights.size(), punctual[0], punctual[1], punctual[2]);
+  size_t textured = 0, image_bytes = 0, images = 0;
+  for (const auto& m : scene.materials) textured += m.textured();
+  for (const TextureImage& i : scene.images) {
+    images += i.width > 0;
+    image_bytes += i.rgba8.size() + 2 * i.rgba16.size();
+  }
+  std::printf("textures   %zu textured materials, %zu images decoded (%.1f MB)\n", textured, images,
+              double(image_bytes) / 1e6);
+  std::string attributes = "POSITION";
+  if (!scene.normals.empty()) attributes += ", NORMAL";
+  if (!scene.texcoords[0].empty()) attributes += ", TEXCOORD_0";
+  if (!scene.texcoords[1].empty()) attributes += ", TEXCOORD_1";
+  if (!scene.colors.empty()) attributes += ", COLOR_0";
+  if (!scene.tangents.empty()) attributes += ", tangents (from the file or generated)";
+  std::printf("attributes %s\n", attributes.c_str());
   const Scene::Ignored& ig = scene.ignored;
   if (ig.any())
     std::printf(
-        "ignores    %zu textured, %zu alpha MASK, %zu alpha BLEND, %zu transmissive "
-        "materials; %zu vertex-coloured primitives (this version renders factors only)\n",
-        ig.textured_materials, ig.alpha_mask, ig.alpha_blend, ig.transmissive, ig.vertex_colors);
+        "ignores    %zu alpha MASK, %zu alpha BLEND, %zu transmissive, %zu specular-textured "
+        "materials (drawn opaque, by factors)\n",
+        ig.alpha_mask, ig.alpha_blend, ig.transmissive, ig.specular_textures);
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {
@@ -366,10 +381,15 @@ int info(const std::vector<std::string>& args) {
   else
     std::printf("bounds     (%g, %g, %g) to (%g, %g, %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y,
                 b.hi.z);
-  std::printf("skips      %s\n", emissive_triangles || !scene.lights.empty()
-                                     ? "nothing"
-                                     : "shadow rays (no emitters and no lights; an "
-                                       "--environment FILE.exr map brings them back)");
+  std::string skips;
+  auto skip = [&](bool yes, const char* what) {
+    if (yes) skips += (skips.empty() ? "" : "; ") + std::string(what);
+  };
+  skip(!emissive_triangles && scene.lights.empty(),
+       "shadow rays (no emitters and no lights; an --environment FILE.exr map brings them back)");
+  skip(!textured, "texture lookups and uv interpolation (no textures)");
+  skip(scene.colors.empty(), "vertex colours (none)");
+  std::printf("skips      %s\n", skips.empty() ? "nothing" : skips.c_str());
   return 0;
 }
 

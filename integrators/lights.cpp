@@ -4,8 +4,26 @@
 #include <glm/gtc/constants.hpp>
 
 #include "materials/sampling.h"
+#include "scene/surface.h"
 
 namespace dacrt {
+namespace {
+
+// The triangle's emitted radiance, averaged over its centroid and the midpoints between the
+// centroid and each corner when the material has an emissive texture. Only the choice of light
+// depends on it: a texel it misses is still found by BRDF sampling (MIS gives that full weight
+// where next-event estimation's pmf is 0), so the estimator stays unbiased.
+glm::vec3 average_emission(const Scene& scene, uint32_t tri) {
+  const Material& m = scene.materials[scene.geometry.material[tri]];
+  if (!m.emissive_texture) return m.emission;
+  constexpr float third = 1.f / 3.f, near = 2.f / 3.f, far = 1.f / 6.f;
+  const glm::vec2 points[4] = {{third, third}, {far, far}, {near, far}, {far, near}};
+  glm::vec3 sum(0.f);
+  for (const glm::vec2& b : points) sum += emission_at(scene, tri, b.x, b.y);
+  return 0.25f * sum;
+}
+
+}  // namespace
 
 LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
   const Geometry& g = scene.geometry;
@@ -13,7 +31,8 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
   for (uint32_t tri = 0; tri < g.size(); ++tri) {
     const Material& m = scene.materials[g.material[tri]];
     if (!m.emissive()) continue;
-    double p = glm::pi<double>() * luminance(m.emission) * g.area(tri) * (m.double_sided ? 2 : 1);
+    double p = glm::pi<double>() * luminance(average_emission(scene, tri)) * g.area(tri) *
+               (m.double_sided ? 2 : 1);
     if (!(p > 0.0)) continue;  // zero-area or black emitters can never be sampled usefully
     triangles_.push_back(tri);
     power.push_back(p);
@@ -56,13 +75,14 @@ LightSampler::Sample LightSampler::sample(float u, float u1, float u2) const {
   size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
   i = std::min(i, cdf_.size() - 1);
   // A light whose pmf is 0 (black) sits on a flat stretch of the cdf and is never returned.
-  if (i >= triangles_.size()) return {int(i - triangles_.size()), 0, glm::vec3(0.f), pmf_[i]};
+  if (i >= triangles_.size())
+    return {int(i - triangles_.size()), 0, glm::vec3(0.f), glm::vec2(0.f), pmf_[i]};
   uint32_t tri = triangles_[i];
   glm::vec2 b = sample_triangle(u1, u2);
   const Geometry& g = scene_.geometry;
   glm::vec3 p =
       (1.f - b.x - b.y) * g.vertex(tri, 0) + b.x * g.vertex(tri, 1) + b.y * g.vertex(tri, 2);
-  return {-1, tri, p, pmf_[i]};
+  return {-1, tri, p, b, pmf_[i]};
 }
 
 }  // namespace dacrt

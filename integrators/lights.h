@@ -1,9 +1,10 @@
 // LightSampler: next-event estimation's choice of emitter. Emissive triangles and punctual lights
 // (KHR_lights_punctual) are picked in proportion to their power: π × luminance of the emitted
-// radiance × area × sides for a triangle (then a point uniformly on it), 4π I for a point light,
-// the cone's solid angle × I for a spot, and the irradiance over the scene's bounding disk for a
-// directional light. pmf() answers for any triangle, so MIS can weigh emitters found by BSDF
-// sampling; punctual lights are deltas that only next-event estimation can reach.
+// radiance × area × sides for a triangle (then a point uniformly on it; with an emissive texture,
+// the radiance is averaged over a few points of the triangle, so dark texels get few samples), 4π I
+// for a point light, the cone's solid angle × I for a spot, and the irradiance over the scene's
+// bounding disk for a directional light. pmf() answers for any triangle, so MIS can weigh emitters
+// found by BSDF sampling; punctual lights are deltas that only next-event estimation can reach.
 #pragma once
 
 #include <cstdint>
@@ -22,10 +23,11 @@ class LightSampler {
   size_t triangles() const { return triangles_.size(); }
 
   struct Sample {
-    int light;          // index into Scene::lights, or -1 for an emissive triangle
-    uint32_t triangle;  // the emissive triangle, when light is -1
-    glm::vec3 point;    // on the triangle
-    float pmf;          // probability of having picked this emitter
+    int light;              // index into Scene::lights, or -1 for an emissive triangle
+    uint32_t triangle;      // the emissive triangle, when light is -1
+    glm::vec3 point;        // on the triangle
+    glm::vec2 barycentric;  // of the point: (1 − x − y)·p0 + x·p1 + y·p2
+    float pmf;              // probability of having picked this emitter
   };
   // u picks the emitter, (u1, u2) the point on a triangle.
   Sample sample(float u, float u1, float u2) const;

@@ -13,6 +13,7 @@
 #include "integrators/integrator.h"
 #include "integrators/lights.h"
 #include "materials/sampling.h"
+#include "scene/surface.h"
 #include "tracer/ray.h"
 #include "util/random.h"
 
@@ -163,6 +164,8 @@ class PathTracer final : public Integrator {
     const float area2 = glm::length(ng);
     ng /= area2;
     const bool front = glm::dot(ng, d) < 0.f;
+    const float u = hits_.u[i], v = hits_.v[i];
+    const SurfacePoint surface = surface_at(scene_, tri, u, v, ng);
 
     if (m.emissive() && (front || m.double_sided)) {
       float weight = 1.f;
@@ -172,7 +175,7 @@ class PathTracer final : public Integrator {
                           (std::abs(glm::dot(ng, d)) * 0.5f * area2);
         weight = power_heuristic(bsdf_pdf_[path], light_pdf);
       }
-      radiance_[path] += beta * m.emission * weight;
+      radiance_[path] += beta * surface.emission * weight;
     }
     if (depth >= s_.max_depth) return;
     if (depth >= s_.roulette_depth) {
@@ -182,23 +185,16 @@ class PathTracer final : public Integrator {
     }
 
     // The surface point, and normals on the side the ray arrived from.
-    const float u = hits_.u[i], v = hits_.v[i];
     const glm::vec3 p =
         (1.f - u - v) * g.vertex(tri, 0) + u * g.vertex(tri, 1) + v * g.vertex(tri, 2);
     if (!front) ng = -ng;
-    glm::vec3 ns = ng;
-    if (!scene_.normals.empty()) {
-      const glm::vec3* n3 = &scene_.normals[3 * size_t(tri)];
-      glm::vec3 interpolated = (1.f - u - v) * n3[0] + u * n3[1] + v * n3[2];
-      float len = glm::length(interpolated);
-      if (len > 0.f) ns = interpolated / len;
-      if (glm::dot(ns, ng) < 0.f) ns = -ns;
-    }
+    glm::vec3 ns = surface.normal;
+    if (glm::dot(ns, ng) < 0.f) ns = -ns;
     // Interpolated normals can face away from the viewer where the geometric one does not; the
     // BRDF is then evaluated around the geometric normal.
     if (glm::dot(ns, d) >= 0.f) ns = ng;
     const Frame frame(ns);
-    const GltfBrdf brdf(m.brdf());
+    const GltfBrdf brdf(surface.brdf);
     const glm::vec3 wo = frame.to_local(-d);
     const glm::vec3 origin = offset_ray_origin(p, ng);
 
@@ -231,6 +227,7 @@ class PathTracer final : public Integrator {
       return punctual(i, path, p, scene_.lights[size_t(ls.light)], ls.pmf, ng, frame, brdf, wo,
                       origin);
     const Material& light = scene_.materials[g.material[ls.triangle]];
+    const glm::vec3 emission = emission_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
     glm::vec3 to = ls.point - p;
     float dist2 = glm::dot(to, to);
     if (!(dist2 > 0.f)) return;
@@ -245,8 +242,8 @@ class PathTracer final : public Integrator {
     if (cos_light <= 0.f || cos_surface <= 0.f || glm::dot(wi, ng) <= 0.f) return;
     float light_pdf = ls.pmf * dist2 / (cos_light * light_area);
     float weight = power_heuristic(light_pdf, brdf.pdf(wo, wi_local));
-    glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) * light.emission *
-                  (cos_surface * weight / light_pdf);
+    glm::vec3 c =
+        throughput_[path] * brdf.eval(wo, wi_local) * emission * (cos_surface * weight / light_pdf);
     // The segment runs between the two offset points, so neither surface can occlude it.
     glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);
     queue_shadow(i, path, origin, target - origin, 1.f, c);

@@ -5,21 +5,27 @@
 //
 // Supported: .gltf (external .bin or data URIs) and .glb; TRS and matrix nodes; triangle lists,
 // indexed (u8/u16/u32) or not; sparse accessors and accessors without a bufferView (zeros);
-// NORMAL; the metallic-roughness factors with KHR_materials_ior and KHR_materials_specular,
-// emissiveFactor × KHR_materials_emissive_strength, doubleSided; perspective and orthographic
-// cameras.
+// NORMAL, TANGENT, TEXCOORD_0/1 and COLOR_0 (float or normalised integers); the metallic-roughness
+// factors with KHR_materials_ior and KHR_materials_specular, emissiveFactor ×
+// KHR_materials_emissive_strength, doubleSided; baseColor, metallic-roughness, normal and
+// emissive textures with KHR_texture_transform and samplers, from PNG or JPEG images (embedded,
+// in a bufferView, or external files); tangents generated where a normal map needs them and the
+// file has none; perspective and orthographic cameras.
 // Triangle lists, strips and fans. Skipped with one warning line each: point and line primitives,
 // primitives without POSITION (the spec says to skip them).
-// Ignored: images and textures (a no-op image loader accepts anything), skins, morph targets,
-// animations, and extensions that are only "used" (the spec says the asset renders without them).
+// Ignored: occlusion textures (a path tracer computes occlusion), images no material uses (never
+// decoded), skins, morph targets, animations, and extensions that are only "used" (the spec says
+// the asset renders without them).
 // Rejected: files that *require* compressed or quantised meshes.
 // Normals that are NaN, infinite or zero are replaced by the triangle's geometric normal: they are
 // only shading hints. A non-finite position is an error, since the triangle has no place.
 #include "io/gltf.h"
 
+#include <tbb/parallel_for.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cerrno>
 #include <cmath>
@@ -35,6 +41,7 @@
 #include <string_view>
 
 #include "io/gltf_file.h"
+#include "io/texture_decode.h"
 #include "util/error.h"
 
 namespace dacrt {
@@ -115,6 +122,112 @@ uint32_t read_uint(const unsigned char* p, size_t size) {
   return v;
 }
 
+// Component `c` of an element as a float: FLOAT as it is, integers normalised as glTF defines it
+// (unsigned c / max, signed max(c / max, -1)).
+float component_value(const unsigned char* element, int c, int type) {
+  const unsigned char* p = element + size_t(c) * component_size(type);
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float f;
+      std::memcpy(&f, p, 4);
+      return f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return float(*p) / 255.f;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return std::max(float(int8_t(*p)) / 127.f, -1.f);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t x;
+      std::memcpy(&x, p, 2);
+      return float(x) / 65535.f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t x;
+      std::memcpy(&x, p, 2);
+      return std::max(float(x) / 32767.f, -1.f);
+    }
+  }
+  return 0.f;
+}
+
+const char* type_name(int type) {
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return "FLOAT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return "UNSIGNED_BYTE";
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return "BYTE";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return "UNSIGNED_SHORT";
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return "SHORT";
+  }
+  return "an integer type";
+}
+
+// glTF's default material (a file's primitives without one use it).
+Material default_material() {
+  Material m;
+  m.name = "default";
+  return m;
+}
+
+// A per-corner attribute (3 values per triangle) kept once some primitive has it; the triangles
+// added before then get `fill`.
+template <class T>
+struct CornerStream {
+  std::vector<T> data;
+  bool on = false;
+  void start(size_t triangles, const T& fill) {
+    if (!on) on = true, data.assign(3 * triangles, fill);
+  }
+};
+
+// Tangents for a normal map laid out by `uv` when the file gives none, 3 per triangle of
+// `corners`: each vertex sums the unit uv tangents (∂p/∂u) of its triangles weighted by their
+// angle there, apart for triangles whose layout is mirrored (as MikkTSpace splits them); each
+// corner's sum is then made orthogonal to its shading normal, `normal(corners[t], k)`. w is the
+// bitangent's sign as scene/surface.cpp defines it. Zero where no uv tangent reached the vertex.
+template <class CornerNormal>
+std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
+                                         const std::vector<glm::vec2>& uv,
+                                         const std::vector<std::array<uint32_t, 3>>& corners,
+                                         CornerNormal normal) {
+  std::vector<glm::vec3> sum(2 * p.size(), glm::vec3(0.f));
+  std::vector<uint8_t> mirrored(corners.size(), 0);
+  for (size_t t = 0; t < corners.size(); ++t) {
+    const auto& c = corners[t];
+    const glm::vec3 e1 = p[c[1]] - p[c[0]], e2 = p[c[2]] - p[c[0]];
+    const glm::vec2 d1 = uv[c[1]] - uv[c[0]], d2 = uv[c[2]] - uv[c[0]];
+    const float det = d1.x * d2.y - d1.y * d2.x;
+    if (!(std::abs(det) > 0.f)) continue;
+    const glm::vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det, dpdv = (e2 * d1.x - e1 * d2.x) / det;
+    mirrored[t] = glm::dot(glm::cross(glm::cross(e1, e2), dpdu), dpdv) > 0.f;
+    const float len = glm::length(dpdu);
+    if (!(len > 0.f) || !std::isfinite(len)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 a = p[c[size_t(k + 1) % 3]] - p[c[size_t(k)]];
+      const glm::vec3 b = p[c[size_t(k + 2) % 3]] - p[c[size_t(k)]];
+      const float ab = glm::length(a) * glm::length(b);
+      if (!(ab > 0.f) || !std::isfinite(ab)) continue;
+      const float angle = std::acos(std::clamp(glm::dot(a, b) / ab, -1.f, 1.f));
+      sum[2 * size_t(c[size_t(k)]) + mirrored[t]] += dpdu * (angle / len);
+    }
+  }
+  std::vector<glm::vec4> out(3 * corners.size(), glm::vec4(0.f));
+  for (size_t t = 0; t < corners.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 n = normal(corners[t], k);
+      glm::vec3 s = sum[2 * size_t(corners[t][size_t(k)]) + mirrored[t]];
+      s -= n * glm::dot(n, s);
+      const float len = glm::length(s);
+      if (len > 0.f && std::isfinite(len))
+        out[3 * t + size_t(k)] = glm::vec4(s / len, mirrored[t] ? -1.f : 1.f);
+    }
+  return out;
+}
+
 // The part of a node's world transform that positions, normals and winding need.
 struct Transform {
   glm::mat4 world;
@@ -141,12 +254,17 @@ class Loader {
     if ((scene < 0 || size_t(scene) >= count) && !(count == 0 && by_default && scene == 0))
       fail(std::string(by_default ? "default " : "") + "scene " + str(scene) + " does not exist (" +
            str(count) + " scenes)");
+    texture_used_.assign(model_.textures.size(), false);
     load_materials();
+    load_textures();
     mesh_seen_.assign(model_.meshes.size(), false);
     if (count > 0) traverse(scene);
 
     if (keep_normals_) scene_.normals = std::move(normals_);
-    if (scene_.materials.empty()) scene_.materials.push_back(Material{"default"});
+    for (int set = 0; set < 2; ++set) scene_.texcoords[set] = std::move(texcoords_[set].data);
+    scene_.colors = std::move(colors_.data);
+    scene_.tangents = std::move(tangents_.data);
+    if (scene_.materials.empty()) scene_.materials.push_back(default_material());
     scene_.cameras_from_file = scene_.cameras.size();
     if (scene_.cameras.empty()) scene_.cameras.push_back(frame_bounds(scene_.bounds(), 0.f));
 
@@ -161,13 +279,12 @@ class Loader {
       auto add = [&](size_t n, const char* name) {
         if (n) what += (what.empty() ? "" : ", ") + str(n) + " " + name;
       };
-      add(i.textured_materials, "materials with textures");
+      add(i.specular_textures, "KHR_materials_specular textures");
       add(i.alpha_mask, "alphaMode MASK materials");
       add(i.alpha_blend, "alphaMode BLEND materials");
       add(i.transmissive, "KHR_materials_transmission materials");
-      add(i.vertex_colors, "primitives with vertex colours");
       std::cerr << "warning: " << path_
-                << ": not rendered in this version (factors only, opaque): " << what << "\n";
+                << ": not rendered in this version (drawn opaque, by factors): " << what << "\n";
     }
     return std::move(scene_);
   }
@@ -190,8 +307,9 @@ class Loader {
            ", which does not exist");
     const Bytes& buffer = model_.buffers[size_t(bv.buffer)].data;
     if (bv.byteOffset > buffer.size() || bv.byteLength > buffer.size() - bv.byteOffset)
-      fail("bufferView " + str(index) + " overruns buffer " + str(bv.buffer) + " (needs " +
-           str(sat_add(bv.byteOffset, bv.byteLength)) + " bytes, has " + str(buffer.size()) + ")");
+      fail("bufferView " + str(index) + " (of " + user + ") overruns buffer " + str(bv.buffer) +
+           " (needs " + str(sat_add(bv.byteOffset, bv.byteLength)) + " bytes, has " +
+           str(buffer.size()) + ")");
     return {buffer.data() + bv.byteOffset, bv.byteLength, bv.byteStride};
   }
 
@@ -336,36 +454,42 @@ class Loader {
 
   // Unit quaternions (x, y, z, w): FLOAT, or normalised BYTE or SHORT as the spec allows.
   std::vector<glm::quat> read_rotations(int accessor, const std::string& role) const {
-    View v = view(accessor, role);
-    const int type = v.component_type;
-    if (v.components != 4 ||
-        (type != TINYGLTF_COMPONENT_TYPE_FLOAT && type != TINYGLTF_COMPONENT_TYPE_BYTE &&
-         type != TINYGLTF_COMPONENT_TYPE_SHORT))
-      fail("accessor " + str(accessor) + " (" + role + ") must be a FLOAT, BYTE or SHORT VEC4");
-    if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !model_.accessors[size_t(accessor)].normalized)
-      fail("accessor " + str(accessor) + " (" + role + ") must be normalized (BYTE or SHORT)");
-    std::vector<glm::quat> out(v.count);
-    for (size_t i = 0; i < v.count; ++i) {
-      float q[4];
-      for (int c = 0; c < 4; ++c) {
-        const unsigned char* p = v.data + i * v.stride + c * component_size(type);
-        if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
-          std::memcpy(&q[c], p, 4);
-        } else if (type == TINYGLTF_COMPONENT_TYPE_BYTE) {
-          q[c] = std::max(float(int8_t(*p)) / 127.f, -1.f);
-        } else {
-          int16_t x;
-          std::memcpy(&x, p, 2);
-          q[c] = std::max(float(x) / 32767.f, -1.f);
-        }
-      }
-      const glm::quat rotation(q[3], q[0], q[1], q[2]);  // glm: (w, x, y, z)
+    std::vector<glm::vec4> q = read_floats(
+        accessor, role, 4, 4, {TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT}, 1.f);
+    std::vector<glm::quat> out(q.size());
+    for (size_t i = 0; i < q.size(); ++i) {
+      const glm::quat rotation(q[i].w, q[i].x, q[i].y, q[i].z);  // glm: (w, x, y, z)
       const float len = glm::length(rotation);
       if (!(len > 0.f) || !std::isfinite(len))
         fail("accessor " + str(accessor) + " (" + role + ") element " + str(i) +
              " is not a rotation");
       out[i] = rotation / len;
     }
+    return out;
+  }
+
+  // An attribute of `min_components`..`max_components` components, FLOAT or one of the normalised
+  // integer types `integers` (the accessor must then say normalized), as floats; components the
+  // accessor lacks are `fill`.
+  std::vector<glm::vec4> read_floats(int accessor, const std::string& role, int min_components,
+                                     int max_components, std::initializer_list<int> integers,
+                                     float fill) const {
+    View v = view(accessor, role);
+    const int type = v.component_type;
+    const std::string what = "accessor " + str(accessor) + " (" + role + ")";
+    bool allowed = type == TINYGLTF_COMPONENT_TYPE_FLOAT;
+    std::string types = "FLOAT";
+    for (int t : integers) allowed |= type == t, types += std::string(", ") + type_name(t);
+    if (!allowed || v.components < min_components || v.components > max_components)
+      fail(what + " must be " + types + " with " + str(min_components) +
+           (max_components > min_components ? " to " + str(max_components) : std::string()) +
+           " components (it is " + type_name(type) + " with " + str(v.components) + ")");
+    if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !model_.accessors[size_t(accessor)].normalized)
+      fail(what + " must be normalized (" + type_name(type) + ")");
+    std::vector<glm::vec4> out(v.count, glm::vec4(fill));
+    for (size_t i = 0; i < v.count; ++i)
+      for (int c = 0; c < v.components; ++c)
+        out[i][c] = component_value(v.data + i * v.stride, c, type);
     return out;
   }
 
@@ -389,10 +513,7 @@ class Loader {
       m.name = src.name;
       m.double_sided = src.doubleSided;
       Scene::Ignored& ignored = scene_.ignored;
-      ignored.textured_materials +=
-          src.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
-          src.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
-          src.normalTexture.index >= 0 || src.emissiveTexture.index >= 0 ||
+      ignored.specular_textures +=
           has_member(src, "KHR_materials_specular", "specularTexture") ||
           has_member(src, "KHR_materials_specular", "specularColorTexture");
       ignored.alpha_mask += src.alphaMode == "MASK";
@@ -406,6 +527,8 @@ class Loader {
         fail(what + ": emissiveFactor has " + str(emissive.size()) + " numbers, not 3");
       // The spec bounds the factors to [0, 1]; clamping keeps the albedo energy-conserving.
       m.base_color = glm::clamp(glm::vec3(base[0], base[1], base[2]), 0.f, 1.f);
+      if (!std::isfinite(base[3])) fail(what + ": baseColorFactor is not finite");
+      m.alpha = std::clamp(float(base[3]), 0.f, 1.f);
       glm::vec3 emission = glm::clamp(glm::vec3(emissive[0], emissive[1], emissive[2]), 0.f, 1.f);
       // A number member of an extension object, or `fallback` when it is absent.
       auto extension_number = [&](const char* extension, const char* member, double fallback) {
@@ -449,15 +572,136 @@ class Loader {
           m.specular_color[k] = float(c.Get(k).GetNumberAsDouble());
         }
       }
+      const auto& pbr = src.pbrMetallicRoughness;
+      m.base_color_texture = texture_ref(pbr.baseColorTexture, what + " baseColorTexture");
+      m.metallic_roughness_texture =
+          texture_ref(pbr.metallicRoughnessTexture, what + " metallicRoughnessTexture");
+      m.emissive_texture = texture_ref(src.emissiveTexture, what + " emissiveTexture");
+      m.normal_texture = texture_ref(src.normalTexture, what + " normalTexture");
+      if (!std::isfinite(src.normalTexture.scale))
+        fail(what + ": normalTexture.scale is not a finite number");
+      m.normal_scale = float(src.normalTexture.scale);
       scene_.materials.push_back(m);
     }
+  }
+
+  // A textureInfo (with KHR_texture_transform); marks the texture used and its TEXCOORD set needed.
+  template <class Info>
+  TextureRef texture_ref(const Info& info, const std::string& what) {
+    TextureRef ref;
+    if (info.index == -1) return ref;
+    if (info.index < 0 || size_t(info.index) >= model_.textures.size())
+      fail(what + " refers to texture " + str(info.index) + ", which does not exist (" +
+           str(model_.textures.size()) + " textures)");
+    ref.texture = info.index;
+    int set = info.texCoord;
+    if (auto ext = info.extensions.find("KHR_texture_transform"); ext != info.extensions.end()) {
+      const std::string where = what + " KHR_texture_transform";
+      const tinygltf::Value& t = ext->second;
+      if (!t.IsObject()) fail(where + " is not an object");
+      auto pair = [&](const char* name, glm::vec2 fallback) {
+        if (!t.Has(name)) return fallback;
+        const tinygltf::Value& a = t.Get(name);
+        if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber())
+          fail(where + ": " + name + " is not 2 numbers");
+        glm::vec2 out(a.Get(0).GetNumberAsDouble(), a.Get(1).GetNumberAsDouble());
+        if (!std::isfinite(out.x) || !std::isfinite(out.y))
+          fail(where + ": " + name + " is not finite");
+        return out;
+      };
+      const glm::vec2 offset = pair("offset", glm::vec2(0.f)),
+                      scale = pair("scale", glm::vec2(1.f));
+      float rotation = 0.f;
+      if (t.Has("rotation")) {
+        if (!t.Get("rotation").IsNumber() || !std::isfinite(t.Get("rotation").GetNumberAsDouble()))
+          fail(where + ": rotation is not a finite number");
+        rotation = float(t.Get("rotation").GetNumberAsDouble());
+      }
+      if (t.Has("texCoord")) {
+        if (!t.Get("texCoord").IsNumber()) fail(where + ": texCoord is not a number");
+        set = int(std::clamp(t.Get("texCoord").GetNumberAsDouble(), -1.0, 1e6));
+      }
+      // offset · rotation · scale: u' = cos·sx·u + sin·sy·v + ox, v' = −sin·sx·u + cos·sy·v + oy
+      // (the rotation turns the image clockwise on screen, as the Khronos TextureTransformTest
+      // model's markers check).
+      const float c = std::cos(rotation), s = std::sin(rotation);
+      ref.transform = glm::mat3x2(glm::vec2(c * scale.x, -s * scale.x),
+                                  glm::vec2(s * scale.y, c * scale.y), offset);
+    }
+    if (set < 0 || set > 1)
+      fail(what + ": texCoord " + str(set) + " is not supported (TEXCOORD_0 and TEXCOORD_1 are)");
+    ref.texcoord = uint8_t(set);
+    uv_needed_[set] = true;
+    texture_used_[size_t(info.index)] = true;
+    return ref;
+  }
+
+  // Samplers for every texture; images decoded (in parallel) for the textures materials use.
+  void load_textures() {
+    std::vector<bool> image_used(model_.images.size(), false);
+    scene_.textures.resize(model_.textures.size());
+    for (size_t i = 0; i < model_.textures.size(); ++i) {
+      if (!texture_used_[i]) continue;
+      const tinygltf::Texture& src = model_.textures[i];
+      const std::string what = "texture " + str(i);
+      Texture& t = scene_.textures[i];
+      if (src.source < 0 || size_t(src.source) >= model_.images.size())
+        fail(what + (src.source == -1
+                         ? " has no PNG or JPEG source image"
+                         : " refers to image " + str(src.source) + ", which does not exist (" +
+                               str(model_.images.size()) + " images)"));
+      t.image = uint32_t(src.source);
+      image_used[size_t(src.source)] = true;
+      if (src.sampler != -1) {
+        if (src.sampler < 0 || size_t(src.sampler) >= model_.samplers.size())
+          fail(what + " refers to sampler " + str(src.sampler) + ", which does not exist");
+        const tinygltf::Sampler& sampler = model_.samplers[size_t(src.sampler)];
+        const std::string where = "sampler " + str(src.sampler);
+        t.wrap_s = wrap_mode(sampler.wrapS, where + " wrapS");
+        t.wrap_t = wrap_mode(sampler.wrapT, where + " wrapT");
+        t.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+      }
+    }
+    scene_.images.resize(model_.images.size());
+    std::vector<size_t> used;
+    for (size_t i = 0; i < image_used.size(); ++i)
+      if (image_used[i]) used.push_back(i);
+    tbb::parallel_for(size_t(0), used.size(), [&](size_t k) {
+      const size_t i = used[k];
+      const tinygltf::Image& image = model_.images[i];
+      std::string what = "image " + str(i);
+      if (!image.uri.empty() && image.uri.rfind("data:", 0) != 0)
+        what += " (" + image.uri + ")";
+      else if (!image.name.empty())
+        what += " (" + image.name + ")";
+      if (image.bufferView != -1) {
+        const Span span = buffer_view(image.bufferView, what);
+        scene_.images[i] = decode_image(span.data, span.size, path_ + ": " + what);
+      } else {
+        if (image.image.empty()) fail(what + " cannot be read (missing or empty file)");
+        scene_.images[i] =
+            decode_image(image.image.data(), image.image.size(), path_ + ": " + what);
+      }
+    });
+  }
+
+  Wrap wrap_mode(int mode, const std::string& what) const {
+    switch (mode) {
+      case TINYGLTF_TEXTURE_WRAP_REPEAT:
+        return Wrap::repeat;
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+        return Wrap::clamp;
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+        return Wrap::mirror;
+    }
+    fail(what + " is " + str(mode) + ", not 10497, 33071 or 33648");
   }
 
   uint32_t material_for(int index, const std::string& where) {
     if (index == -1) {  // the glTF default material, appended once, only if used
       if (default_material_ < 0) {
         default_material_ = int(scene_.materials.size());
-        scene_.materials.push_back(Material{"default"});
+        scene_.materials.push_back(default_material());
       }
       return uint32_t(default_material_);
     }
@@ -597,7 +841,6 @@ class Loader {
       return;
     }
     uint32_t material = material_for(prim.material, where);
-    scene_.ignored.vertex_colors += first_instance && prim.attributes.count("COLOR_0") > 0;
 
     std::vector<glm::vec3> points = read_vec3(position->second, "POSITION of " + where);
     size_t vertex_count = points.size();
@@ -611,14 +854,63 @@ class Loader {
              " at a non-finite position");
     }
 
+    auto same_count = [&](int accessor, const std::string& role, size_t n) {
+      if (n != vertex_count)
+        fail("accessor " + str(accessor) + " (" + role + ") has " + str(n) +
+             " elements but POSITION has " + str(vertex_count));
+    };
     std::vector<glm::vec3> normals;
     if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
       normals = read_vec3(normal->second, "NORMAL of " + where);
-      if (normals.size() != vertex_count)
-        fail("accessor " + str(normal->second) + " (NORMAL of " + where + ") has " +
-             str(normals.size()) + " elements but POSITION has " + str(vertex_count));
+      same_count(normal->second, "NORMAL of " + where, normals.size());
       for (glm::vec3& n : normals) n = xf.normal * n;  // normalised per corner below
       if (!keep_normals_) start_normals();
+    }
+    const size_t before = scene_.geometry.size();
+    // Texture coordinates, only for the sets some material samples.
+    std::vector<glm::vec2> uv[2];
+    for (int set = 0; set < 2; ++set) {
+      const std::string name = set ? "TEXCOORD_1" : "TEXCOORD_0";
+      auto attribute = prim.attributes.find(name);
+      if (!uv_needed_[set] || attribute == prim.attributes.end()) continue;
+      const std::string role = name + " of " + where;
+      std::vector<glm::vec4> values = read_floats(
+          attribute->second, role, 2, 2,
+          {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}, 0.f);
+      same_count(attribute->second, role, values.size());
+      uv[set].resize(values.size());
+      for (size_t i = 0; i < values.size(); ++i) uv[set][i] = glm::vec2(values[i]);
+      texcoords_[set].start(before, glm::vec2(0.f));
+    }
+    std::vector<glm::vec4> colors;
+    if (auto attribute = prim.attributes.find("COLOR_0"); attribute != prim.attributes.end()) {
+      const std::string role = "COLOR_0 of " + where;
+      colors = read_floats(
+          attribute->second, role, 3, 4,
+          {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}, 1.f);
+      same_count(attribute->second, role, colors.size());
+      for (size_t i = 0; i < colors.size(); ++i) {
+        if (!finite(glm::vec3(colors[i])) || !std::isfinite(colors[i].w))
+          fail("accessor " + str(attribute->second) + " (" + role + ") element " + str(i) +
+               " is not finite");
+        colors[i] = glm::clamp(colors[i], 0.f, 1.f);
+      }
+      colors_.start(before, glm::vec4(1.f));
+    }
+    // Tangents, only for normal-mapped materials: from the file, else generated below.
+    const TextureRef& normal_map = scene_.materials[material].normal_texture;
+    std::vector<glm::vec4> tangents;
+    if (auto attribute = prim.attributes.find("TANGENT");
+        normal_map && attribute != prim.attributes.end()) {
+      const std::string role = "TANGENT of " + where;
+      tangents = read_floats(attribute->second, role, 4, 4, {}, 0.f);
+      same_count(attribute->second, role, tangents.size());
+      const glm::mat3 linear(xf.world);
+      for (glm::vec4& t : tangents) {
+        // A mirroring transform turns the bitangent cross(n, t) around: flip its sign back.
+        t = glm::vec4(linear * glm::vec3(t), (t.w < 0.f) != xf.flips ? -1.f : 1.f);
+        if (!finite(glm::vec3(t))) t = glm::vec4(0.f);
+      }
     }
 
     std::vector<uint32_t> indices;
@@ -648,7 +940,9 @@ class Loader {
     if (triangles > kMaxTriangles - scene_.geometry.size())
       fail("has more than " + str(kMaxTriangles) + " triangles");
 
-    Geometry& geometry = scene_.geometry;
+    // The triangles' corners (vertex indices), in the order the front face winds.
+    std::vector<std::array<uint32_t, 3>> corners;
+    corners.reserve(triangles);
     for (size_t t = 0; t < triangles; ++t) {
       size_t c[3] = {3 * t, 3 * t + 1, 3 * t + 2};
       if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
@@ -661,11 +955,37 @@ class Loader {
         continue;
       // A mirrored instance turns counter-clockwise (front) into clockwise: swap back.
       if (xf.flips) std::swap(c[1], c[2]);
-      const glm::vec3 &a = points[c[0]], &b = points[c[1]], &d = points[c[2]];
-      geometry.add(a, b, d, material);
-      if (keep_normals_) {
-        glm::vec3 g = geometric_normal(a, b, d);
-        for (size_t k : c) normals_.push_back(normals.empty() ? g : unit_or(normals[k], g));
+      corners.push_back({uint32_t(c[0]), uint32_t(c[1]), uint32_t(c[2])});
+    }
+    // Shading normals per corner, as stored.
+    auto corner_normal = [&](const std::array<uint32_t, 3>& c, int k) {
+      const glm::vec3 g = geometric_normal(points[c[0]], points[c[1]], points[c[2]]);
+      return normals.empty() ? g : unit_or(normals[c[size_t(k)]], g);
+    };
+    std::vector<glm::vec4> corner_tangents;  // 3 per triangle of `corners`
+    if (!tangents.empty()) {
+      corner_tangents.reserve(3 * corners.size());
+      for (const auto& c : corners)
+        for (uint32_t i : c) corner_tangents.push_back(tangents[i]);
+    } else if (normal_map && !uv[normal_map.texcoord].empty()) {
+      corner_tangents = generate_tangents(points, uv[normal_map.texcoord], corners, corner_normal);
+    }
+    if (normal_map) tangents_.start(before, glm::vec4(0.f));
+
+    Geometry& geometry = scene_.geometry;
+    for (size_t t = 0; t < corners.size(); ++t) {
+      const std::array<uint32_t, 3>& c = corners[t];
+      geometry.add(points[c[0]], points[c[1]], points[c[2]], material);
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t i = c[size_t(k)];
+        if (keep_normals_) normals_.push_back(corner_normal(c, k));
+        for (int set = 0; set < 2; ++set)
+          if (texcoords_[set].on)
+            texcoords_[set].data.push_back(uv[set].empty() ? glm::vec2(0.f) : uv[set][i]);
+        if (colors_.on) colors_.data.push_back(colors.empty() ? glm::vec4(1.f) : colors[i]);
+        if (tangents_.on)
+          tangents_.data.push_back(corner_tangents.empty() ? glm::vec4(0.f)
+                                                           : corner_tangents[3 * t + size_t(k)]);
       }
     }
     scene_.primitive_count += first_instance;
@@ -767,6 +1087,10 @@ class Loader {
   Scene scene_;
   std::vector<glm::vec3> normals_;  // per corner; kept once any primitive has NORMAL
   bool keep_normals_ = false;
+  CornerStream<glm::vec2> texcoords_[2];
+  CornerStream<glm::vec4> colors_, tangents_;
+  bool uv_needed_[2] = {false, false};  // some material samples TEXCOORD_n
+  std::vector<bool> texture_used_;      // by some material
   int default_material_ = -1;
   std::vector<bool> mesh_seen_;
   size_t skipped_modes_ = 0, skipped_unpositioned_ = 0;

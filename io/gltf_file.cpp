@@ -100,9 +100,13 @@ int json_depth(const unsigned char* s, size_t n) {
   return deepest;
 }
 
-// Images are not used in this version: accept and drop them, so odd textures never fail a load.
-bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                  const unsigned char*, int, void*) {
+// Images are decoded later, and only those a material uses (io/gltf.cpp): here the encoded bytes of
+// a data URI or an external file are kept in Image::image as they are. Images in a bufferView are
+// left alone: tinygltf passes them without checking the view against its buffer, and the loader
+// reads them through its own bounds checks. A missing external file leaves the image empty.
+bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                        const unsigned char* bytes, int size, void*) {
+  if (image->bufferView == -1 && bytes && size > 0) image->image.assign(bytes, bytes + size);
   return true;
 }
 
@@ -140,11 +144,11 @@ tinygltf::Model parse(const std::string& path, const Bytes& data) {
     throw Error(path + ": JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
 
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(&ignore_image, nullptr);
+  loader.SetImageLoader(&keep_encoded_image, nullptr);
   loader.SetFsCallbacks({&regular_file_exists, &tinygltf::ExpandFilePath, &tinygltf::ReadWholeFile,
                          &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
-  std::string err, warn;  // warnings only concern images, which this version ignores
+  std::string err, warn;  // warnings only concern images, which the loader checks itself
   std::string base_dir = std::filesystem::path(path).parent_path().string();
   auto size = static_cast<unsigned int>(data.size());
   bool ok =

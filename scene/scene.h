@@ -8,12 +8,14 @@
 #include <vector>
 
 #include "materials/gltf_brdf.h"
+#include "materials/texture.h"
 #include "tracer/geometry.h"
 
 namespace dacrt {
 
 // The glTF material, as far as this version renders it: the metallic-roughness BRDF (with
-// KHR_materials_ior and KHR_materials_specular) and an emitter. Defaults are glTF's.
+// KHR_materials_ior and KHR_materials_specular), its textures, and an emitter. Defaults are
+// glTF's. Textures multiply their factors (see scene/surface.h).
 struct Material {
   std::string name;
   glm::vec3 base_color{1.f};      // baseColorFactor.rgb
@@ -24,6 +26,17 @@ struct Material {
   glm::vec3 specular_color{1.f};  // KHR_materials_specular.specularColorFactor
   glm::vec3 emission{0.f};        // emissiveFactor × KHR_materials_emissive_strength (radiance)
   bool double_sided = false;      // emitters emit from their back face too
+  float alpha = 1.f;              // baseColorFactor.a
+
+  TextureRef base_color_texture;          // sRGB; alpha in .a
+  TextureRef metallic_roughness_texture;  // linear; roughness in .g, metallic in .b
+  TextureRef normal_texture;              // tangent space, scaled by normal_scale
+  TextureRef emissive_texture;            // sRGB
+  float normal_scale = 1.f;
+
+  bool textured() const {
+    return base_color_texture || metallic_roughness_texture || normal_texture || emissive_texture;
+  }
 
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
   BrdfParams brdf() const {
@@ -77,20 +90,27 @@ struct Scene {
   // Per-corner shading normals, 3 per triangle (corner-major: tri*3 + corner), world space and
   // normalised. Empty when no primitive had NORMAL; primitives without it get geometric normals.
   std::vector<glm::vec3> normals;
+  // More per-corner attributes, each empty when nothing needs it: TEXCOORD_0 and _1 (kept only if a
+  // material samples that set), COLOR_0 as linear RGBA (1 where a primitive has none), and
+  // tangents (xyz, w = bitangent sign; world space, from TANGENT or generated; kept only when a
+  // material has a normal map; zero where none could be made).
+  std::vector<glm::vec2> texcoords[2];
+  std::vector<glm::vec4> colors;
+  std::vector<glm::vec4> tangents;
+  // One per glTF image and texture; images that no material uses are left undecoded (empty).
+  std::vector<TextureImage> images;
+  std::vector<Texture> textures;
   std::vector<Material> materials;    // never empty: the glTF default material is appended if used
   std::vector<Camera> cameras;        // never empty after loading: see `cameras_from_file`
   std::vector<PunctualLight> lights;  // KHR_lights_punctual, one per node that has one
   size_t cameras_from_file = 0;       // if 0, cameras[0] was made to frame the scene's bounds
 
   // What the file uses that this version does not render yet (the loader warns once): materials
-  // with textures, alpha-masked or blended materials, transmissive materials, and primitives with
-  // vertex colours. Counted per material or primitive of the file.
+  // with KHR_materials_specular textures, alpha-masked or blended materials, transmissive
+  // materials. Counted per material of the file.
   struct Ignored {
-    size_t textured_materials = 0, alpha_mask = 0, alpha_blend = 0, transmissive = 0;
-    size_t vertex_colors = 0;
-    bool any() const {
-      return textured_materials || alpha_mask || alpha_blend || transmissive || vertex_colors;
-    }
+    size_t specular_textures = 0, alpha_mask = 0, alpha_blend = 0, transmissive = 0;
+    bool any() const { return specular_textures || alpha_mask || alpha_blend || transmissive; }
   } ignored;
 
   // Counts from the file, for `dacrt info`.

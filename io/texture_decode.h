@@ -1,0 +1,16 @@
+// Decoding of glTF images (PNG and JPEG, through stb_image) into textures.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "materials/texture.h"
+
+namespace dacrt {
+
+// The image in `bytes`, as RGBA with 8 or 16 bits per channel (16 only for 16-bit PNGs). Throws
+// Error("<what> cannot be decoded: <reason>") for data that is not an image stb_image reads, or
+// one larger than 2^27 texels.
+TextureImage decode_image(const unsigned char* bytes, size_t size, const std::string& what);
+
+}  // namespace dacrt

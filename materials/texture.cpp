@@ -1,0 +1,94 @@
+#include "materials/texture.h"
+
+#include <array>
+#include <cmath>
+
+namespace dacrt {
+namespace {
+
+const std::array<float, 256>& srgb_table() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_to_linear(float(i) / 255.f);
+    return t;
+  }();
+  return table;
+}
+
+// Reduces a texture coordinate (in texels, already wrapped into a small range) to a texel index.
+int wrap_index(int i, int n, Wrap mode) {
+  switch (mode) {
+    case Wrap::clamp:
+      return i < 0 ? 0 : (i >= n ? n - 1 : i);
+    case Wrap::repeat:
+      i %= n;
+      return i < 0 ? i + n : i;
+    case Wrap::mirror: {
+      int period = 2 * n;
+      i %= period;
+      if (i < 0) i += period;
+      return i < n ? i : period - 1 - i;
+    }
+  }
+  return 0;
+}
+
+// Brings a coordinate into a range where texel arithmetic cannot overflow, without changing what
+// it samples: one period for repeat, two for mirror; clamp only needs [-1, 2].
+float reduce(float x, Wrap mode) {
+  if (!std::isfinite(x)) return 0.f;
+  switch (mode) {
+    case Wrap::clamp:
+      return x < -1.f ? -1.f : (x > 2.f ? 2.f : x);
+    case Wrap::repeat:
+      return x - std::floor(x);
+    case Wrap::mirror:
+      return x - 2.f * std::floor(0.5f * x);
+  }
+  return 0.f;
+}
+
+}  // namespace
+
+float srgb_to_linear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+glm::vec4 TextureImage::texel(int x, int y, bool srgb) const {
+  const size_t i = 4 * (size_t(y) * size_t(width) + size_t(x));
+  glm::vec4 c;
+  if (!rgba8.empty()) {
+    const uint8_t* p = &rgba8[i];
+    if (srgb) {
+      const auto& table = srgb_table();
+      return {table[p[0]], table[p[1]], table[p[2]], float(p[3]) / 255.f};
+    }
+    c = glm::vec4(p[0], p[1], p[2], p[3]) / 255.f;
+  } else {
+    const uint16_t* p = &rgba16[i];
+    c = glm::vec4(p[0], p[1], p[2], p[3]) / 65535.f;
+    if (srgb) c = {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b), c.a};
+  }
+  return c;
+}
+
+glm::vec4 sample(const TextureImage& image, const Texture& texture, glm::vec2 uv, bool srgb) {
+  const int w = image.width, h = image.height;
+  const float x = reduce(uv.x, texture.wrap_s) * float(w);
+  const float y = reduce(uv.y, texture.wrap_t) * float(h);
+  if (texture.nearest)
+    return image.texel(wrap_index(int(std::floor(x)), w, texture.wrap_s),
+                       wrap_index(int(std::floor(y)), h, texture.wrap_t), srgb);
+  // Bilinear between the four texel centres around (x, y); texel i's centre is at i + 0.5.
+  const float fx = x - 0.5f, fy = y - 0.5f;
+  const float x0 = std::floor(fx), y0 = std::floor(fy);
+  const float tx = fx - x0, ty = fy - y0;
+  const int ix = int(x0), iy = int(y0);
+  const int xa = wrap_index(ix, w, texture.wrap_s), xb = wrap_index(ix + 1, w, texture.wrap_s);
+  const int ya = wrap_index(iy, h, texture.wrap_t), yb = wrap_index(iy + 1, h, texture.wrap_t);
+  const glm::vec4 top = glm::mix(image.texel(xa, ya, srgb), image.texel(xb, ya, srgb), tx);
+  const glm::vec4 bottom = glm::mix(image.texel(xa, yb, srgb), image.texel(xb, yb, srgb), tx);
+  return glm::mix(top, bottom, ty);
+}
+
+}  // namespace dacrt

@@ -1,0 +1,97 @@
+#include "scene/surface.h"
+
+#include <cmath>
+
+namespace dacrt {
+namespace {
+
+glm::vec2 texcoord(const Scene& scene, uint32_t tri, int set, float u, float v) {
+  const std::vector<glm::vec2>& uv = scene.texcoords[set];
+  return uv.empty() ? glm::vec2(0.f) : interpolate(&uv[3 * size_t(tri)], u, v);
+}
+
+glm::vec4 lookup(const Scene& scene, const TextureRef& ref, uint32_t tri, float u, float v,
+                 bool srgb) {
+  const Texture& t = scene.textures[size_t(ref.texture)];
+  return sample(scene.images[t.image], t, ref.apply(texcoord(scene, tri, ref.texcoord, u, v)),
+                srgb);
+}
+
+// The triangle's tangent from its uv layout (∂p/∂u), with the bitangent sign glTF expects:
+// glTF's v runs down the image while a normal map's +Y points up it, so an unmirrored layout has
+// its bitangent cross(n, t) along −∂p/∂v. Zero when the uvs are degenerate.
+glm::vec4 face_tangent(const Scene& scene, uint32_t tri, int set, const glm::vec3& n) {
+  const std::vector<glm::vec2>& uv = scene.texcoords[set];
+  if (uv.empty()) return glm::vec4(0.f);
+  const Geometry& g = scene.geometry;
+  const glm::vec3 e1 = g.vertex(tri, 1) - g.vertex(tri, 0),
+                  e2 = g.vertex(tri, 2) - g.vertex(tri, 0);
+  const glm::vec2* c = &uv[3 * size_t(tri)];
+  const glm::vec2 d1 = c[1] - c[0], d2 = c[2] - c[0];
+  const float det = d1.x * d2.y - d1.y * d2.x;
+  if (!(std::abs(det) > 0.f)) return glm::vec4(0.f);
+  const glm::vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det;
+  const glm::vec3 dpdv = (e2 * d1.x - e1 * d2.x) / det;
+  return glm::vec4(dpdu, glm::dot(glm::cross(n, dpdu), dpdv) > 0.f ? -1.f : 1.f);
+}
+
+// The normal map's normal around n, or n when no tangent frame can be made.
+glm::vec3 normal_mapped(const Scene& scene, const Material& m, uint32_t tri, float u, float v,
+                        const glm::vec3& n) {
+  glm::vec4 t(0.f);
+  if (!scene.tangents.empty()) t = interpolate(&scene.tangents[3 * size_t(tri)], u, v);
+  if (!(glm::dot(glm::vec3(t), glm::vec3(t)) > 0.f))
+    t = face_tangent(scene, tri, m.normal_texture.texcoord, n);
+  glm::vec3 tangent = glm::vec3(t) - n * glm::dot(n, glm::vec3(t));
+  const float len = glm::length(tangent);
+  if (!(len > 0.f) || !std::isfinite(len)) return n;
+  tangent /= len;
+  const glm::vec3 bitangent = glm::cross(n, tangent) * (t.w < 0.f ? -1.f : 1.f);
+  const glm::vec4 texel = lookup(scene, m.normal_texture, tri, u, v, false);
+  const float x = (2.f * texel.x - 1.f) * m.normal_scale;
+  const float y = (2.f * texel.y - 1.f) * m.normal_scale;
+  const glm::vec3 mapped = tangent * x + bitangent * y + n * (2.f * texel.z - 1.f);
+  const float mapped_len = glm::length(mapped);
+  if (!(mapped_len > 0.f) || !std::isfinite(mapped_len)) return n;
+  return mapped / mapped_len;
+}
+
+}  // namespace
+
+SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, const glm::vec3& ng) {
+  const Material& m = scene.materials[scene.geometry.material[tri]];
+  SurfacePoint s{ng, m.brdf(), m.emission, m.alpha};
+  if (!scene.normals.empty()) {
+    const glm::vec3 n = interpolate(&scene.normals[3 * size_t(tri)], u, v);
+    const float len = glm::length(n);
+    if (len > 0.f) s.normal = n / len;
+  }
+  if (!scene.colors.empty()) {
+    const glm::vec4 c = interpolate(&scene.colors[3 * size_t(tri)], u, v);
+    s.brdf.base_color *= glm::vec3(c);
+    s.alpha *= c.a;
+  }
+  if (!m.textured()) return s;
+  if (m.base_color_texture) {
+    const glm::vec4 c = lookup(scene, m.base_color_texture, tri, u, v, true);
+    s.brdf.base_color *= glm::vec3(c);
+    s.alpha *= c.a;
+  }
+  if (m.metallic_roughness_texture) {
+    const glm::vec4 c = lookup(scene, m.metallic_roughness_texture, tri, u, v, false);
+    s.brdf.roughness *= c.g;
+    s.brdf.metallic *= c.b;
+  }
+  if (m.emissive_texture && m.emissive())
+    s.emission *= glm::vec3(lookup(scene, m.emissive_texture, tri, u, v, true));
+  if (m.normal_texture) s.normal = normal_mapped(scene, m, tri, u, v, s.normal);
+  return s;
+}
+
+glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v) {
+  const Material& m = scene.materials[scene.geometry.material[tri]];
+  if (!m.emissive_texture || !m.emissive()) return m.emission;
+  return m.emission * glm::vec3(lookup(scene, m.emissive_texture, tri, u, v, true));
+}
+
+}  // namespace dacrt

@@ -1,0 +1,35 @@
+// Surface: what a material looks like at one point of a triangle, with its textures, vertex
+// colours and normal map applied. The path tracer asks once per hit; materials without textures
+// and scenes without vertex colours skip the uv and colour work entirely.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+
+#include "scene/scene.h"
+
+namespace dacrt {
+
+struct SurfacePoint {
+  // The shading normal: interpolated, then normal-mapped; on the triangle's front side (the side
+  // its counter-clockwise winding faces), unit length.
+  glm::vec3 normal;
+  BrdfParams brdf;
+  glm::vec3 emission;  // radiance leaving the front (and, if double-sided, the back)
+  float alpha;         // coverage: baseColorFactor.a × texture × vertex colour
+};
+
+// At barycentrics (u, v) of triangle `tri` (the point (1 − u − v)·p0 + u·p1 + v·p2), whose unit
+// geometric normal is `ng` (front side).
+SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, const glm::vec3& ng);
+
+// Just the emitted radiance there (what next-event estimation needs of a light sample).
+glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v);
+
+// A per-corner attribute interpolated at (u, v).
+template <class T>
+T interpolate(const T* corners, float u, float v) {
+  return (1.f - u - v) * corners[0] + u * corners[1] + v * corners[2];
+}
+
+}  // namespace dacrt

@@ -1,0 +1,466 @@
+// Textures: the sampler (filtering, wrap modes, sRGB), image decoding, and the loader's texture
+// features end to end through surface_at (what the path tracer shades with): baseColor with
+// alpha, metallic-roughness, emissive, normal maps with file and generated tangents, vertex
+// colours, TEXCOORD_0/1, KHR_texture_transform, normalised integer attributes, and the errors
+// a broken texture gives.
+#include "materials/texture.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "integrators/integrator.h"
+#include "io/texture_decode.h"
+#include "scene/surface.h"
+#include "tests/gltf_check.h"
+#include "tests/gltf_writer.h"
+#include "tests/png.h"
+
+using namespace dacrt;
+using namespace dacrt::test;
+using nlohmann::json;
+
+namespace {
+
+bool near(const glm::vec3& a, const glm::vec3& b, float eps = 1e-5f) {
+  return glm::all(glm::lessThanEqual(glm::abs(a - b), glm::vec3(eps)));
+}
+
+// 2 × 2 RGBA: red, half-transparent green / blue, grey 188 (sRGB 188 is linear 0.5029).
+const std::vector<uint8_t> kTexels = {255, 0, 0,   255, 0,   255, 0,   128,
+                                      0,   0, 255, 255, 188, 188, 188, 255};
+const float kGrey = srgb_to_linear(188.f / 255.f);
+
+TextureImage image2x2() {
+  TextureImage image;
+  image.width = image.height = 2;
+  image.rgba8 = kTexels;
+  return image;
+}
+
+// A unit quad in z = 0 facing +z, triangles (0, 1, 2) and (0, 2, 3) over the corners (0, 0),
+// (1, 0), (1, 1), (0, 1), with TEXCOORD_0 = (x, 1 − y) (the image upright) and material 0.
+// `attributes` adds or replaces attributes.
+GltfWriter quad_file(const json& material, json attributes = json::object()) {
+  GltfWriter w;
+  const std::vector<glm::vec3> corners = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const std::vector<glm::vec2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  json attr = {{"POSITION", w.add_vec3(corners)},
+               {"TEXCOORD_0", w.add_accessor(w.add_view(uv.data(), 32), kFloat, 4, "VEC2")}};
+  attr.update(attributes);
+  w.add_material(material);
+  int indices = w.add_indices(std::vector<uint8_t>{0, 1, 2, 0, 2, 3});
+  int mesh = w.add_mesh({{"attributes", attr}, {"indices", indices}, {"material", 0}});
+  w.set_scene({w.add_node({{"mesh", mesh}})});
+  return w;
+}
+
+enum class Embed { data_uri, buffer_view, file };
+
+// Adds `png` as image + texture (with `sampler` unless null); returns the texture index.
+int add_texture(GltfWriter& w, const std::vector<unsigned char>& png, json sampler = nullptr,
+                Embed embed = Embed::data_uri, const std::string& dir = "") {
+  json image;
+  if (embed == Embed::data_uri) {
+    image = {{"uri", "data:image/png;base64," + base64(png)}};
+  } else if (embed == Embed::buffer_view) {
+    image = {{"bufferView", w.add_view(png.data(), png.size())}, {"mimeType", "image/png"}};
+  } else {
+    const std::string name = "image" + std::to_string(w.doc["images"].size()) + ".png";
+    write_bytes(dir + "/" + name, png.data(), png.size());
+    image = {{"uri", name}};
+  }
+  w.doc["images"].push_back(image);
+  json texture = {{"source", w.doc["images"].size() - 1}};
+  if (!sampler.is_null()) {
+    w.doc["samplers"].push_back(sampler);
+    texture["sampler"] = w.doc["samplers"].size() - 1;
+  }
+  w.doc["textures"].push_back(texture);
+  return int(w.doc["textures"].size()) - 1;
+}
+
+const json kNearest = {{"magFilter", 9728}, {"minFilter", 9728}};
+
+// The surface of the quad at (x, y).
+SurfacePoint quad_surface(const Scene& scene, float x, float y) {
+  REQUIRE(scene.geometry.size() == 2);
+  if (x >= y) return surface_at(scene, 0, x - y, y, glm::vec3(0, 0, 1));
+  return surface_at(scene, 1, x, y - x, glm::vec3(0, 0, 1));
+}
+
+}  // namespace
+
+TEST_CASE("texture sampling: nearest and bilinear, sRGB per texel, wrap modes") {
+  const TextureImage image = image2x2();
+  Texture t;
+  t.nearest = true;
+  // uv (0, 0) is the image's top-left corner.
+  CHECK(sample(image, t, {0.25f, 0.25f}, false) == glm::vec4(1, 0, 0, 1));
+  CHECK(sample(image, t, {0.75f, 0.25f}, false) == glm::vec4(0, 1, 0, 128.f / 255.f));
+  CHECK(sample(image, t, {0.25f, 0.75f}, false) == glm::vec4(0, 0, 1, 1));
+  CHECK(sample(image, t, {0.75f, 0.75f}, true) == glm::vec4(kGrey, kGrey, kGrey, 1));
+
+  t.nearest = false;
+  // At a texel centre bilinear filtering returns the texel; at the middle, the mean of the four
+  // texels after sRGB decoding (not the decoded mean of the bytes).
+  CHECK(sample(image, t, {0.75f, 0.75f}, true) == glm::vec4(kGrey, kGrey, kGrey, 1));
+  const glm::vec4 mid = sample(image, t, {0.5f, 0.5f}, true);
+  CHECK(mid.r == doctest::Approx((1.f + kGrey) / 4));
+  CHECK(mid.a == doctest::Approx((3.f + 128.f / 255.f) / 4));
+  // Halfway between the two top texels, a quarter of the way down from the top edge: with
+  // repeat, the top row blends with the bottom row (the texel above wraps around).
+  const glm::vec4 edge = sample(image, t, {0.5f, 0.0f}, false);
+  CHECK(edge.r == doctest::Approx(0.25f * (1.f + 0.f + 0.f + 188.f / 255.f)));
+  t.wrap_t = Wrap::clamp;
+  CHECK(sample(image, t, {0.5f, 0.0f}, false).r == doctest::Approx(0.5f));
+
+  t.nearest = true;
+  t.wrap_s = t.wrap_t = Wrap::repeat;
+  CHECK(sample(image, t, {1.25f, 0.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+  CHECK(sample(image, t, {-0.75f, 2.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+  t.wrap_s = Wrap::mirror;
+  CHECK(sample(image, t, {1.25f, 0.25f}, false) == sample(image, t, {0.75f, 0.25f}, false));
+  CHECK(sample(image, t, {2.25f, 0.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+  CHECK(sample(image, t, {-0.25f, 0.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+  t.wrap_s = Wrap::clamp;
+  CHECK(sample(image, t, {7.f, 0.25f}, false) == sample(image, t, {0.75f, 0.25f}, false));
+  CHECK(sample(image, t, {-7.f, 0.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+
+  // Coordinates far out or not numbers still give a texel, never an out-of-bounds read.
+  for (Wrap wrap : {Wrap::repeat, Wrap::mirror, Wrap::clamp})
+    for (bool nearest : {true, false})
+      for (float u : {1e30f, -1e30f, INFINITY, NAN, 16777217.f}) {
+        t.wrap_s = t.wrap_t = wrap;
+        t.nearest = nearest;
+        const glm::vec4 c = sample(image, t, {u, u}, false);
+        CHECK((std::isfinite(c.r) && c.r >= 0.f && c.r <= 1.f));
+      }
+}
+
+TEST_CASE("texture images: 8- and 16-bit PNGs decode to RGBA; bad data is one error") {
+  const TextureImage rgb = decode_image(png8(2, 1, 3, {10, 20, 30, 40, 50, 60}).data(),
+                                        png8(2, 1, 3, {10, 20, 30, 40, 50, 60}).size(), "x");
+  CHECK(rgb.width == 2);
+  CHECK(rgb.height == 1);
+  CHECK(rgb.rgba8 == std::vector<uint8_t>{10, 20, 30, 255, 40, 50, 60, 255});
+
+  const std::vector<unsigned char> wide = png16_rgb(1, 2, {0, 32768, 65535, 1, 2, 3});
+  const TextureImage deep = decode_image(wide.data(), wide.size(), "x");
+  REQUIRE(deep.rgba16.size() == 8);
+  CHECK(deep.rgba8.empty());
+  CHECK(deep.texel(0, 0, false) == glm::vec4(0.f, 32768.f / 65535.f, 1.f, 1.f));
+  CHECK(deep.texel(0, 1, false).b == 3.f / 65535.f);
+  CHECK(deep.texel(0, 0, true).g == doctest::Approx(srgb_to_linear(32768.f / 65535.f)));
+
+  auto error = [](const std::vector<unsigned char>& bytes) {
+    try {
+      decode_image(bytes.data(), bytes.size(), "file.gltf: image 3");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(error({1, 2, 3, 4, 5, 6, 7, 8}).find("file.gltf: image 3 cannot be decoded") == 0);
+  CHECK(error({}).find("image 3 cannot be decoded") != std::string::npos);
+  // A PNG header claiming 12000 × 12000 texels: refused before any allocation.
+  std::vector<unsigned char> huge = png16_rgb(1, 1, {1, 2, 3});
+  for (int at : {16, 20}) huge[size_t(at) + 2] = 0x2e, huge[size_t(at) + 3] = 0xe0;  // 12000
+  INFO(error(huge));
+  CHECK(error(huge).find("2^27") != std::string::npos);
+}
+
+TEST_CASE("textures: baseColor × factor × vertex colour, sRGB-decoded, with alpha") {
+  TempDir dir("base-color");
+  for (Embed embed : {Embed::data_uri, Embed::buffer_view, Embed::file}) {
+    INFO("embedding " << int(embed));
+    const std::vector<glm::vec4> colors(4, glm::vec4(1.f, 0.5f, 1.f, 0.5f));
+    GltfWriter w = quad_file(
+        {{"pbrMetallicRoughness",
+          {{"baseColorFactor", {0.5, 1, 1, 0.8}}, {"baseColorTexture", {{"index", 0}}}}}});
+    w.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] =
+        w.add_accessor(w.add_view(colors.data(), 64), kFloat, 4, "VEC4");
+    add_texture(w, png8(2, 2, 4, kTexels), kNearest, embed, dir.path());
+    const std::string path = embed == Embed::buffer_view ? w.write_glb(dir / "quad.glb")
+                                                         : w.write_gltf(dir / "quad.gltf");
+    const Scene scene = load_gltf(path);
+    REQUIRE(scene.images.size() == 1);
+    CHECK(scene.images[0].width == 2);
+    CHECK(scene.texcoords[1].empty());  // no material samples set 1
+    // Point (x, y) has uv (x, 1 − y): the image's top-left texel is at the quad's top left.
+    const SurfacePoint red = quad_surface(scene, 0.25f, 0.75f);
+    CHECK(near(red.brdf.base_color, glm::vec3(0.5f, 0.f, 0.f)));
+    CHECK(red.alpha == doctest::Approx(0.8f * 0.5f));
+    const SurfacePoint green = quad_surface(scene, 0.75f, 0.75f);
+    CHECK(near(green.brdf.base_color, glm::vec3(0.f, 0.5f, 0.f)));
+    CHECK(green.alpha == doctest::Approx(0.8f * 0.5f * 128.f / 255.f));
+    const SurfacePoint grey = quad_surface(scene, 0.75f, 0.25f);
+    CHECK(near(grey.brdf.base_color, glm::vec3(0.5f, 0.5f, 1.f) * kGrey));
+    CHECK(grey.normal == glm::vec3(0, 0, 1));
+  }
+}
+
+TEST_CASE("textures: metallic-roughness (G, B), emissive (sRGB) and the sampler's wrap modes") {
+  TempDir dir("metal-rough");
+  GltfWriter w = quad_file({{"pbrMetallicRoughness",
+                             {{"metallicFactor", 0.5},
+                              {"roughnessFactor", 1.0},
+                              {"metallicRoughnessTexture", {{"index", 0}}}}},
+                            {"emissiveFactor", {1, 1, 0.5}},
+                            {"emissiveTexture", {{"index", 1}}}});
+  add_texture(w, png8(2, 2, 4, kTexels), kNearest);
+  add_texture(w, png8(2, 2, 4, kTexels), {{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33648}});
+  const Scene scene = load_gltf(w.write_gltf(dir / "quad.gltf"));
+  REQUIRE(scene.textures.size() == 2);
+  CHECK(scene.textures[0].wrap_s == Wrap::repeat);
+  CHECK(scene.textures[1].wrap_s == Wrap::clamp);
+  CHECK(scene.textures[1].wrap_t == Wrap::mirror);
+  CHECK(scene.textures[1].nearest);
+  const SurfacePoint blue = quad_surface(scene, 0.25f, 0.25f);  // texel (0, 1): 0, 0, 255
+  CHECK(blue.brdf.metallic == doctest::Approx(0.5f));
+  CHECK(blue.brdf.roughness == 0.f);
+  CHECK(near(blue.emission, glm::vec3(0, 0, 0.5f)));
+  const SurfacePoint green = quad_surface(scene, 0.75f, 0.75f);  // texel (1, 0): 0, 255, 0
+  CHECK(green.brdf.metallic == 0.f);
+  CHECK(green.brdf.roughness == doctest::Approx(1.f));
+  CHECK(near(green.emission, glm::vec3(0, 1, 0)));
+  CHECK(near(emission_at(scene, 0, 0.f, 0.75f), green.emission));  // the point (0.75, 0.75)
+}
+
+TEST_CASE("textures: KHR_texture_transform and TEXCOORD_1, normalised integer uvs") {
+  TempDir dir("transform");
+  // TEXCOORD_1 as normalised UNSIGNED_SHORT: (x, y) themselves, so the image is upside down.
+  const std::vector<uint16_t> uv1 = {0, 0, 65535, 0, 65535, 65535, 0, 65535};
+  auto file = [&](const json& info) {
+    GltfWriter w = quad_file({{"pbrMetallicRoughness", {{"baseColorTexture", info}}}});
+    int a = w.add_accessor(w.add_view(uv1.data(), 16), kUnsignedShort, 4, "VEC2");
+    w.doc["accessors"][a]["normalized"] = true;
+    w.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = a;
+    add_texture(w, png8(2, 2, 4, kTexels), kNearest);
+    return w;
+  };
+  auto color_at = [](const Scene& scene, float x, float y) {
+    return quad_surface(scene, x, y).brdf.base_color;
+  };
+  const glm::vec3 red(1, 0, 0), green(0, 1, 0), blue(0, 0, 1), grey(kGrey);
+
+  Scene set1 = load_gltf(file({{"index", 0}, {"texCoord", 1}}).write_gltf(dir / "set1.gltf"));
+  CHECK(set1.texcoords[0].empty());
+  CHECK(near(color_at(set1, 0.25f, 0.25f), red));  // uv (0.25, 0.25)
+  CHECK(near(color_at(set1, 0.25f, 0.75f), blue));
+
+  // Offset by half the image in u: the left half shows the right half of the texture.
+  json offset = {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}}}}}};
+  Scene shifted = load_gltf(file(offset).write_gltf(dir / "offset.gltf"));
+  CHECK(near(color_at(shifted, 0.25f, 0.75f), green));
+  CHECK(near(color_at(shifted, 0.75f, 0.75f), red));  // wraps around
+
+  // Scale 0.5 shows the top-left texel everywhere; the override picks TEXCOORD_1.
+  json scale = {
+      {"index", 0},
+      {"extensions", {{"KHR_texture_transform", {{"scale", {0.5, 0.5}}, {"texCoord", 1}}}}}};
+  Scene scaled = load_gltf(file(scale).write_gltf(dir / "scale.gltf"));
+  for (float x : {0.1f, 0.9f})
+    for (float y : {0.1f, 0.9f}) CHECK(near(color_at(scaled, x, y), red));
+
+  // Rotation by +90° maps uv (u, v) to (v, −u) (the markers of Khronos' TextureTransformTest
+  // fix the direction): the point with uv (0.25, 0.75) samples uv (0.75, −0.25) → (0.75, 0.75).
+  json rotation = {{"index", 0},
+                   {"extensions", {{"KHR_texture_transform", {{"rotation", M_PI / 2}}}}}};
+  Scene rotated = load_gltf(file(rotation).write_gltf(dir / "rotation.gltf"));
+  CHECK(near(color_at(rotated, 0.25f, 0.25f), grey));
+  CHECK(near(color_at(rotated, 0.25f, 0.75f), blue));  // uv (0.25, 0.25) → (0.25, −0.25)
+}
+
+TEST_CASE("textures: COLOR_0 as normalised UNSIGNED_BYTE VEC3 is linear and interpolated") {
+  TempDir dir("colors");
+  GltfWriter w = quad_file(json::object());
+  const std::vector<uint8_t> colors = {255, 0, 0, 255, 0, 0, 0, 0, 255, 0, 0, 255};
+  int a = w.add_accessor(w.add_view(colors.data(), colors.size()), kUnsignedByte, 4, "VEC3");
+  w.doc["accessors"][a]["normalized"] = true;
+  w.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = a;
+  const Scene scene = load_gltf(w.write_gltf(dir / "colors.gltf"));
+  REQUIRE(scene.colors.size() == 6);
+  // Red along y = 0, blue along y = 1: halfway up, half of each, alpha 1.
+  const SurfacePoint s = quad_surface(scene, 0.7f, 0.5f);
+  CHECK(near(s.brdf.base_color, glm::vec3(0.5f, 0.f, 0.5f)));
+  CHECK(s.alpha == 1.f);
+  CHECK(scene.texcoords[0].empty());  // nothing samples a texture
+
+  w.doc["accessors"][a]["normalized"] = false;
+  check_error(w.write_gltf(dir / "unnormalized.gltf"), {"accessor", "COLOR_0", "normalized"});
+}
+
+TEST_CASE("normal maps: tangents from the file or generated agree; mirrors and +Y up") {
+  TempDir dir("normal-map");
+  // A constant normal map tilted towards +X of tangent space, or +Y.
+  const float s = std::sin(0.5f), c = std::cos(0.5f);
+  auto byte = [](float x) { return uint8_t(std::lround((x * 0.5f + 0.5f) * 255.f)); };
+  const std::vector<uint8_t> towards_x = {byte(s), byte(0), byte(c)};
+  const std::vector<uint8_t> towards_y = {byte(0), byte(s), byte(c)};
+  auto file = [&](const std::vector<uint8_t>& texel, bool tangents, bool mirror_uv, json node) {
+    GltfWriter w = quad_file({{"normalTexture", {{"index", 0}, {"scale", 1.0}}}});
+    if (tangents) {
+      // A mirrored layout runs +u along −x and keeps +Y up: w = −1.
+      const float sign = mirror_uv ? -1.f : 1.f;
+      const std::vector<glm::vec4> t(4, glm::vec4(sign, 0, 0, sign));
+      w.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] =
+          w.add_accessor(w.add_view(t.data(), 64), kFloat, 4, "VEC4");
+    }
+    if (mirror_uv) {
+      const std::vector<glm::vec2> uv = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
+      w.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] =
+          w.add_accessor(w.add_view(uv.data(), 32), kFloat, 4, "VEC2");
+    }
+    std::vector<uint8_t> image;
+    for (int i = 0; i < 4; ++i) image.insert(image.end(), texel.begin(), texel.end());
+    add_texture(w, png8(2, 2, 3, image), kNearest);
+    w.doc["nodes"][0].update(node);
+    return load_gltf(w.write_gltf(dir / "quad.gltf"));
+  };
+  const glm::vec3 tilted_x(s, 0, c), tilted_y(0, s, c);
+  for (bool tangents : {true, false}) {
+    INFO("tangents from the file: " << tangents);
+    const Scene plain = file(towards_x, tangents, false, json::object());
+    REQUIRE(plain.tangents.size() == 6);
+    CHECK(near(glm::vec3(plain.tangents[0]), glm::vec3(1, 0, 0)));
+    CHECK(plain.tangents[0].w == 1.f);
+    // +X of tangent space is +u, here +x; +Y is up the image (−v), here +y.
+    CHECK(near(quad_surface(plain, 0.6f, 0.3f).normal, tilted_x, 0.01f));
+    CHECK(near(quad_surface(file(towards_y, tangents, false, json::object()), 0.3f, 0.6f).normal,
+               tilted_y, 0.01f));
+    // The image mirrored left to right: +u runs along −x, and so does the tilt; +Y stays up.
+    const Scene mirrored_uv = file(towards_x, tangents, true, json::object());
+    CHECK(near(quad_surface(mirrored_uv, 0.6f, 0.3f).normal, glm::vec3(-s, 0, c), 0.01f));
+    CHECK(near(quad_surface(file(towards_y, tangents, true, json::object()), 0.3f, 0.6f).normal,
+               tilted_y, 0.01f));
+    // A node that mirrors x (and flips the winding back) mirrors the tilt with the geometry.
+    const Scene mirrored_node = file(towards_y, tangents, false, {{"scale", {-1, 1, 1}}});
+    const glm::vec3 n = surface_at(mirrored_node, 0, 0.3f, 0.3f, glm::vec3(0, 0, 1)).normal;
+    CHECK(near(n, tilted_y, 0.01f));
+    const Scene mirrored_x = file(towards_x, tangents, false, {{"scale", {-1, 1, 1}}});
+    CHECK(near(surface_at(mirrored_x, 0, 0.3f, 0.3f, glm::vec3(0, 0, 1)).normal,
+               glm::vec3(-s, 0, c), 0.01f));
+  }
+}
+
+TEST_CASE("textures: images no material uses are never decoded") {
+  TempDir dir("unused-images");
+  GltfWriter w = quad_file(json::object());
+  w.doc["images"] = {{{"uri", "missing.png"}}, {{"uri", "data:image/png;base64,AAAA"}}};
+  w.doc["textures"] = {{{"source", 0}}, {{"source", 1}}};
+  const Scene scene = load_gltf(w.write_gltf(dir / "unused.gltf"));
+  CHECK(scene.geometry.size() == 2);
+  CHECK(scene.images.size() == 2);
+  CHECK(scene.images[0].width == 0);
+}
+
+TEST_CASE("texture errors name the file and the element") {
+  TempDir dir("texture-errors");
+  auto textured = [&](json info = {{"index", 0}}) {
+    return quad_file({{"pbrMetallicRoughness", {{"baseColorTexture", info}}}});
+  };
+  {
+    GltfWriter w = textured();
+    w.doc["images"] = {{{"uri", "missing.png"}}};
+    w.doc["textures"] = {{{"source", 0}}};
+    check_error(w.write_gltf(dir / "missing.gltf"), {"image 0", "missing.png", "cannot be read"});
+    w.doc["images"] = {{{"uri", "data:image/png;base64,AAAAAAAA"}}};
+    check_error(w.write_gltf(dir / "garbage.gltf"), {"image 0", "cannot be decoded"});
+    w.doc["textures"] = {{{"source", 3}}};
+    check_error(w.write_gltf(dir / "source.gltf"), {"texture 0", "image 3"});
+    w.doc["textures"] = {json::object()};
+    check_error(w.write_gltf(dir / "no-source.gltf"), {"texture 0", "no PNG or JPEG source"});
+  }
+  {
+    GltfWriter w = textured({{"index", 4}});
+    check_error(w.write_gltf(dir / "index.gltf"), {"material 0 baseColorTexture", "texture 4"});
+  }
+  {
+    GltfWriter w = textured({{"index", 0}, {"texCoord", 2}});
+    add_texture(w, png8(2, 2, 4, kTexels));
+    check_error(w.write_gltf(dir / "texcoord.gltf"), {"material 0", "texCoord 2"});
+  }
+  {
+    GltfWriter w = textured();
+    add_texture(w, png8(2, 2, 4, kTexels), {{"wrapS", 1234}});
+    check_error(w.write_gltf(dir / "wrap.gltf"), {"sampler 0 wrapS", "1234"});
+  }
+  {
+    GltfWriter w = textured(
+        {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {1, "x"}}}}}}});
+    add_texture(w, png8(2, 2, 4, kTexels));
+    check_error(w.write_gltf(dir / "transform.gltf"), {"KHR_texture_transform", "scale"});
+  }
+  {
+    GltfWriter w = textured();
+    const std::vector<unsigned char> png = png8(2, 2, 4, kTexels);
+    add_texture(w, png, nullptr, Embed::buffer_view);
+    w.doc["bufferViews"].back()["byteLength"] = 100000;  // past the buffer
+    check_error(w.write_glb(dir / "overrun.glb"), {"image 0", "overruns buffer"});
+  }
+  {
+    GltfWriter w = textured();
+    add_texture(w, png8(2, 2, 4, kTexels));
+    const std::vector<uint8_t> uv(8, 0);
+    w.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] =
+        w.add_accessor(w.add_view(uv.data(), 8), kUnsignedByte, 4, "VEC2");
+    check_error(w.write_gltf(dir / "uv-normalized.gltf"), {"TEXCOORD_0", "normalized"});
+    const std::vector<glm::vec2> three(3, glm::vec2(0.f));
+    w.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] =
+        w.add_accessor(w.add_view(three.data(), 24), kFloat, 3, "VEC2");
+    check_error(w.write_gltf(dir / "uv-count.gltf"), {"TEXCOORD_0", "3 elements"});
+  }
+}
+
+TEST_CASE("an emissive texture renders texel for texel (uv, barycentrics and sRGB end to end)") {
+  TempDir dir("emissive-render");
+  GltfWriter w = quad_file({{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}});
+  add_texture(w, png8(2, 2, 4, kTexels), kNearest);
+  Scene scene = load_gltf(w.write_gltf(dir / "quad.gltf"));
+  // An orthographic camera whose 8 × 8 pixels cover exactly the quad.
+  Camera cam;
+  cam.orthographic = true;
+  cam.ymag = 0.5f;
+  cam.to_world = glm::inverse(
+      glm::lookAt(glm::vec3(0.5f, 0.5f, 3.f), glm::vec3(0.5f, 0.5f, 0.f), glm::vec3(0, 1, 0)));
+  scene.cameras = {cam};
+  RenderSettings s;
+  s.width = s.height = 8;
+  s.spp = 4;
+  s.max_depth = 0;
+  auto backend = Backend::create("dacrt", scene.geometry);
+  auto integrator = Integrator::create("path", scene, *backend, s);
+  Film film(8, 8);
+  Progress quiet("test", 1, false);
+  integrator->render(film, quiet);
+  const glm::vec3 expected[2][2] = {{{1, 0, 0}, {0, 1, 0}}, {{0, 0, 1}, glm::vec3(kGrey)}};
+  const Image image = film.resolve();
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      INFO("pixel " << x << ", " << y);
+      const float* p = image.pixel(x, y);
+      CHECK(near(glm::vec3(p[0], p[1], p[2]), expected[y / 4][x / 4]));
+    }
+}
+
+TEST_CASE("textured scenes of ../shared load with their images, uvs and tangents") {
+  const std::filesystem::path root = DACRT_SOURCE_DIR "/../shared/scenes/khronos";
+  if (!std::filesystem::exists(root)) {
+    MESSAGE("../shared/scenes is absent: skipped");
+    return;
+  }
+  const Scene helmet = load_gltf((root / "DamagedHelmet/DamagedHelmet.glb").string());
+  size_t decoded = 0;
+  for (const TextureImage& i : helmet.images) decoded += i.width == 2048;
+  CHECK(decoded == 4);  // baseColor, metal-rough, normal, emissive; occlusion is not decoded
+  CHECK(helmet.tangents.size() == 3 * helmet.geometry.size());  // generated: the file has none
+  size_t made = 0;
+  for (const glm::vec4& t : helmet.tangents) made += t.w != 0.f;
+  CHECK(made > helmet.tangents.size() * 99 / 100);
+  const Scene bottle = load_gltf((root / "WaterBottle/WaterBottle.gltf").string());
+  CHECK(bottle.tangents.size() == 3 * bottle.geometry.size());  // from the file
+  CHECK(!bottle.texcoords[0].empty());
+}
