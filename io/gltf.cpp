@@ -188,7 +188,9 @@ struct CornerStream {
 // `corners`: each vertex sums the unit uv tangents (∂p/∂u) of its triangles weighted by their
 // angle there, apart for triangles whose layout is mirrored (as MikkTSpace splits them); each
 // corner's sum is then made orthogonal to its shading normal, `normal(corners[t], k)`. w is the
-// bitangent's sign as scene/surface.cpp defines it. Zero where no uv tangent reached the vertex.
+// bitangent's sign (bitangent = cross(n, t) · w): glTF's v runs down the image while a normal
+// map's +Y points up it, so an unmirrored layout has w = 1 with cross(n, t) along −∂p/∂v.
+// Zero where no uv tangent reached the vertex.
 template <class CornerNormal>
 std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
                                          const std::vector<glm::vec2>& uv,

@@ -17,31 +17,12 @@ glm::vec4 lookup(const Scene& scene, const TextureRef& ref, uint32_t tri, float 
                 srgb);
 }
 
-// The triangle's tangent from its uv layout (∂p/∂u), with the bitangent sign glTF expects:
-// glTF's v runs down the image while a normal map's +Y points up it, so an unmirrored layout has
-// its bitangent cross(n, t) along −∂p/∂v. Zero when the uvs are degenerate.
-glm::vec4 face_tangent(const Scene& scene, uint32_t tri, int set, const glm::vec3& n) {
-  const std::vector<glm::vec2>& uv = scene.texcoords[set];
-  if (uv.empty()) return glm::vec4(0.f);
-  const Geometry& g = scene.geometry;
-  const glm::vec3 e1 = g.vertex(tri, 1) - g.vertex(tri, 0),
-                  e2 = g.vertex(tri, 2) - g.vertex(tri, 0);
-  const glm::vec2* c = &uv[3 * size_t(tri)];
-  const glm::vec2 d1 = c[1] - c[0], d2 = c[2] - c[0];
-  const float det = d1.x * d2.y - d1.y * d2.x;
-  if (!(std::abs(det) > 0.f)) return glm::vec4(0.f);
-  const glm::vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det;
-  const glm::vec3 dpdv = (e2 * d1.x - e1 * d2.x) / det;
-  return glm::vec4(dpdu, glm::dot(glm::cross(n, dpdu), dpdv) > 0.f ? -1.f : 1.f);
-}
-
-// The normal map's normal around n, or n when no tangent frame can be made.
+// The normal map's normal around n, or n where the triangle has no tangents (no uvs to make them).
+// The bitangent is cross(n, t) · w, glTF's convention.
 glm::vec3 normal_mapped(const Scene& scene, const Material& m, uint32_t tri, float u, float v,
                         const glm::vec3& n) {
-  glm::vec4 t(0.f);
-  if (!scene.tangents.empty()) t = interpolate(&scene.tangents[3 * size_t(tri)], u, v);
-  if (!(glm::dot(glm::vec3(t), glm::vec3(t)) > 0.f))
-    t = face_tangent(scene, tri, m.normal_texture.texcoord, n);
+  if (scene.tangents.empty()) return n;
+  const glm::vec4 t = interpolate(&scene.tangents[3 * size_t(tri)], u, v);
   glm::vec3 tangent = glm::vec3(t) - n * glm::dot(n, glm::vec3(t));
   const float len = glm::length(tangent);
   if (!(len > 0.f) || !std::isfinite(len)) return n;
