@@ -94,6 +94,10 @@ SurfacePoint quad_surface(const Scene& scene, float x, float y) {
 }  // namespace
 
 TEST_CASE("texture sampling: nearest and bilinear, sRGB per texel, wrap modes") {
+  // The sRGB curve's known values: 188 → 0.5029, 0.5 → 0.2140, linear below 0.04045.
+  CHECK(kGrey == doctest::Approx(0.50289).epsilon(1e-4));
+  CHECK(srgb_to_linear(0.5f) == doctest::Approx(0.21404).epsilon(1e-4));
+  CHECK(srgb_to_linear(0.04f) == doctest::Approx(0.04f / 12.92f));
   const TextureImage image = image2x2();
   Texture t;
   t.nearest = true;
