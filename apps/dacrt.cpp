@@ -361,9 +361,9 @@ int info(const std::vector<std::string>& args) {
   const Scene::Ignored& ig = scene.ignored;
   if (ig.any())
     std::printf(
-        "ignores    %zu alpha MASK, %zu alpha BLEND, %zu transmissive, %zu specular-textured "
-        "materials (drawn opaque, by factors)\n",
-        ig.alpha_mask, ig.alpha_blend, ig.transmissive, ig.specular_textures);
+        "ignores    %zu transmissive, %zu specular-textured materials (drawn opaque, by "
+        "factors)\n",
+        ig.transmissive, ig.specular_textures);
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {

@@ -34,7 +34,8 @@ enum Dimension : uint32_t {
   bsdf_v,
   bsdf_lobe,
   environment_u,
-  environment_v
+  environment_v,
+  alpha  // + the ray type, + the triangle × 256: one number per ray and triangle
 };
 
 class PathTracer final : public Integrator {
@@ -55,7 +56,23 @@ class PathTracer final : public Integrator {
     if (lights_.empty() && !map_)
       stats_.skipped.push_back(
           "shadow rays (the scene has no emitters and no lights, and no environment map)");
+    std::vector<uint8_t> tested(scene.geometry.size(), 0);
+    bool any = false;
+    for (size_t t = 0; t < tested.size(); ++t)
+      any |= tested[t] =
+          scene.materials[scene.geometry.material[t]].alpha_mode != Material::AlphaMode::opaque;
+    if (any) {
+      alpha_ = std::make_unique<AlphaFilter>(std::move(tested), *this);
+      backend_.set_hit_filter(alpha_.get());
+    } else {
+      stats_.skipped.push_back("alpha tests (every material is opaque)");
+    }
   }
+  ~PathTracer() override {
+    if (alpha_) backend_.set_hit_filter(nullptr);
+  }
+  PathTracer(const PathTracer&) = delete;
+  PathTracer& operator=(const PathTracer&) = delete;
 
   const RenderStats& stats() const override { return stats_; }
 
@@ -83,6 +100,25 @@ class PathTracer final : public Integrator {
   }
 
  private:
+  // Alpha-masked and alpha-blended materials, seen through by the backend's hit filter. A blended
+  // surface stops a ray with probability alpha, drawn from the path's random stream (so renders
+  // stay deterministic and the same for every backend).
+  class AlphaFilter final : public HitFilter {
+   public:
+    AlphaFilter(std::vector<uint8_t> tested, const PathTracer& tracer)
+        : HitFilter(std::move(tested)), t_(tracer) {}
+    bool accept(const RayBatch& rays, uint32_t ray, uint32_t tri, float u, float v) const override {
+      const uint32_t path = rays.path[ray];
+      const float xi =
+          uniform_float(t_.s_.seed, t_.pixel_[path], t_.sample_[path], uint64_t(t_.depth_),
+                        uint64_t(alpha) + uint64_t(rays.type) + (uint64_t(tri) << 8));
+      return alpha_accepts(t_.scene_, tri, u, v, xi);
+    }
+
+   private:
+    const PathTracer& t_;
+  };
+
   float random(size_t path, int depth, Dimension dim) const {
     return uniform_float(s_.seed, pixel_[path], sample_[path], uint64_t(depth), uint64_t(dim));
   }
@@ -112,6 +148,7 @@ class PathTracer final : public Integrator {
   }
 
   void trace(const RayBatch& rays, int depth) {
+    depth_ = depth;
     auto t0 = Clock::now();
     backend_.intersect(rays, hits_);
     double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -328,6 +365,8 @@ class PathTracer final : public Integrator {
   const EnvironmentMap* map_;  // null: uniform (or black) environment, reached by BRDF sampling
   const float map_share_;      // probability that next-event estimation samples the map
   RenderStats stats_;
+  std::unique_ptr<AlphaFilter> alpha_;  // null when every material is opaque
+  int depth_ = 0;                       // of the batch being traced (shadow rays: their vertex's)
 
   // The wavefront's paths, indexed by RayBatch::path.
   std::vector<glm::vec3> throughput_, radiance_;

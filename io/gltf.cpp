@@ -282,8 +282,6 @@ class Loader {
         if (n) what += (what.empty() ? "" : ", ") + str(n) + " " + name;
       };
       add(i.specular_textures, "KHR_materials_specular textures");
-      add(i.alpha_mask, "alphaMode MASK materials");
-      add(i.alpha_blend, "alphaMode BLEND materials");
       add(i.transmissive, "KHR_materials_transmission materials");
       std::cerr << "warning: " << path_
                 << ": not rendered in this version (drawn opaque, by factors): " << what << "\n";
@@ -518,8 +516,15 @@ class Loader {
       ignored.specular_textures +=
           has_member(src, "KHR_materials_specular", "specularTexture") ||
           has_member(src, "KHR_materials_specular", "specularColorTexture");
-      ignored.alpha_mask += src.alphaMode == "MASK";
-      ignored.alpha_blend += src.alphaMode == "BLEND";
+      if (src.alphaMode == "MASK")
+        m.alpha_mode = Material::AlphaMode::mask;
+      else if (src.alphaMode == "BLEND")
+        m.alpha_mode = Material::AlphaMode::blend;
+      else if (src.alphaMode != "OPAQUE" && !src.alphaMode.empty())
+        fail(what + ": alphaMode \"" + src.alphaMode + "\" is not OPAQUE, MASK or BLEND");
+      if (!(src.alphaCutoff >= 0.0) || !std::isfinite(src.alphaCutoff))
+        fail(what + ": alphaCutoff is not a finite number >= 0");
+      m.alpha_cutoff = float(src.alphaCutoff);
       ignored.transmissive += src.extensions.count("KHR_materials_transmission") > 0;
       const auto& base = src.pbrMetallicRoughness.baseColorFactor;
       const auto& emissive = src.emissiveFactor;

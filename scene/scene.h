@@ -27,6 +27,11 @@ struct Material {
   glm::vec3 emission{0.f};        // emissiveFactor × KHR_materials_emissive_strength (radiance)
   bool double_sided = false;      // emitters emit from their back face too
   float alpha = 1.f;              // baseColorFactor.a
+  // alphaMode: OPAQUE ignores alpha; MASK draws where alpha >= alpha_cutoff; BLEND draws with
+  // probability alpha (stochastic transparency: unbiased, no sorting).
+  enum class AlphaMode : uint8_t { opaque, mask, blend };
+  AlphaMode alpha_mode = AlphaMode::opaque;
+  float alpha_cutoff = 0.5f;
 
   TextureRef base_color_texture;          // sRGB; alpha in .a
   TextureRef metallic_roughness_texture;  // linear; roughness in .g, metallic in .b
@@ -106,11 +111,11 @@ struct Scene {
   size_t cameras_from_file = 0;       // if 0, cameras[0] was made to frame the scene's bounds
 
   // What the file uses that this version does not render yet (the loader warns once): materials
-  // with KHR_materials_specular textures, alpha-masked or blended materials, transmissive
-  // materials. Counted per material of the file.
+  // with KHR_materials_specular textures, transmissive materials. Counted per material of the
+  // file.
   struct Ignored {
-    size_t specular_textures = 0, alpha_mask = 0, alpha_blend = 0, transmissive = 0;
-    bool any() const { return specular_textures || alpha_mask || alpha_blend || transmissive; }
+    size_t specular_textures = 0, transmissive = 0;
+    bool any() const { return specular_textures || transmissive; }
   } ignored;
 
   // Counts from the file, for `dacrt info`.

@@ -69,6 +69,27 @@ SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, cons
   return s;
 }
 
+float alpha_at(const Scene& scene, uint32_t tri, float u, float v) {
+  const Material& m = scene.materials[scene.geometry.material[tri]];
+  float alpha = m.alpha;
+  if (!scene.colors.empty()) alpha *= interpolate(&scene.colors[3 * size_t(tri)], u, v).a;
+  if (m.base_color_texture) alpha *= lookup(scene, m.base_color_texture, tri, u, v, true).a;
+  return alpha;
+}
+
+bool alpha_accepts(const Scene& scene, uint32_t tri, float u, float v, float xi) {
+  const Material& m = scene.materials[scene.geometry.material[tri]];
+  switch (m.alpha_mode) {
+    case Material::AlphaMode::opaque:
+      return true;
+    case Material::AlphaMode::mask:
+      return alpha_at(scene, tri, u, v) >= m.alpha_cutoff;
+    case Material::AlphaMode::blend:
+      return xi < alpha_at(scene, tri, u, v);
+  }
+  return true;
+}
+
 glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
   if (!m.emissive_texture || !m.emissive()) return m.emission;

@@ -20,16 +20,20 @@ bool same_bits(float a, float b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-HitBatch brute_hits(const Geometry& g, const RayBatch& rays) {
+HitBatch brute_hits(const Geometry& g, const RayBatch& rays, const HitFilter* filter = nullptr) {
   HitBatch hits;
-  Backend::create("brute", g)->intersect(rays, hits);
+  auto brute = Backend::create("brute", g);
+  brute->set_hit_filter(filter);
+  brute->intersect(rays, hits);
   return hits;
 }
 
 // Compares a backend with the oracle's answers; returns the number of rays compared.
 size_t compare(const Geometry& g, const RayBatch& rays, const HitBatch& expected,
-               const char* backend, const Options& options = {}) {
+               const char* backend, const Options& options = {},
+               const HitFilter* filter = nullptr) {
   auto tested = Backend::create(backend, g, options);
+  tested->set_hit_filter(filter);
   HitBatch got;
   tested->intersect(rays, got);
   REQUIRE(got.size() == rays.size());
@@ -132,18 +136,59 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
                      "dacrt-naive");
 }
 
-TEST_CASE("brute's occlusion agrees with its closest hit") {
+TEST_CASE("hit filters (alpha tests): dacrt and dacrt-naive see through what brute sees through") {
+  // Forks everywhere on two threads, so filtered hits also meet the concurrent subtrees.
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
+  size_t total_changed = 0;
+  for (auto& c : cases()) {
+    INFO(std::string(c.name));
+    const Geometry& g = c.geometry;
+    const TestFilter filter(g.size());
+    for (const RayBatch& rays :
+         {random_rays(g, 20000, 31, RayType::bounce), surface_rays(g, 20000, 32, true)}) {
+      const HitBatch plain = brute_hits(g, rays), expected = brute_hits(g, rays, &filter);
+      size_t plain_hits = 0, filtered_hits = 0;
+      for (size_t i = 0; i < rays.size(); ++i)
+        plain_hits += plain.hit(i), filtered_hits += expected.hit(i);
+      // The filter matters: some rays pass through to another triangle or out of the scene.
+      size_t changed = 0;
+      for (size_t i = 0; i < rays.size(); ++i) changed += plain.prim[i] != expected.prim[i];
+      MESSAGE(std::string(c.name) << ": " << plain_hits << " hits, " << filtered_hits
+                                  << " after filtering, " << changed << " changed");
+      CHECK(changed * 20 >= plain_hits);
+      total_changed += changed;
+      compare(g, rays, expected, "dacrt", {}, &filter);
+      Options forks;
+      forks.set("task_rays", "64");
+      forks.set("chunks", "1");
+      compare(g, rays, expected, "dacrt", forks, &filter);
+      Options scalar;
+      scalar.set("simd", "none");
+      compare(g, rays, expected, "dacrt", scalar, &filter);
+      compare(g, rays, expected, "dacrt-naive", {}, &filter);
+    }
+    CHECK(filter.calls > 0);
+  }
+  CHECK(total_changed > 1000);
+}
+
+TEST_CASE("brute's occlusion agrees with its closest hit, with and without a hit filter") {
   for (auto& c : cases()) {
     INFO(c.name);
     RayBatch rays = surface_rays(c.geometry, 3000, 41);
-    auto brute = Backend::create("brute", c.geometry);
-    HitBatch hits;
-    brute->intersect(rays, hits);
-    std::vector<uint8_t> occ(rays.size());
-    brute->occluded(rays, occ);
-    size_t mismatches = 0;
-    for (size_t i = 0; i < rays.size(); ++i) mismatches += occ[i] != uint8_t(hits.hit(i));
-    CHECK(mismatches == 0);
+    const TestFilter filter(c.geometry.size());
+    const HitFilter* none = nullptr;
+    for (const HitFilter* f : {none, static_cast<const HitFilter*>(&filter)}) {
+      auto brute = Backend::create("brute", c.geometry);
+      brute->set_hit_filter(f);
+      HitBatch hits;
+      brute->intersect(rays, hits);
+      std::vector<uint8_t> occ(rays.size());
+      brute->occluded(rays, occ);
+      size_t mismatches = 0;
+      for (size_t i = 0; i < rays.size(); ++i) mismatches += occ[i] != uint8_t(hits.hit(i));
+      CHECK(mismatches == 0);
+    }
   }
 }
 

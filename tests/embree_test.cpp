@@ -132,16 +132,20 @@ void check(const Agreement& a, const std::string& label) {
   CHECK(a.t_worse == 0);
 }
 
-HitBatch reference_hits(const char* backend, const Geometry& g, const RayBatch& rays) {
+HitBatch reference_hits(const char* backend, const Geometry& g, const RayBatch& rays,
+                        const HitFilter* filter = nullptr) {
   HitBatch hits;
-  Backend::create(backend, g)->intersect(rays, hits);
+  auto reference = Backend::create(backend, g);
+  reference->set_hit_filter(filter);
+  reference->intersect(rays, hits);
   return hits;
 }
 
 // One ray set against a reference backend: the agreement figures, reported with MESSAGE.
 Agreement agree_with(const char* reference, Backend& embree, const Geometry& g,
-                     const RayBatch& rays, const std::string& label) {
-  Agreement a = agree(embree, g, rays, reference_hits(reference, g, rays));
+                     const RayBatch& rays, const std::string& label,
+                     const HitFilter* filter = nullptr) {
+  Agreement a = agree(embree, g, rays, reference_hits(reference, g, rays, filter));
   MESSAGE(label << ": hit/miss " << a.hit_miss << " (+ " << a.edge_hit_miss << " on edges), "
                 << "other triangle " << a.other_prim << " (+ " << a.ties << " ties), t off "
                 << a.t_off << " (" << a.t_worse << " Embree's), occlusion " << a.occlusion << " (+ "
@@ -192,6 +196,27 @@ TEST_CASE("embree agrees with brute on hits, triangles, t and occlusion") {
     all += one;
   }
   check(all, "all geometries");
+}
+
+TEST_CASE("embree applies hit filters (alpha tests) as brute does") {
+  uint64_t seed = 900;
+  Agreement all;
+  for (const Geometry& g : {random_soup(600, 11), sphere(16, 32, glm::vec3(0.5f), 0.5f)}) {
+    const TestFilter filter(g.size());
+    auto embree = Backend::create("embree", g);
+    embree->set_hit_filter(&filter);
+    all += agree_with("brute", *embree, g, random_rays(g, 30000, ++seed, RayType::bounce),
+                      "filtered random rays", &filter);
+    all += agree_with("brute", *embree, g, surface_rays(g, 15000, ++seed, true),
+                      "filtered rays from surfaces", &filter);
+    // Without the filter the answers change: the filter was applied, not merely tolerated.
+    embree->set_hit_filter(nullptr);
+    const Agreement unfiltered =
+        agree_with("brute", *embree, g, random_rays(g, 30000, seed - 1, RayType::bounce),
+                   "the same random rays, Embree unfiltered", &filter);
+    CHECK(unfiltered.hit_miss + unfiltered.other_prim > 100);
+  }
+  check(all, "filtered");
 }
 
 TEST_CASE("embree: NaN, inf, zero-direction and inactive rays miss; an empty scene works") {

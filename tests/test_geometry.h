@@ -2,11 +2,13 @@
 // oracle comparison runs on, and rays that stress them.
 #pragma once
 
+#include <atomic>
 #include <cmath>
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "tracer/backend.h"
 #include "tracer/geometry.h"
 #include "tracer/ray.h"
 #include "tracer/ray_batch.h"
@@ -206,5 +208,25 @@ inline RayBatch axis_rays(const Geometry& g, size_t n, uint64_t seed) {
   }
   return rays;
 }
+
+// A hit filter for backend tests: every other triangle is tested, and there a hit counts where
+// u + v < 0.6 (a mask) or for about half of the (ray, triangle) pairs (a coin): a function of
+// (ray, triangle, u, v) alone, as backends require.
+class TestFilter final : public HitFilter {
+ public:
+  explicit TestFilter(size_t triangles) : HitFilter(every_other(triangles)) {}
+  bool accept(const RayBatch&, uint32_t ray, uint32_t tri, float u, float v) const override {
+    calls.fetch_add(1, std::memory_order_relaxed);
+    return u + v < 0.6f || (hash(ray, tri) & 1) != 0;
+  }
+  mutable std::atomic<size_t> calls{0};
+
+ private:
+  static std::vector<uint8_t> every_other(size_t n) {
+    std::vector<uint8_t> tested(n, 0);
+    for (size_t i = 0; i < n; i += 2) tested[i] = 1;
+    return tested;
+  }
+};
 
 }  // namespace dacrt::test

@@ -20,6 +20,23 @@
 
 namespace dacrt {
 
+// A hit filter lets the renderer see through parts of triangles (alpha-masked and alpha-blended
+// materials, the "any-hit" test): a hit on a triangle whose `tests` flag is set counts only if
+// accept() says so. Backends ask before the hit can end or shorten the ray, so closest hits and
+// occlusion both pass rejected points. accept() must be thread-safe and a function of (ray,
+// triangle, u, v) alone: a backend may test the same triangle more than once for one ray.
+class HitFilter {
+ public:
+  explicit HitFilter(std::vector<uint8_t> tested) : tested_(std::move(tested)) {}
+  virtual ~HitFilter() = default;
+  bool tests(uint32_t tri) const { return tested_[tri] != 0; }
+  // Ray `ray` of `rays` meets triangle `tri` at barycentrics (u, v): does it stop there?
+  virtual bool accept(const RayBatch& rays, uint32_t ray, uint32_t tri, float u, float v) const = 0;
+
+ private:
+  std::vector<uint8_t> tested_;  // per triangle
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -36,10 +53,20 @@ class Backend {
   virtual void occluded(const RayBatch& rays, std::span<uint8_t> occluded) = 0;
   virtual Stats stats() const = 0;
 
+  // From now on, hits go through `filter` (not owned; null: every hit counts, the default).
+  void set_hit_filter(const HitFilter* filter) { filter_ = filter; }
+
   using Factory = std::function<std::unique_ptr<Backend>(const Geometry&, const Options&)>;
   struct Registration {
     Registration(std::string name, Factory factory);
   };
+
+ protected:
+  // True if the filter turns down ray i's hit on `tri` at (u, v).
+  bool rejected(const RayBatch& rays, uint32_t i, uint32_t tri, float u, float v) const {
+    return filter_ && filter_->tests(tri) && !filter_->accept(rays, i, tri, u, v);
+  }
+  const HitFilter* filter_ = nullptr;
 };
 
 }  // namespace dacrt

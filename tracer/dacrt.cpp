@@ -172,10 +172,11 @@ struct SplitScratch {
 // nodes run their second child as a parallel task on its own Traversal (see fork).
 struct Traversal {
   const Dacrt& k;
-  RayRef* rays;       // the call's live rays
-  HitBatch* hits;     // closest-hit mode; null for occlusion
-  uint8_t* occluded;  // occlusion mode; null for closest hit
-  TriangleRef* tris;  // every triangle
+  RayRef* rays;           // the call's live rays
+  HitBatch* hits;         // closest-hit mode; null for occlusion
+  uint8_t* occluded;      // occlusion mode; null for closest hit
+  const RayBatch& batch;  // the call's rays, as given (for the hit filter)
+  TriangleRef* tris;      // every triangle
   Pcg32 rng;
   Stats stats;
 
@@ -247,6 +248,7 @@ class Dacrt final : public Backend {
     return s;
   }
 
+  using Backend::rejected;  // for the traversal's leaves
   const Geometry& geometry_;
   const DacrtParams params_;
 
@@ -307,8 +309,9 @@ class Dacrt final : public Backend {
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
       const uint32_t rb = uint32_t(count * c / chunks), re = uint32_t(count * (c + 1) / chunks);
       Triangles& own = (*triangles)[c];
-      Traversal t{*this, refs, hits, occluded, own.refs.data(), Pcg32(hash(params_.seed, call, c)),
-                  {}};
+      Traversal t{
+          *this, refs, hits, occluded, batch, own.refs.data(), Pcg32(hash(params_.seed, call, c)),
+          {}};
       if (!bounds_.empty() && rb < re)
         t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
       std::lock_guard lock(total_mutex);
@@ -359,9 +362,11 @@ class Dacrt final : public Backend {
 void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
   ++stats.leaves;
   const Geometry& g = k.geometry_;
-  // Records a hit of ray `ref` on triangle `tri` (already accepted by the triangle test).
+  // Records a hit of ray `ref` on triangle `tri` (already accepted by the triangle test) unless
+  // the hit filter turns it down.
   auto record = [&](RayRef& ref, uint32_t tri, const TriangleHit& h) {
     const uint32_t i = ref.id;
+    if (k.rejected(batch, i, tri, h.u, h.v)) return;
     if (occluded) {
       occluded[i] = 1;
       ref.far = -inf;  // drops out of every later box test and leaf
@@ -806,7 +811,7 @@ void Traversal::fork(const Split& split, uint32_t rb, uint32_t re, int depth) {
     if (re > a_begin) node(a.box, a.centres, a.tb, a.te, a_begin, re, depth + 1);
     return after_a(*this, b_only, a_begin);
   }
-  Traversal task{k, rays, hits, occluded, tris, Pcg32(rng.next()), {}};
+  Traversal task{k, rays, hits, occluded, batch, tris, Pcg32(rng.next()), {}};
   std::atomic<bool> a_done{false};
   bool beside = false;  // the task ran while A was running
   tbb::task_group group;

@@ -123,7 +123,9 @@ class Embree final : public Backend {
     try {
       scene_ = rtcNewScene(device_);
       throw_if_error();
-      rtcSetSceneFlags(scene_, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+      // A context filter function carries the hit filter (set_hit_filter) when there is one.
+      rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION |
+                                   (robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE));
       rtcSetSceneBuildQuality(scene_, build_quality);
       // Embree with zero primitives is fine, but a geometry with zero-sized buffers is not worth
       // the risk: an empty scene simply has no geometry.
@@ -209,9 +211,12 @@ class Embree final : public Backend {
     const bool coherent = rays.type == RayType::primary;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, block), [&](const auto& range) {
       FlushDenormals flush;
-      RTCIntersectContext context;
+      FilterContext context;
       rtcInitIntersectContext(&context);
       if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      if (filter_) context.filter = filter_hits;
+      context.self = this;
+      context.rays = &rays;
       for (size_t first = range.begin(); first < range.end(); first += block)
         body(context, first, std::min(first + block, range.end()));
     });
@@ -256,6 +261,22 @@ class Embree final : public Backend {
     return std::isfinite(tnear) && tnear <= rays.tmax[i];
   }
 
+  // The intersect context, with what the hit filter needs.
+  struct FilterContext : RTCIntersectContext {
+    const Embree* self;
+    const RayBatch* rays;
+  };
+  // Embree's barycentrics are ours ((1 − u − v)·p0 + u·p1 + v·p2); ray.id is the batch index.
+  static void filter_hits(const RTCFilterFunctionNArguments* args) {
+    const auto* c = static_cast<const FilterContext*>(args->context);
+    for (unsigned j = 0; j < args->N; ++j)
+      if (args->valid[j] &&
+          c->self->rejected(*c->rays, RTCRayN_id(args->ray, args->N, j),
+                            RTCHitN_primID(args->hit, args->N, j), RTCHitN_u(args->hit, args->N, j),
+                            RTCHitN_v(args->hit, args->N, j)))
+        args->valid[j] = 0;
+  }
+
   static void set_ray(RTCRay& r, const RayBatch& rays, size_t i, float tnear) {
     r.org_x = rays.ox[i], r.org_y = rays.oy[i], r.org_z = rays.oz[i];
     r.dir_x = rays.dx[i], r.dir_y = rays.dy[i], r.dir_z = rays.dz[i];
@@ -263,7 +284,7 @@ class Embree final : public Backend {
     r.tfar = rays.tmax[i];
     r.time = 0.f;
     r.mask = ~0u;
-    r.id = 0;
+    r.id = uint32_t(i);
     r.flags = 0;
   }
 
