@@ -337,20 +337,26 @@ int info(const std::vector<std::string>& args) {
   std::printf("triangles  %zu\n", g.size());
   std::printf("meshes     %zu (%zu triangle primitives, %zu nodes)\n", scene.mesh_count,
               scene.primitive_count, scene.node_count);
-  std::printf("materials  %zu (%zu emissive)\n", scene.materials.size(), emissive_materials);
+  size_t textured = 0, masked = 0, blended = 0;
+  for (const auto& m : scene.materials) {
+    textured += m.textured();
+    masked += m.alpha_mode == Material::AlphaMode::mask;
+    blended += m.alpha_mode == Material::AlphaMode::blend;
+  }
+  std::printf("materials  %zu (%zu emissive, %zu textured, %zu alpha MASK, %zu alpha BLEND)\n",
+              scene.materials.size(), emissive_materials, textured, masked, blended);
   size_t punctual[3] = {0, 0, 0};
   for (const PunctualLight& l : scene.lights) ++punctual[size_t(l.type)];
   std::printf(
       "lights     %zu emissive triangles, %zu punctual (%zu point, %zu spot, %zu directional)\n",
       emissive_triangles, scene.lights.size(), punctual[0], punctual[1], punctual[2]);
-  size_t textured = 0, image_bytes = 0, images = 0;
-  for (const auto& m : scene.materials) textured += m.textured();
+  size_t image_bytes = 0, images = 0;
   for (const TextureImage& i : scene.images) {
     images += i.width > 0;
     image_bytes += i.rgba8.size() + 2 * i.rgba16.size();
   }
-  std::printf("textures   %zu textured materials, %zu images decoded (%.1f MB)\n", textured, images,
-              double(image_bytes) / 1e6);
+  std::printf("images     %zu decoded (%.1f MB), of %zu in the file\n", images,
+              double(image_bytes) / 1e6, scene.images.size());
   std::string attributes = "POSITION";
   if (!scene.normals.empty()) attributes += ", NORMAL";
   if (!scene.texcoords[0].empty()) attributes += ", TEXCOORD_0";
@@ -389,6 +395,7 @@ int info(const std::vector<std::string>& args) {
        "shadow rays (no emitters and no lights; an --environment FILE.exr map brings them back)");
   skip(!textured, "texture lookups and uv interpolation (no textures)");
   skip(scene.colors.empty(), "vertex colours (none)");
+  skip(!masked && !blended, "alpha tests (every material is opaque)");
   std::printf("skips      %s\n", skips.empty() ? "nothing" : skips.c_str());
   return 0;
 }
