@@ -337,14 +337,17 @@ int info(const std::vector<std::string>& args) {
   std::printf("triangles  %zu\n", g.size());
   std::printf("meshes     %zu (%zu triangle primitives, %zu nodes)\n", scene.mesh_count,
               scene.primitive_count, scene.node_count);
-  size_t textured = 0, masked = 0, blended = 0;
+  size_t textured = 0, masked = 0, blended = 0, transmissive = 0;
   for (const auto& m : scene.materials) {
     textured += m.textured();
     masked += m.alpha_mode == Material::AlphaMode::mask;
     blended += m.alpha_mode == Material::AlphaMode::blend;
+    transmissive += m.transmission > 0.f;
   }
-  std::printf("materials  %zu (%zu emissive, %zu textured, %zu alpha MASK, %zu alpha BLEND)\n",
-              scene.materials.size(), emissive_materials, textured, masked, blended);
+  std::printf(
+      "materials  %zu (%zu emissive, %zu textured, %zu alpha MASK, %zu alpha BLEND, %zu "
+      "transmissive)\n",
+      scene.materials.size(), emissive_materials, textured, masked, blended, transmissive);
   size_t punctual[3] = {0, 0, 0};
   for (const PunctualLight& l : scene.lights) ++punctual[size_t(l.type)];
   std::printf(
@@ -367,9 +370,9 @@ int info(const std::vector<std::string>& args) {
   const Scene::Ignored& ig = scene.ignored;
   if (ig.any())
     std::printf(
-        "ignores    %zu transmissive, %zu specular-textured materials (drawn opaque, by "
-        "factors)\n",
-        ig.transmissive, ig.specular_textures);
+        "ignores    %zu volume thicknesses (rendered thin-walled), %zu specular-textured "
+        "materials (rendered by their factors)\n",
+        ig.volumes, ig.specular_textures);
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {
@@ -396,6 +399,7 @@ int info(const std::vector<std::string>& args) {
   skip(!textured, "texture lookups and uv interpolation (no textures)");
   skip(scene.colors.empty(), "vertex colours (none)");
   skip(!masked && !blended, "alpha tests (every material is opaque)");
+  skip(!transmissive, "transmission (no transmissive material)");
   std::printf("skips      %s\n", skips.empty() ? "nothing" : skips.c_str());
   return 0;
 }

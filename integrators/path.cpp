@@ -61,18 +61,11 @@ class PathTracer final : public Integrator {
     for (size_t t = 0; t < tested.size(); ++t)
       any |= tested[t] =
           scene.materials[scene.geometry.material[t]].alpha_mode != Material::AlphaMode::opaque;
-    if (any) {
+    if (any)
       alpha_ = std::make_unique<AlphaFilter>(std::move(tested), *this);
-      backend_.set_hit_filter(alpha_.get());
-    } else {
+    else
       stats_.skipped.push_back("alpha tests (every material is opaque)");
-    }
   }
-  ~PathTracer() override {
-    if (alpha_) backend_.set_hit_filter(nullptr);
-  }
-  PathTracer(const PathTracer&) = delete;
-  PathTracer& operator=(const PathTracer&) = delete;
 
   const RenderStats& stats() const override { return stats_; }
 
@@ -150,7 +143,7 @@ class PathTracer final : public Integrator {
   void trace(const RayBatch& rays, int depth) {
     depth_ = depth;
     auto t0 = Clock::now();
-    backend_.intersect(rays, hits_);
+    backend_.intersect(rays, hits_, alpha_.get());
     double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     auto& by_type = stats_.by_type[size_t(rays.type)];
     by_type.rays += rays.size(), by_type.seconds += seconds;
@@ -230,39 +223,59 @@ class PathTracer final : public Integrator {
     // Interpolated normals can face away from the viewer where the geometric one does not; the
     // BRDF is then evaluated around the geometric normal.
     if (glm::dot(ns, d) >= 0.f) ns = ng;
+    const bool transmits = surface.brdf.transmission > 0.f && surface.brdf.metallic < 1.f;
     const Frame frame(ns);
-    const GltfBrdf brdf(surface.brdf);
-    const glm::vec3 wo = frame.to_local(-d);
-    const glm::vec3 origin = offset_ray_origin(p, ng);
+    const Vertex x{ng,
+                   frame,
+                   GltfBrdf(surface.brdf),
+                   frame.to_local(-d),
+                   offset_ray_origin(p, ng),
+                   transmits ? offset_ray_origin(p, -ng) : p,
+                   transmits};
 
-    if (!lights_.empty() || map_) next_event(i, path, depth, p, ng, frame, brdf, wo, origin);
+    if (!lights_.empty() || map_) next_event(i, path, depth, p, x);
 
-    // BRDF sampling, kept above the surface.
-    const auto s = brdf.sample(wo, random(path, depth, bsdf_lobe), random(path, depth, bsdf_u),
-                               random(path, depth, bsdf_v));
+    // BSDF sampling: reflection keeps to the arrival side, transmission crosses to the other.
+    const auto s = x.brdf.sample(x.wo, random(path, depth, bsdf_lobe), random(path, depth, bsdf_u),
+                                 random(path, depth, bsdf_v));
     if (!s) return;
-    const glm::vec3 wi = frame.to_world(s->wi);
-    if (glm::dot(wi, ng) <= 0.f) return;
+    const glm::vec3 wi = x.frame.to_world(s->wi);
+    const glm::vec3* origin = x.origin_towards(wi, s->wi);
+    if (!origin) return;
     beta *= s->weight;
     if (!(beta.x > 0.f || beta.y > 0.f || beta.z > 0.f)) return;
     bsdf_pdf_[path] = s->pdf;
-    next_.set(i, origin, wi, 0.f, INFINITY, path);
+    next_.set(i, *origin, wi, 0.f, INFINITY, path);
     has_next_[i] = 1;
   }
 
-  void next_event(size_t i, uint32_t path, int depth, const glm::vec3& p, const glm::vec3& ng,
-                  const Frame& frame, const GltfBrdf& brdf, const glm::vec3& wo,
-                  const glm::vec3& origin) {
+  // A shading point as next-event estimation and BSDF sampling see it.
+  struct Vertex {
+    glm::vec3 ng;  // geometric normal, on the side the ray arrived from
+    Frame frame;   // around the shading normal, on the same side
+    GltfBrdf brdf;
+    glm::vec3 wo;            // towards the viewer, local
+    glm::vec3 above, below;  // ray origins offset to either side (below only if it transmits)
+    bool transmits;
+    // Where a ray leaving along wi (wi_local in the frame) starts, or null if the BSDF sends no
+    // light that way: the shading and geometric normals must agree on the side, and only a
+    // transmissive material reaches the other one.
+    const glm::vec3* origin_towards(const glm::vec3& wi, const glm::vec3& wi_local) const {
+      if (wi_local.z > 0.f && glm::dot(wi, ng) > 0.f) return &above;
+      if (transmits && wi_local.z < 0.f && glm::dot(wi, ng) < 0.f) return &below;
+      return nullptr;
+    }
+  };
+
+  void next_event(size_t i, uint32_t path, int depth, const glm::vec3& p, const Vertex& x) {
     const Geometry& g = scene_.geometry;
     float pick = random(path, depth, light_pick);
-    if (pick < map_share_) return environment(i, path, depth, ng, frame, brdf, wo, origin);
+    if (pick < map_share_) return environment(i, path, depth, x);
     pick = std::min((pick - map_share_) / (1.f - map_share_), 0x1.fffffep-1f);
     LightSampler::Sample ls =
         lights_.sample(pick, random(path, depth, light_u), random(path, depth, light_v));
     ls.pmf *= 1.f - map_share_;
-    if (ls.light >= 0)
-      return punctual(i, path, p, scene_.lights[size_t(ls.light)], ls.pmf, ng, frame, brdf, wo,
-                      origin);
+    if (ls.light >= 0) return punctual(i, path, p, scene_.lights[size_t(ls.light)], ls.pmf, x);
     const Material& light = scene_.materials[g.material[ls.triangle]];
     const glm::vec3 emission = emission_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
     glm::vec3 to = ls.point - p;
@@ -274,16 +287,16 @@ class PathTracer final : public Integrator {
     nl = glm::normalize(nl);
     float cos_light = -glm::dot(wi, nl);
     if (light.double_sided) cos_light = std::abs(cos_light);
-    const glm::vec3 wi_local = frame.to_local(wi);
-    const float cos_surface = wi_local.z;
-    if (cos_light <= 0.f || cos_surface <= 0.f || glm::dot(wi, ng) <= 0.f) return;
+    const glm::vec3 wi_local = x.frame.to_local(wi);
+    const glm::vec3* origin = x.origin_towards(wi, wi_local);
+    if (cos_light <= 0.f || !origin) return;
     float light_pdf = ls.pmf * dist2 / (cos_light * light_area);
-    float weight = power_heuristic(light_pdf, brdf.pdf(wo, wi_local));
-    glm::vec3 c =
-        throughput_[path] * brdf.eval(wo, wi_local) * emission * (cos_surface * weight / light_pdf);
+    float weight = power_heuristic(light_pdf, x.brdf.pdf(x.wo, wi_local));
+    glm::vec3 c = throughput_[path] * x.brdf.eval(x.wo, wi_local) * emission *
+                  (std::abs(wi_local.z) * weight / light_pdf);
     // The segment runs between the two offset points, so neither surface can occlude it.
     glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);
-    queue_shadow(i, path, origin, target - origin, 1.f, c);
+    queue_shadow(i, path, *origin, target - *origin, 1.f, c);
   }
 
   // Puts a shadow ray in slot i that adds `c` to the path if nothing occludes it; none if c is 0.
@@ -295,46 +308,46 @@ class PathTracer final : public Integrator {
     has_shadow_[i] = 1;
   }
 
-  // Next-event estimation towards the environment map, weighed against BRDF sampling (MIS).
-  void environment(size_t i, uint32_t path, int depth, const glm::vec3& ng, const Frame& frame,
-                   const GltfBrdf& brdf, const glm::vec3& wo, const glm::vec3& origin) {
+  // Next-event estimation towards the environment map, weighed against BSDF sampling (MIS).
+  void environment(size_t i, uint32_t path, int depth, const Vertex& x) {
     const EnvironmentMap::Sample es =
         map_->sample(random(path, depth, environment_u), random(path, depth, environment_v));
     const float pdf = map_share_ * es.pdf;
     if (!(pdf > 0.f)) return;
-    const glm::vec3 wi_local = frame.to_local(es.direction);
-    if (wi_local.z <= 0.f || glm::dot(es.direction, ng) <= 0.f) return;
-    const float weight = power_heuristic(pdf, brdf.pdf(wo, wi_local));
-    const glm::vec3 c =
-        throughput_[path] * brdf.eval(wo, wi_local) * es.radiance * (wi_local.z * weight / pdf);
-    queue_shadow(i, path, origin, es.direction, INFINITY, c);
+    const glm::vec3 wi_local = x.frame.to_local(es.direction);
+    const glm::vec3* origin = x.origin_towards(es.direction, wi_local);
+    if (!origin) return;
+    const float weight = power_heuristic(pdf, x.brdf.pdf(x.wo, wi_local));
+    const glm::vec3 c = throughput_[path] * x.brdf.eval(x.wo, wi_local) * es.radiance *
+                        (std::abs(wi_local.z) * weight / pdf);
+    queue_shadow(i, path, *origin, es.direction, INFINITY, c);
   }
 
-  // Next-event estimation towards a punctual light: a delta, so no MIS (BRDF sampling never
+  // Next-event estimation towards a punctual light: a delta, so no MIS (BSDF sampling never
   // finds it). The shadow segment ends at the light, or leaves the scene towards a directional one.
   void punctual(size_t i, uint32_t path, const glm::vec3& p, const PunctualLight& light, float pmf,
-                const glm::vec3& ng, const Frame& frame, const GltfBrdf& brdf, const glm::vec3& wo,
-                const glm::vec3& origin) {
+                const Vertex& x) {
     const bool directional = light.type == PunctualLight::Type::directional;
     const glm::vec3 to = directional ? light.direction : p - light.position;  // light → point
     const float dist = glm::length(to);
     if (!(dist > 0.f)) return;
     const glm::vec3 wi = -to / dist;
-    const glm::vec3 wi_local = frame.to_local(wi);
-    if (wi_local.z <= 0.f || glm::dot(wi, ng) <= 0.f) return;
-    const glm::vec3 c = throughput_[path] * brdf.eval(wo, wi_local) * light.irradiance_towards(to) *
-                        (wi_local.z / pmf);
+    const glm::vec3 wi_local = x.frame.to_local(wi);
+    const glm::vec3* origin = x.origin_towards(wi, wi_local);
+    if (!origin) return;
+    const glm::vec3 c = throughput_[path] * x.brdf.eval(x.wo, wi_local) *
+                        light.irradiance_towards(to) * (std::abs(wi_local.z) / pmf);
     if (directional)
-      queue_shadow(i, path, origin, wi, INFINITY, c);
+      queue_shadow(i, path, *origin, wi, INFINITY, c);
     else
-      queue_shadow(i, path, origin, light.position - origin, 1.f, c);
+      queue_shadow(i, path, *origin, light.position - *origin, 1.f, c);
   }
 
   void trace_shadows() {
     if (shadow_.size() == 0) return;
     occluded_.resize(shadow_.size());
     auto t0 = Clock::now();
-    backend_.occluded(shadow_, occluded_);
+    backend_.occluded(shadow_, occluded_, alpha_.get());
     auto& by_type = stats_.by_type[size_t(RayType::shadow)];
     by_type.rays += shadow_.size();
     by_type.seconds += std::chrono::duration<double>(Clock::now() - t0).count();

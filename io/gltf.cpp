@@ -282,9 +282,9 @@ class Loader {
         if (n) what += (what.empty() ? "" : ", ") + str(n) + " " + name;
       };
       add(i.specular_textures, "KHR_materials_specular textures");
-      add(i.transmissive, "KHR_materials_transmission materials");
-      std::cerr << "warning: " << path_
-                << ": not rendered in this version (drawn opaque, by factors): " << what << "\n";
+      add(i.volumes, "KHR_materials_volume thicknesses (rendered thin-walled)");
+      std::cerr << "warning: " << path_ << ": not rendered as specified in this version: " << what
+                << "\n";
     }
     return std::move(scene_);
   }
@@ -525,7 +525,6 @@ class Loader {
       if (!(src.alphaCutoff >= 0.0) || !std::isfinite(src.alphaCutoff))
         fail(what + ": alphaCutoff is not a finite number >= 0");
       m.alpha_cutoff = float(src.alphaCutoff);
-      ignored.transmissive += src.extensions.count("KHR_materials_transmission") > 0;
       const auto& base = src.pbrMetallicRoughness.baseColorFactor;
       const auto& emissive = src.emissiveFactor;
       if (base.size() != 4)
@@ -545,6 +544,7 @@ class Loader {
           fail(what + ": " + extension + "." + member + " is not a finite number");
         return value.GetNumberAsDouble();
       };
+      ignored.volumes += extension_number("KHR_materials_volume", "thicknessFactor", 0.0) > 0.0;
       const double strength =
           extension_number("KHR_materials_emissive_strength", "emissiveStrength", 1.0);
       if (!(strength >= 0.0) || !std::isfinite(float(strength)))
@@ -567,6 +567,15 @@ class Loader {
       m.ior = float(std::min(ior, 1e6));  // beyond, F0 is 1 to float precision
       m.specular = unit(extension_number("KHR_materials_specular", "specularFactor", 1.0),
                         "KHR_materials_specular.specularFactor");
+      m.transmission =
+          unit(extension_number("KHR_materials_transmission", "transmissionFactor", 0.0),
+               "KHR_materials_transmission.transmissionFactor");
+      if (has_member(src, "KHR_materials_transmission", "transmissionTexture"))
+        m.transmission_texture = texture_ref(
+            extension_texture(
+                src.extensions.at("KHR_materials_transmission").Get("transmissionTexture"),
+                what + " KHR_materials_transmission.transmissionTexture"),
+            what + " KHR_materials_transmission.transmissionTexture");
       if (has_member(src, "KHR_materials_specular", "specularColorFactor")) {
         const tinygltf::Value& c =
             src.extensions.at("KHR_materials_specular").Get("specularColorFactor");
@@ -590,6 +599,25 @@ class Loader {
       m.normal_scale = float(src.normalTexture.scale);
       scene_.materials.push_back(m);
     }
+  }
+
+  // A textureInfo inside an extension (tinygltf leaves those as JSON values).
+  tinygltf::TextureInfo extension_texture(const tinygltf::Value& v, const std::string& what) const {
+    tinygltf::TextureInfo info;
+    auto integer = [&](const char* name, int fallback) {
+      if (!v.Has(name)) return fallback;
+      const tinygltf::Value& n = v.Get(name);
+      if (!n.IsNumber() || !(n.GetNumberAsDouble() >= 0.0 && n.GetNumberAsDouble() < 1e9))
+        fail(what + ": " + name + " is not an index");
+      return int(n.GetNumberAsDouble());
+    };
+    if (!v.IsObject() || !v.Has("index")) fail(what + " has no texture index");
+    info.index = integer("index", -1);
+    info.texCoord = integer("texCoord", 0);
+    if (v.Has("extensions") && v.Get("extensions").IsObject())
+      for (const std::string& key : v.Get("extensions").Keys())
+        info.extensions[key] = v.Get("extensions").Get(key);
+    return info;
   }
 
   // A textureInfo (with KHR_texture_transform); marks the texture used and its TEXCOORD set needed.

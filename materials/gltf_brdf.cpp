@@ -51,7 +51,8 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
     : base_(glm::clamp(p.base_color, 0.f, 1.f)),
       metallic_(std::clamp(p.metallic, 0.f, 1.f)),
       alpha_(std::max(min_alpha,
-                      std::clamp(p.roughness, 0.f, 1.f) * std::clamp(p.roughness, 0.f, 1.f))) {
+                      std::clamp(p.roughness, 0.f, 1.f) * std::clamp(p.roughness, 0.f, 1.f))),
+      transmission_(std::clamp(p.transmission, 0.f, 1.f)) {
   // KHR_materials_ior's F0 = ((ior − 1) / (ior + 1))², times specularColor (at most 1) and
   // specular; F90 = specular (KHR_materials_specular).
   const float ior = std::min(p.ior, 1e6f);  // "infinite" IORs (spec-gloss conversions): F0 → 1
@@ -61,12 +62,25 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
   f90_ = specular;
 }
 
+// wi mirrored through the surface plane.
+static glm::vec3 mirrored(const glm::vec3& wi) {
+  return {wi.x, wi.y, -wi.z};
+}
+
 glm::vec3 GltfBrdf::eval(const glm::vec3& wo, const glm::vec3& wi) const {
-  if (wo.z <= 0.f || wi.z <= 0.f) return glm::vec3(0.f);
+  if (wo.z <= 0.f) return glm::vec3(0.f);
+  if (wi.z < 0.f) {  // through the surface: the dielectric base's transmitted part
+    if (!(transmission_ > 0.f)) return glm::vec3(0.f);
+    const glm::vec3 m = mirrored(wi), h = glm::normalize(wo + m);
+    const float btdf = ggx_d(h.z, alpha_) * ggx_visibility(wo.z, m.z, alpha_);
+    return (1.f - metallic_) * transmission_ * fresnel(glm::dot(wo, h)).base * btdf * base_;
+  }
+  if (wi.z == 0.f) return glm::vec3(0.f);
   const glm::vec3 h = glm::normalize(wo + wi);
   const float specular = ggx_d(h.z, alpha_) * ggx_visibility(wo.z, wi.z, alpha_);
   const Fresnel f = fresnel(glm::dot(wo, h));
-  const glm::vec3 dielectric = f.base * base_ * glm::one_over_pi<float>() + f.dielectric * specular;
+  const glm::vec3 dielectric =
+      (1.f - transmission_) * f.base * base_ * glm::one_over_pi<float>() + f.dielectric * specular;
   return (1.f - metallic_) * dielectric + metallic_ * f.metal * specular;
 }
 
@@ -76,14 +90,16 @@ GltfBrdf::Fresnel GltfBrdf::fresnel(float cos_theta) const {
   return {fd, base_ + (1.f - base_) * w, 1.f - std::max({fd.x, fd.y, fd.z})};
 }
 
-float GltfBrdf::specular_probability(const glm::vec3& wo) const {
+GltfBrdf::Lobes GltfBrdf::lobes(const glm::vec3& wo) const {
   // The lobes' Fresnel weights as if the microfacet normal were the macro normal.
   const Fresnel f = fresnel(wo.z);
   const float specular =
       (1.f - metallic_) * luminance(f.dielectric) + metallic_ * luminance(f.metal);
-  const float diffuse = (1.f - metallic_) * f.base * luminance(base_);
-  if (!(specular + diffuse > 0.f)) return 0.5f;  // black: either will do
-  return specular / (specular + diffuse);
+  const float base = (1.f - metallic_) * f.base * luminance(base_);
+  const float diffuse = (1.f - transmission_) * base, transmission = transmission_ * base;
+  const float total = specular + diffuse + transmission;
+  if (!(total > 0.f)) return {0.5f, 0.5f, 0.f};  // black: any will do
+  return {specular / total, diffuse / total, transmission / total};
 }
 
 float GltfBrdf::specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const {
@@ -96,25 +112,30 @@ float GltfBrdf::specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const {
 }
 
 float GltfBrdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
-  if (wo.z <= 0.f || wi.z <= 0.f) return 0.f;
-  const float p = specular_probability(wo);
-  return p * specular_pdf(wo, wi) + (1.f - p) * cosine_hemisphere_pdf(wi.z);
+  if (wo.z <= 0.f || wi.z == 0.f) return 0.f;
+  const Lobes p = lobes(wo);
+  if (wi.z < 0.f)
+    return p.transmission > 0.f ? p.transmission * specular_pdf(wo, mirrored(wi)) : 0.f;
+  return p.specular * specular_pdf(wo, wi) + p.diffuse * cosine_hemisphere_pdf(wi.z);
 }
 
 std::optional<GltfBrdf::Sample> GltfBrdf::sample(const glm::vec3& wo, float u_lobe, float u1,
                                                  float u2) const {
   if (wo.z <= 0.f) return std::nullopt;
   glm::vec3 wi;
-  if (u_lobe < specular_probability(wo)) {
+  const Lobes p = lobes(wo);
+  if (u_lobe < p.specular + p.diffuse && u_lobe >= p.specular) {
+    wi = sample_cosine_hemisphere(u1, u2);
+  } else {
     const glm::vec3 h = sample_ggx_visible_normal(wo, alpha_, u1, u2);
     wi = 2.f * glm::dot(wo, h) * h - wo;
-  } else {
-    wi = sample_cosine_hemisphere(u1, u2);
+    if (wi.z <= 0.f) return std::nullopt;
+    if (u_lobe >= p.specular + p.diffuse) wi = mirrored(wi);  // transmission
   }
-  if (wi.z <= 0.f) return std::nullopt;
+  if (wi.z == 0.f) return std::nullopt;
   const float density = pdf(wo, wi);
   if (!(density > 0.f) || !std::isfinite(density)) return std::nullopt;
-  return Sample{wi, eval(wo, wi) * (wi.z / density), density};
+  return Sample{wi, eval(wo, wi) * (std::abs(wi.z) / density), density};
 }
 
 }  // namespace dacrt

@@ -8,8 +8,15 @@
 // a probability from the Fresnel weights at the viewing angle; pdf() is the mixture's pdf, so
 // sample, eval and pdf agree exactly (tests/brdf_test.cpp checks them by χ²).
 //
+// KHR_materials_transmission (thin-walled, as without KHR_materials_volume) replaces the diffuse
+// base by mix(diffuse, specular_btdf · baseColor, transmission): the BTDF is the specular lobe
+// mirrored through the surface (half vector H_T = normalize(V + L − 2 (N·L) N)), so light passes
+// without bending on average and spreads with the roughness; it is sampled as the reflection,
+// mirrored.
+//
 // Directions are in the local shading frame (z = normal) and point away from the surface: wo
-// towards the viewer, wi towards the light. Both must be above the surface for a non-zero value.
+// towards the viewer (above the surface), wi towards the light: above for reflection, below for
+// transmission (zero unless the material transmits).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -24,6 +31,7 @@ struct BrdfParams {
   float ior = 1.5f;               // KHR_materials_ior
   float specular = 1.f;           // KHR_materials_specular: specularFactor
   glm::vec3 specular_color{1.f};  // KHR_materials_specular: specularColorFactor
+  float transmission = 0.f;       // KHR_materials_transmission: transmissionFactor
 };
 
 class GltfBrdf {
@@ -58,12 +66,16 @@ class GltfBrdf {
     float base;
   };
   Fresnel fresnel(float cos_theta) const;
-  // Probability of sampling the specular lobe when looking from wo.
-  float specular_probability(const glm::vec3& wo) const;
+  // Probabilities of sampling the specular reflection, the diffuse and the transmission lobes
+  // when looking from wo (they sum to 1).
+  struct Lobes {
+    float specular, diffuse, transmission;
+  };
+  Lobes lobes(const glm::vec3& wo) const;
   float specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const;
 
   glm::vec3 base_;
-  float metallic_, alpha_;
+  float metallic_, alpha_, transmission_;
   glm::vec3 f0_;  // dielectric F0
   float f90_;     // dielectric F90
 };

@@ -24,6 +24,7 @@ struct Material {
   float ior = 1.5f;               // KHR_materials_ior
   float specular = 1.f;           // KHR_materials_specular.specularFactor
   glm::vec3 specular_color{1.f};  // KHR_materials_specular.specularColorFactor
+  float transmission = 0.f;       // KHR_materials_transmission.transmissionFactor (thin-walled)
   glm::vec3 emission{0.f};        // emissiveFactor × KHR_materials_emissive_strength (radiance)
   bool double_sided = false;      // emitters emit from their back face too
   float alpha = 1.f;              // baseColorFactor.a
@@ -37,15 +38,17 @@ struct Material {
   TextureRef metallic_roughness_texture;  // linear; roughness in .g, metallic in .b
   TextureRef normal_texture;              // tangent space, scaled by normal_scale
   TextureRef emissive_texture;            // sRGB
+  TextureRef transmission_texture;        // linear; transmission in .r
   float normal_scale = 1.f;
 
   bool textured() const {
-    return base_color_texture || metallic_roughness_texture || normal_texture || emissive_texture;
+    return base_color_texture || metallic_roughness_texture || normal_texture || emissive_texture ||
+           transmission_texture;
   }
 
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
   BrdfParams brdf() const {
-    return {base_color, metallic, roughness, ior, specular, specular_color};
+    return {base_color, metallic, roughness, ior, specular, specular_color, transmission};
   }
   // A Lambertian surface: no metal, no specular layer.
   static Material lambert(const glm::vec3& color) {
@@ -110,12 +113,13 @@ struct Scene {
   std::vector<PunctualLight> lights;  // KHR_lights_punctual, one per node that has one
   size_t cameras_from_file = 0;       // if 0, cameras[0] was made to frame the scene's bounds
 
-  // What the file uses that this version does not render yet (the loader warns once): materials
-  // with KHR_materials_specular textures, transmissive materials. Counted per material of the
-  // file.
+  // What the file uses that this version does not render as specified (the loader warns once):
+  // materials with KHR_materials_specular textures (factors only), and KHR_materials_volume
+  // materials with a thickness (rendered thin-walled, without refraction or attenuation). Counted
+  // per material of the file.
   struct Ignored {
-    size_t specular_textures = 0, transmissive = 0;
-    bool any() const { return specular_textures || transmissive; }
+    size_t specular_textures = 0, volumes = 0;
+    bool any() const { return specular_textures || volumes; }
   } ignored;
 
   // Counts from the file, for `dacrt info`.

@@ -63,6 +63,8 @@ SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, cons
     s.brdf.roughness *= c.g;
     s.brdf.metallic *= c.b;
   }
+  if (m.transmission_texture && m.transmission > 0.f)
+    s.brdf.transmission *= lookup(scene, m.transmission_texture, tri, u, v, false).r;
   if (m.emissive_texture && m.emissive())
     s.emission *= glm::vec3(lookup(scene, m.emissive_texture, tri, u, v, true));
   if (m.normal_texture) s.normal = normal_mapped(scene, m, tri, u, v, s.normal);

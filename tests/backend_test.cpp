@@ -22,9 +22,7 @@ bool same_bits(float a, float b) {
 
 HitBatch brute_hits(const Geometry& g, const RayBatch& rays, const HitFilter* filter = nullptr) {
   HitBatch hits;
-  auto brute = Backend::create("brute", g);
-  brute->set_hit_filter(filter);
-  brute->intersect(rays, hits);
+  Backend::create("brute", g)->intersect(rays, hits, filter);
   return hits;
 }
 
@@ -33,9 +31,8 @@ size_t compare(const Geometry& g, const RayBatch& rays, const HitBatch& expected
                const char* backend, const Options& options = {},
                const HitFilter* filter = nullptr) {
   auto tested = Backend::create(backend, g, options);
-  tested->set_hit_filter(filter);
   HitBatch got;
-  tested->intersect(rays, got);
+  tested->intersect(rays, got, filter);
   REQUIRE(got.size() == rays.size());
   size_t mismatches = 0, hits = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
@@ -53,7 +50,7 @@ size_t compare(const Geometry& g, const RayBatch& rays, const HitBatch& expected
   // A ray is occluded exactly when it has a closest hit in [tmin, tmax]: the oracle's closest hits
   // are the oracle for occlusion (brute's own occluded is checked against them elsewhere).
   std::vector<uint8_t> occ_got(rays.size(), 7);
-  tested->occluded(rays, occ_got);
+  tested->occluded(rays, occ_got, filter);
   size_t occ_mismatches = 0;
   for (size_t i = 0; i < rays.size(); ++i) occ_mismatches += occ_got[i] != uint8_t(expected.hit(i));
   CHECK(occ_mismatches == 0);
@@ -180,11 +177,10 @@ TEST_CASE("brute's occlusion agrees with its closest hit, with and without a hit
     const HitFilter* none = nullptr;
     for (const HitFilter* f : {none, static_cast<const HitFilter*>(&filter)}) {
       auto brute = Backend::create("brute", c.geometry);
-      brute->set_hit_filter(f);
       HitBatch hits;
-      brute->intersect(rays, hits);
+      brute->intersect(rays, hits, f);
       std::vector<uint8_t> occ(rays.size());
-      brute->occluded(rays, occ);
+      brute->occluded(rays, occ, f);
       size_t mismatches = 0;
       for (size_t i = 0; i < rays.size(); ++i) mismatches += occ[i] != uint8_t(hits.hit(i));
       CHECK(mismatches == 0);

@@ -341,7 +341,8 @@ TEST_CASE("gltf: what this version does not render is counted (and warned about)
   GltfWriter w;
   w.add_material(
       {{"extensions", {{"KHR_materials_specular", {{"specularTexture", {{"index", 0}}}}}}}});
-  w.add_material({{"alphaMode", "MASK"}});
+  w.add_material({{"alphaMode", "MASK"},
+                  {"extensions", {{"KHR_materials_volume", {{"thicknessFactor", 0.5}}}}}});
   w.add_material({{"alphaMode", "BLEND"},
                   {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}}}});
   int position = w.add_vec3(kTriangle);
@@ -355,6 +356,7 @@ TEST_CASE("gltf: what this version does not render is counted (and warned about)
   CHECK(scene.geometry.size() == 4);
   const Scene::Ignored& i = scene.ignored;
   CHECK(i.specular_textures == 1);
+  CHECK(i.volumes == 1);
   // Vertex colours are rendered: triangles before the first coloured one get white.
   REQUIRE(scene.colors.size() == 12);
   CHECK(scene.colors[0] == glm::vec4(1.f));
@@ -362,7 +364,7 @@ TEST_CASE("gltf: what this version does not render is counted (and warned about)
   // Alpha modes are rendered.
   CHECK(scene.materials[1].alpha_mode == dacrt::Material::AlphaMode::mask);
   CHECK(scene.materials[2].alpha_mode == dacrt::Material::AlphaMode::blend);
-  CHECK(i.transmissive == 1);
+  CHECK(scene.materials[2].transmission == 1.f);
   CHECK(i.any());
   CHECK(!load_gltf(triangle_file().write_gltf(dir / "plain.gltf")).ignored.any());
 }

@@ -47,14 +47,18 @@ class Backend {
   static std::vector<std::string> names();
 
   // Fills `hits` (resized to the batch) with the closest hit in [tmin, tmax]; ties in t go to the
-  // lower triangle index, so every backend of ours gives the same answer bit for bit.
-  virtual void intersect(const RayBatch& rays, HitBatch& hits) = 0;
-  // occluded[i] = 1 if any triangle is hit in [tmin, tmax], else 0. `occluded.size()` >= rays.
-  virtual void occluded(const RayBatch& rays, std::span<uint8_t> occluded) = 0;
+  // lower triangle index, so every backend of ours gives the same answer bit for bit. With a
+  // filter, only hits it accepts count (null: every hit).
+  void intersect(const RayBatch& rays, HitBatch& hits, const HitFilter* filter = nullptr) {
+    do_intersect(rays, hits, filter);
+  }
+  // occluded[i] = 1 if any triangle is hit in [tmin, tmax] (and accepted by the filter), else 0.
+  // `occluded.size()` >= rays.
+  void occluded(const RayBatch& rays, std::span<uint8_t> occluded,
+                const HitFilter* filter = nullptr) {
+    do_occluded(rays, occluded, filter);
+  }
   virtual Stats stats() const = 0;
-
-  // From now on, hits go through `filter` (not owned; null: every hit counts, the default).
-  void set_hit_filter(const HitFilter* filter) { filter_ = filter; }
 
   using Factory = std::function<std::unique_ptr<Backend>(const Geometry&, const Options&)>;
   struct Registration {
@@ -62,11 +66,15 @@ class Backend {
   };
 
  protected:
-  // True if the filter turns down ray i's hit on `tri` at (u, v).
-  bool rejected(const RayBatch& rays, uint32_t i, uint32_t tri, float u, float v) const {
-    return filter_ && filter_->tests(tri) && !filter_->accept(rays, i, tri, u, v);
-  }
-  const HitFilter* filter_ = nullptr;
+  virtual void do_intersect(const RayBatch& rays, HitBatch& hits, const HitFilter* filter) = 0;
+  virtual void do_occluded(const RayBatch& rays, std::span<uint8_t> occluded,
+                           const HitFilter* filter) = 0;
 };
+
+// True if `filter` (maybe null) turns down ray i's hit on `tri` at (u, v).
+inline bool rejected(const HitFilter* filter, const RayBatch& rays, uint32_t i, uint32_t tri,
+                     float u, float v) {
+  return filter && filter->tests(tri) && !filter->accept(rays, i, tri, u, v);
+}
 
 }  // namespace dacrt

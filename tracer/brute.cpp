@@ -20,7 +20,7 @@ class Brute final : public Backend {
       for (int c = 0; c < 3; ++c) corners_.push_back(g.vertex(i, c));
   }
 
-  void intersect(const RayBatch& rays, HitBatch& hits) override {
+  void do_intersect(const RayBatch& rays, HitBatch& hits, const HitFilter* filter) override {
     hits.resize(rays.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 64), [&](auto range) {
       for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -34,7 +34,7 @@ class Brute final : public Backend {
           if (!intersect_triangle(r, corners_[3 * tri], corners_[3 * tri + 1],
                                   corners_[3 * tri + 2], rays.tmin[i], hits.t[i], h) ||
               !closer(h.t, tri, hits.t[i], hits.prim[i]) ||
-              rejected(rays, uint32_t(i), tri, h.u, h.v))
+              rejected(filter, rays, uint32_t(i), tri, h.u, h.v))
             continue;
           hits.t[i] = h.t, hits.u[i] = h.u, hits.v[i] = h.v, hits.prim[i] = tri;
         }
@@ -43,7 +43,8 @@ class Brute final : public Backend {
     count(rays.size());
   }
 
-  void occluded(const RayBatch& rays, std::span<uint8_t> occluded) override {
+  void do_occluded(const RayBatch& rays, std::span<uint8_t> occluded,
+                   const HitFilter* filter) override {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 64), [&](auto range) {
       for (size_t i = range.begin(); i != range.end(); ++i) {
         occluded[i] = 0;
@@ -53,7 +54,7 @@ class Brute final : public Backend {
           TriangleHit h;
           occluded[i] = intersect_triangle(r, corners_[3 * tri], corners_[3 * tri + 1],
                                            corners_[3 * tri + 2], rays.tmin[i], rays.tmax[i], h) &&
-                        !rejected(rays, uint32_t(i), tri, h.u, h.v);
+                        !rejected(filter, rays, uint32_t(i), tri, h.u, h.v);
         }
       }
     });

@@ -172,11 +172,12 @@ struct SplitScratch {
 // nodes run their second child as a parallel task on its own Traversal (see fork).
 struct Traversal {
   const Dacrt& k;
-  RayRef* rays;           // the call's live rays
-  HitBatch* hits;         // closest-hit mode; null for occlusion
-  uint8_t* occluded;      // occlusion mode; null for closest hit
-  const RayBatch& batch;  // the call's rays, as given (for the hit filter)
-  TriangleRef* tris;      // every triangle
+  RayRef* rays;                 // the call's live rays
+  HitBatch* hits;               // closest-hit mode; null for occlusion
+  uint8_t* occluded;            // occlusion mode; null for closest hit
+  const RayBatch& batch;        // the call's rays, as given (for the hit filter)
+  const HitFilter* hit_filter;  // null: every hit counts
+  TriangleRef* tris;            // every triangle
   Pcg32 rng;
   Stats stats;
 
@@ -226,19 +227,20 @@ class Dacrt final : public Backend {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
-  void intersect(const RayBatch& rays, HitBatch& hits) override {
+  void do_intersect(const RayBatch& rays, HitBatch& hits, const HitFilter* filter) override {
     hits.resize(rays.size());
     for (size_t i = 0; i < rays.size(); ++i) {
       hits.prim[i] = HitBatch::miss;
       hits.t[i] = rays.tmax[i];
       hits.u[i] = hits.v[i] = 0.f;
     }
-    trace(rays, &hits, nullptr);
+    trace(rays, &hits, nullptr, filter);
   }
 
-  void occluded(const RayBatch& rays, std::span<uint8_t> occluded) override {
+  void do_occluded(const RayBatch& rays, std::span<uint8_t> occluded,
+                   const HitFilter* filter) override {
     std::fill_n(occluded.begin(), rays.size(), uint8_t(0));
-    trace(rays, nullptr, occluded.data());
+    trace(rays, nullptr, occluded.data(), filter);
   }
 
   Stats stats() const override {
@@ -248,7 +250,6 @@ class Dacrt final : public Backend {
     return s;
   }
 
-  using Backend::rejected;  // for the traversal's leaves
   const Geometry& geometry_;
   const DacrtParams params_;
 
@@ -256,7 +257,7 @@ class Dacrt final : public Backend {
   float magnitude() const { return magnitude_; }
 
  private:
-  void trace(const RayBatch& batch, HitBatch* hits, uint8_t* occluded) {
+  void trace(const RayBatch& batch, HitBatch* hits, uint8_t* occluded, const HitFilter* filter) {
     const size_t n = batch.size();
     // Records for the live rays, in batch order; the rest never enter the recursion. Built in
     // parallel: live rays counted per block, then each block writes at its offset.
@@ -309,9 +310,15 @@ class Dacrt final : public Backend {
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
       const uint32_t rb = uint32_t(count * c / chunks), re = uint32_t(count * (c + 1) / chunks);
       Triangles& own = (*triangles)[c];
-      Traversal t{
-          *this, refs, hits, occluded, batch, own.refs.data(), Pcg32(hash(params_.seed, call, c)),
-          {}};
+      Traversal t{*this,
+                  refs,
+                  hits,
+                  occluded,
+                  batch,
+                  filter,
+                  own.refs.data(),
+                  Pcg32(hash(params_.seed, call, c)),
+                  {}};
       if (!bounds_.empty() && rb < re)
         t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
       std::lock_guard lock(total_mutex);
@@ -366,7 +373,7 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
   // the hit filter turns it down.
   auto record = [&](RayRef& ref, uint32_t tri, const TriangleHit& h) {
     const uint32_t i = ref.id;
-    if (k.rejected(batch, i, tri, h.u, h.v)) return;
+    if (rejected(hit_filter, batch, i, tri, h.u, h.v)) return;
     if (occluded) {
       occluded[i] = 1;
       ref.far = -inf;  // drops out of every later box test and leaf
@@ -811,7 +818,7 @@ void Traversal::fork(const Split& split, uint32_t rb, uint32_t re, int depth) {
     if (re > a_begin) node(a.box, a.centres, a.tb, a.te, a_begin, re, depth + 1);
     return after_a(*this, b_only, a_begin);
   }
-  Traversal task{k, rays, hits, occluded, batch, tris, Pcg32(rng.next()), {}};
+  Traversal task{k, rays, hits, occluded, batch, hit_filter, tris, Pcg32(rng.next()), {}};
   std::atomic<bool> a_done{false};
   bool beside = false;  // the task ran while A was running
   tbb::task_group group;

@@ -123,7 +123,7 @@ class Embree final : public Backend {
     try {
       scene_ = rtcNewScene(device_);
       throw_if_error();
-      // A context filter function carries the hit filter (set_hit_filter) when there is one.
+      // A context filter function applies a call's hit filter when it has one.
       rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION |
                                    (robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE));
       rtcSetSceneBuildQuality(scene_, build_quality);
@@ -144,9 +144,9 @@ class Embree final : public Backend {
   Embree(const Embree&) = delete;
   Embree& operator=(const Embree&) = delete;
 
-  void intersect(const RayBatch& rays, HitBatch& hits) override {
+  void do_intersect(const RayBatch& rays, HitBatch& hits, const HitFilter* filter) override {
     hits.resize(rays.size());
-    in_blocks(rays, [&](RTCIntersectContext& context, size_t first, size_t last) {
+    in_blocks(rays, filter, [&](RTCIntersectContext& context, size_t first, size_t last) {
       alignas(64) RTCRayHit rh[block];
       uint32_t index[block];
       unsigned m = 0;
@@ -175,8 +175,9 @@ class Embree final : public Backend {
     });
   }
 
-  void occluded(const RayBatch& rays, std::span<uint8_t> occluded) override {
-    in_blocks(rays, [&](RTCIntersectContext& context, size_t first, size_t last) {
+  void do_occluded(const RayBatch& rays, std::span<uint8_t> occluded,
+                   const HitFilter* filter) override {
+    in_blocks(rays, filter, [&](RTCIntersectContext& context, size_t first, size_t last) {
       alignas(64) RTCRay ray[block];
       uint32_t index[block];
       unsigned m = 0;
@@ -206,7 +207,7 @@ class Embree final : public Backend {
   // Calls body(context, first, last) for blocks of at most `block` rays of the batch, in parallel,
   // each task with denormals flushed and one intersect context (COHERENT for primary batches).
   template <typename Body>
-  void in_blocks(const RayBatch& rays, const Body& body) {
+  void in_blocks(const RayBatch& rays, const HitFilter* filter, const Body& body) {
     const size_t n = rays.size();
     const bool coherent = rays.type == RayType::primary;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, block), [&](const auto& range) {
@@ -214,8 +215,8 @@ class Embree final : public Backend {
       FilterContext context;
       rtcInitIntersectContext(&context);
       if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-      if (filter_) context.filter = filter_hits;
-      context.self = this;
+      if (filter) context.filter = filter_hits;
+      context.hit_filter = filter;
       context.rays = &rays;
       for (size_t first = range.begin(); first < range.end(); first += block)
         body(context, first, std::min(first + block, range.end()));
@@ -263,7 +264,7 @@ class Embree final : public Backend {
 
   // The intersect context, with what the hit filter needs.
   struct FilterContext : RTCIntersectContext {
-    const Embree* self;
+    const HitFilter* hit_filter;
     const RayBatch* rays;
   };
   // Embree's barycentrics are ours ((1 − u − v)·p0 + u·p1 + v·p2); ray.id is the batch index.
@@ -271,9 +272,9 @@ class Embree final : public Backend {
     const auto* c = static_cast<const FilterContext*>(args->context);
     for (unsigned j = 0; j < args->N; ++j)
       if (args->valid[j] &&
-          c->self->rejected(*c->rays, RTCRayN_id(args->ray, args->N, j),
-                            RTCHitN_primID(args->hit, args->N, j), RTCHitN_u(args->hit, args->N, j),
-                            RTCHitN_v(args->hit, args->N, j)))
+          rejected(c->hit_filter, *c->rays, RTCRayN_id(args->ray, args->N, j),
+                   RTCHitN_primID(args->hit, args->N, j), RTCHitN_u(args->hit, args->N, j),
+                   RTCHitN_v(args->hit, args->N, j)))
         args->valid[j] = 0;
   }
 
