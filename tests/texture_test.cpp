@@ -233,6 +233,27 @@ TEST_CASE("textures: metallic-roughness (G, B), emissive (sRGB) and the sampler'
   CHECK(near(emission_at(scene, 0, 0.f, 0.75f), green.emission));  // the point (0.75, 0.75)
 }
 
+TEST_CASE("textures: KHR_materials_transmission's factor × transmissionTexture (R)") {
+  TempDir dir("transmission");
+  GltfWriter w =
+      quad_file({{"extensions",
+                  {{"KHR_materials_transmission",
+                    {{"transmissionFactor", 0.8},
+                     {"transmissionTexture",
+                      {{"index", 0},
+                       {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}}}}}}}}}}}});
+  add_texture(w, png8(2, 2, 4, kTexels), kNearest);
+  const Scene scene = load_gltf(w.write_gltf(dir / "quad.gltf"));
+  CHECK(scene.materials[0].transmission == doctest::Approx(0.8f));
+  // (0.75, 0.75) has uv (0.75, 0.25), shifted by 0.5: (0.25, 0.25), the red texel.
+  CHECK(quad_surface(scene, 0.75f, 0.75f).brdf.transmission == doctest::Approx(0.8f));
+  CHECK(quad_surface(scene, 0.25f, 0.75f).brdf.transmission == 0.f);  // green: R = 0
+  w.doc["materials"][0]["extensions"]["KHR_materials_transmission"]["transmissionTexture"] =
+      json{{"texCoord", 0}};
+  check_error(w.write_gltf(dir / "no-index.gltf"),
+              {"material 0 KHR_materials_transmission.transmissionTexture", "no texture index"});
+}
+
 TEST_CASE("textures: KHR_texture_transform and TEXCOORD_1, normalised integer uvs") {
   TempDir dir("transform");
   // TEXCOORD_1 as normalised UNSIGNED_SHORT: (x, y) themselves, so the image is upside down.
