@@ -9,17 +9,20 @@
 namespace dacrt {
 namespace {
 
-// The triangle's emitted radiance, averaged over its centroid and the midpoints between the
-// centroid and each corner when the material has an emissive texture. Only the choice of light
-// depends on it: a texel it misses is still found by BRDF sampling (MIS gives that full weight
-// where next-event estimation's pmf is 0), so the estimator stays unbiased.
+// The triangle's emitted radiance (times its coverage, for alpha-tested materials), averaged over
+// its centroid and the midpoints between the centroid and each corner when it varies over the
+// triangle. Only the choice of light depends on it: a texel it misses is still found by BSDF
+// sampling (MIS gives that full weight where next-event estimation's pmf is 0), so the estimator
+// stays unbiased.
 glm::vec3 average_emission(const Scene& scene, uint32_t tri) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
-  if (!m.emissive_texture) return m.emission;
+  const bool covered = m.alpha_mode == Material::AlphaMode::opaque;
+  if (!m.emissive_texture && covered) return m.emission;
   constexpr float third = 1.f / 3.f, near = 2.f / 3.f, far = 1.f / 6.f;
   const glm::vec2 points[4] = {{third, third}, {far, far}, {near, far}, {far, near}};
   glm::vec3 sum(0.f);
-  for (const glm::vec2& b : points) sum += emission_at(scene, tri, b.x, b.y);
+  for (const glm::vec2& b : points)
+    sum += emission_at(scene, tri, b.x, b.y) * (covered ? 1.f : coverage_at(scene, tri, b.x, b.y));
   return 0.25f * sum;
 }
 

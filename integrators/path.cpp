@@ -105,7 +105,7 @@ class PathTracer final : public Integrator {
       const float xi =
           uniform_float(t_.s_.seed, t_.pixel_[path], t_.sample_[path], uint64_t(t_.depth_),
                         uint64_t(alpha) + uint64_t(rays.type) + (uint64_t(tri) << 8));
-      return alpha_accepts(t_.scene_, tri, u, v, xi);
+      return xi < coverage_at(t_.scene_, tri, u, v);
     }
 
    private:
@@ -277,7 +277,10 @@ class PathTracer final : public Integrator {
     ls.pmf *= 1.f - map_share_;
     if (ls.light >= 0) return punctual(i, path, p, scene_.lights[size_t(ls.light)], ls.pmf, x);
     const Material& light = scene_.materials[g.material[ls.triangle]];
-    const glm::vec3 emission = emission_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
+    glm::vec3 emission = emission_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
+    // An alpha-tested emitter shines only as much as it stops rays there.
+    if (light.alpha_mode != Material::AlphaMode::opaque)
+      emission *= coverage_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
     glm::vec3 to = ls.point - p;
     float dist2 = glm::dot(to, to);
     if (!(dist2 > 0.f)) return;

@@ -79,17 +79,17 @@ float alpha_at(const Scene& scene, uint32_t tri, float u, float v) {
   return alpha;
 }
 
-bool alpha_accepts(const Scene& scene, uint32_t tri, float u, float v, float xi) {
+float coverage_at(const Scene& scene, uint32_t tri, float u, float v) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
   switch (m.alpha_mode) {
     case Material::AlphaMode::opaque:
-      return true;
+      return 1.f;
     case Material::AlphaMode::mask:
-      return alpha_at(scene, tri, u, v) >= m.alpha_cutoff;
+      return alpha_at(scene, tri, u, v) >= m.alpha_cutoff ? 1.f : 0.f;
     case Material::AlphaMode::blend:
-      return xi < alpha_at(scene, tri, u, v);
+      return alpha_at(scene, tri, u, v);
   }
-  return true;
+  return 1.f;
 }
 
 glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v) {

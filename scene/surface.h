@@ -23,13 +23,13 @@ struct SurfacePoint {
 // geometric normal is `ng` (front side).
 SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, const glm::vec3& ng);
 
-// Just the coverage there (what the hit filter of alpha-tested materials needs).
+// Just alpha there: baseColorFactor.a × texture × vertex colour.
 float alpha_at(const Scene& scene, uint32_t tri, float u, float v);
 
-// Whether a ray stops at that point of an alpha-tested material: MASK compares the coverage with
-// the cutoff; BLEND stops with probability alpha, decided by `xi` (uniform in [0, 1)). Always
-// for OPAQUE.
-bool alpha_accepts(const Scene& scene, uint32_t tri, float u, float v, float xi);
+// The probability that a ray stops there: 1 for OPAQUE, 0 or 1 for MASK (alpha against the
+// cutoff), alpha for BLEND. Rays stop where a uniform xi in [0, 1) is below it (the hit filter);
+// next-event estimation weighs an emitter's light by it.
+float coverage_at(const Scene& scene, uint32_t tri, float u, float v);
 
 // Just the emitted radiance there (what next-event estimation needs of a light sample).
 glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v);

@@ -516,3 +516,35 @@ TEST_CASE("transmission: next-event estimation lights a rough sheet through its 
       CHECK(r.film.mean_and_error(p).x == doctest::Approx(expected).epsilon(1e-4));
   }
 }
+
+TEST_CASE("alpha: an emitter shines only as much as it covers, in next-event estimation too") {
+  // lit_plane with a downward emitter of radiance 4 beside the camera's view: opaque it lights
+  // the plane; as a MASK of alpha 0 it is not there at all; as a BLEND of alpha 0.25, a quarter.
+  auto render_with = [](Material::AlphaMode mode, float alpha) {
+    Scene scene = lit_plane();
+    const glm::vec3 a(1.5f, -0.5f, 1), b(2.5f, -0.5f, 1), c(2.5f, 0.5f, 1), d(1.5f, 0.5f, 1);
+    scene.geometry.add(a, c, b, 1);  // facing −z
+    scene.geometry.add(a, d, c, 1);
+    Material light = Material::lambert(glm::vec3(0.f));
+    light.emission = glm::vec3(4.f);
+    light.alpha_mode = mode;
+    light.alpha = alpha;
+    scene.materials.push_back(light);
+    RenderSettings s;
+    s.width = s.height = 16, s.spp = 64;
+    Result r = render(scene, s);
+    double sum = 0.0, var = 0.0;
+    for (size_t p = 0; p < r.film.pixels(); ++p) {
+      const glm::dvec2 m = r.film.mean_and_error(p);
+      sum += m.x, var += m.y * m.y;
+    }
+    return std::pair{sum / double(r.film.pixels()), std::sqrt(var) / double(r.film.pixels())};
+  };
+  const auto [opaque, opaque_error] = render_with(Material::AlphaMode::opaque, 1.f);
+  CHECK(opaque > 100.0 * opaque_error);
+  CHECK(render_with(Material::AlphaMode::mask, 0.f).first == 0.0);
+  const auto [quarter, quarter_error] = render_with(Material::AlphaMode::blend, 0.25f);
+  INFO("opaque " << opaque << " ± " << opaque_error << ", blend " << quarter << " ± "
+                 << quarter_error);
+  CHECK(std::abs(quarter - 0.25 * opaque) <= 4.0 * std::hypot(quarter_error, 0.25 * opaque_error));
+}
