@@ -258,9 +258,9 @@ class Loader {
            str(count) + " scenes)");
     texture_used_.assign(model_.textures.size(), false);
     load_materials();
-    load_textures();
     mesh_seen_.assign(model_.meshes.size(), false);
     if (count > 0) traverse(scene);
+    load_textures();
 
     if (keep_normals_) scene_.normals = std::move(normals_);
     for (int set = 0; set < 2; ++set) scene_.texcoords[set] = std::move(texcoords_[set].data);
@@ -666,8 +666,6 @@ class Loader {
     if (set < 0 || set > 1)
       fail(what + ": texCoord " + str(set) + " is not supported (TEXCOORD_0 and TEXCOORD_1 are)");
     ref.texcoord = uint8_t(set);
-    uv_needed_[set] = true;
-    texture_used_[size_t(info.index)] = true;
     return ref;
   }
 
@@ -697,27 +695,70 @@ class Loader {
         t.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
       }
     }
-    scene_.images.resize(model_.images.size());
+    // Images with the same encoded bytes (or bufferView) are decoded once: textures point at the
+    // first of them.
     std::vector<size_t> used;
-    for (size_t i = 0; i < image_used.size(); ++i)
-      if (image_used[i]) used.push_back(i);
+    for (size_t i = 0; i < image_used.size(); ++i) {
+      if (!image_used[i]) continue;
+      size_t same = i;
+      for (size_t j : used)
+        if (same_source(j, i)) same = j;
+      if (same == i) used.push_back(i);
+      for (Texture& t : scene_.textures)
+        if (t.image == i) t.image = uint32_t(same);
+    }
+    scene_.images.resize(model_.images.size());
+    // The sizes first, so that the whole set is bounded before anything is decoded.
+    constexpr uint64_t kMaxDecodedBytes = uint64_t(1) << 32;
+    uint64_t total = 0;
+    for (size_t i : used) {
+      const auto [data, size] = image_bytes(i);
+      total += decoded_size(data, size, path_ + ": " + image_name(i));
+    }
+    if (total > kMaxDecodedBytes)
+      fail("its images would take " + str(total >> 20) + " MiB decoded, more than the " +
+           str(kMaxDecodedBytes >> 20) + " MiB limit");
+    // In parallel; the first failure in image order is the one reported.
+    std::vector<std::string> errors(used.size());
     tbb::parallel_for(size_t(0), used.size(), [&](size_t k) {
       const size_t i = used[k];
-      const tinygltf::Image& image = model_.images[i];
-      std::string what = "image " + str(i);
-      if (!image.uri.empty() && image.uri.rfind("data:", 0) != 0)
-        what += " (" + image.uri + ")";
-      else if (!image.name.empty())
-        what += " (" + image.name + ")";
-      if (image.bufferView != -1) {
-        const Span span = buffer_view(image.bufferView, what);
-        scene_.images[i] = decode_image(span.data, span.size, path_ + ": " + what);
-      } else {
-        if (image.image.empty()) fail(what + " cannot be read (missing or empty file)");
-        scene_.images[i] =
-            decode_image(image.image.data(), image.image.size(), path_ + ": " + what);
+      try {
+        const auto [data, size] = image_bytes(i);
+        scene_.images[i] = decode_image(data, size, path_ + ": " + image_name(i));
+      } catch (const Error& e) {
+        errors[k] = e.what();
       }
     });
+    for (const std::string& e : errors)
+      if (!e.empty()) throw Error(e);
+  }
+
+  // "image N (uri or name)", for messages.
+  std::string image_name(size_t i) const {
+    const tinygltf::Image& image = model_.images[i];
+    std::string what = "image " + str(i);
+    if (!image.uri.empty() && image.uri.rfind("data:", 0) != 0)
+      what += " (" + one_line(image.uri.substr(0, 200)) + ")";
+    else if (!image.name.empty())
+      what += " (" + one_line(image.name.substr(0, 200)) + ")";
+    return what;
+  }
+
+  // The encoded bytes of image i: its bufferView, or what tinygltf read from its URI.
+  std::pair<const unsigned char*, size_t> image_bytes(size_t i) const {
+    const tinygltf::Image& image = model_.images[i];
+    if (image.bufferView != -1) {
+      const Span span = buffer_view(image.bufferView, image_name(i));
+      return {span.data, span.size};
+    }
+    if (image.image.empty()) fail(image_name(i) + " cannot be read (missing or empty file)");
+    return {image.image.data(), image.image.size()};
+  }
+
+  bool same_source(size_t a, size_t b) const {
+    const tinygltf::Image &x = model_.images[a], &y = model_.images[b];
+    if (x.bufferView != -1 || y.bufferView != -1) return x.bufferView == y.bufferView;
+    return !x.image.empty() && x.image == y.image;
   }
 
   Wrap wrap_mode(int mode, const std::string& what) const {
@@ -730,6 +771,12 @@ class Loader {
         return Wrap::mirror;
     }
     fail(what + " is " + str(mode) + ", not 10497, 33071 or 33648");
+  }
+
+  // The material's textures are needed once a primitive uses it (only those are decoded).
+  void use_textures(const Material& m) {
+    for (const TextureRef* ref : m.textures())
+      if (*ref) texture_used_[size_t(ref->texture)] = true;
   }
 
   uint32_t material_for(int index, const std::string& where) {
@@ -876,6 +923,8 @@ class Loader {
       return;
     }
     uint32_t material = material_for(prim.material, where);
+    const Material& mat = scene_.materials[material];
+    use_textures(mat);
 
     std::vector<glm::vec3> points = read_vec3(position->second, "POSITION of " + where);
     size_t vertex_count = points.size();
@@ -907,7 +956,9 @@ class Loader {
     for (int set = 0; set < 2; ++set) {
       const std::string name = set ? "TEXCOORD_1" : "TEXCOORD_0";
       auto attribute = prim.attributes.find(name);
-      if (!uv_needed_[set] || attribute == prim.attributes.end()) continue;
+      bool needed = false;  // does this primitive's material sample set `set`?
+      for (const TextureRef* ref : mat.textures()) needed |= *ref && ref->texcoord == set;
+      if (!needed || attribute == prim.attributes.end()) continue;
       const std::string role = name + " of " + where;
       std::vector<glm::vec4> values = read_floats(
           attribute->second, role, 2, 2,
@@ -932,11 +983,12 @@ class Loader {
       }
       colors_.start(before, glm::vec4(1.f));
     }
-    // Tangents, only for normal-mapped materials: from the file, else generated below.
-    const TextureRef& normal_map = scene_.materials[material].normal_texture;
+    // Tangents, only for normal-mapped materials: from the file, else generated below. The spec
+    // says to ignore TANGENT when NORMAL is absent (the normals are then flat).
+    const TextureRef& normal_map = mat.normal_texture;
     std::vector<glm::vec4> tangents;
     if (auto attribute = prim.attributes.find("TANGENT");
-        normal_map && attribute != prim.attributes.end()) {
+        normal_map && !normals.empty() && attribute != prim.attributes.end()) {
       const std::string role = "TANGENT of " + where;
       tangents = read_floats(attribute->second, role, 4, 4, {}, 0.f);
       same_count(attribute->second, role, tangents.size());
@@ -1124,8 +1176,7 @@ class Loader {
   bool keep_normals_ = false;
   CornerStream<glm::vec2> texcoords_[2];
   CornerStream<glm::vec4> colors_, tangents_;
-  bool uv_needed_[2] = {false, false};  // some material samples TEXCOORD_n
-  std::vector<bool> texture_used_;      // by some material
+  std::vector<bool> texture_used_;  // by a material some primitive uses
   int default_material_ = -1;
   std::vector<bool> mesh_seen_;
   size_t skipped_modes_ = 0, skipped_unpositioned_ = 0;

@@ -10,24 +10,46 @@
 
 namespace dacrt {
 
-TextureImage decode_image(const unsigned char* bytes, size_t size, const std::string& what) {
-  auto fail = [&](const std::string& why) -> TextureImage {
-    throw Error(what + " cannot be decoded: " + why);
-  };
-  if (size == 0) return fail("it has no data");
-  if (size > size_t(INT_MAX)) return fail("it is larger than 2 GiB");
-  const int n = int(size);
+namespace {
+
+[[noreturn]] void fail(const std::string& what, const std::string& why) {
+  throw Error(what + " cannot be decoded: " + why);
+}
+
+struct Header {
+  int width, height;
+  bool wide;  // 16 bits per channel
+};
+
+// The image's size from its header, bounded (so a header that claims a huge image cannot exhaust
+// memory) before anything is decoded.
+Header header(const unsigned char* bytes, size_t size, const std::string& what) {
+  if (size == 0) fail(what, "it has no data");
+  if (size > size_t(INT_MAX)) fail(what, "it is larger than 2 GiB");
   int w = 0, h = 0, channels = 0;
-  if (!stbi_info_from_memory(bytes, n, &w, &h, &channels))
-    return fail(std::string(stbi_failure_reason() ? stbi_failure_reason() : "unknown format") +
-                " (PNG and JPEG are supported)");
-  // Bounded before decoding, so a header that claims a huge image cannot exhaust memory.
+  if (!stbi_info_from_memory(bytes, int(size), &w, &h, &channels))
+    fail(what, std::string(stbi_failure_reason() ? stbi_failure_reason() : "unknown format") +
+                   " (PNG and JPEG are supported)");
   constexpr long long kMaxTexels = 1ll << 27;
   if (w <= 0 || h <= 0 || (long long)w * h > kMaxTexels)
-    return fail(std::to_string(w) + " x " + std::to_string(h) + " texels is more than 2^27");
+    fail(what, std::to_string(w) + " x " + std::to_string(h) + " texels is more than 2^27");
+  return {w, h, stbi_is_16_bit_from_memory(bytes, int(size)) != 0};
+}
 
+}  // namespace
+
+uint64_t decoded_size(const unsigned char* bytes, size_t size, const std::string& what) {
+  const Header h = header(bytes, size, what);
+  return uint64_t(h.width) * uint64_t(h.height) * 4 * (h.wide ? 2 : 1);
+}
+
+TextureImage decode_image(const unsigned char* bytes, size_t size, const std::string& what) {
+  const Header head = header(bytes, size, what);
+  const int n = int(size);
+  int w = 0, h = 0, channels = 0;
+  auto fail = [&](const std::string& why) -> TextureImage { dacrt::fail(what, why); };
   TextureImage image;
-  const bool wide = stbi_is_16_bit_from_memory(bytes, n);
+  const bool wide = head.wide;
   if (wide) {
     std::unique_ptr<stbi_us, void (*)(void*)> data(
         stbi_load_16_from_memory(bytes, n, &w, &h, &channels, 4), stbi_image_free);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "materials/texture.h"
@@ -12,5 +13,8 @@ namespace dacrt {
 // Error("<what> cannot be decoded: <reason>") for data that is not an image stb_image reads, or
 // one larger than 2^27 texels.
 TextureImage decode_image(const unsigned char* bytes, size_t size, const std::string& what);
+
+// The bytes decode_image will keep for this image, read from its header (the same errors).
+uint64_t decoded_size(const unsigned char* bytes, size_t size, const std::string& what);
 
 }  // namespace dacrt

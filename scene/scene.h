@@ -2,6 +2,7 @@
 // shading data, a material table, and cameras. Elements refer to each other by index.
 #pragma once
 
+#include <array>
 #include <glm/glm.hpp>
 #include <limits>
 #include <string>
@@ -41,9 +42,14 @@ struct Material {
   TextureRef transmission_texture;        // linear; transmission in .r
   float normal_scale = 1.f;
 
+  std::array<const TextureRef*, 5> textures() const {
+    return {&base_color_texture, &metallic_roughness_texture, &normal_texture, &emissive_texture,
+            &transmission_texture};
+  }
   bool textured() const {
-    return base_color_texture || metallic_roughness_texture || normal_texture || emissive_texture ||
-           transmission_texture;
+    for (const TextureRef* t : textures())
+      if (*t) return true;
+    return false;
   }
 
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }

@@ -327,12 +327,20 @@ TEST_CASE("normal maps: tangents from the file or generated agree; mirrors and +
   const std::vector<uint8_t> towards_y = {byte(0), byte(s), byte(c)};
   auto file = [&](const std::vector<uint8_t>& texel, bool tangents, bool mirror_uv, json node) {
     GltfWriter w = quad_file({{"normalTexture", {{"index", 0}, {"scale", 1.0}}}});
+    const std::vector<glm::vec3> normals(4, glm::vec3(0, 0, 1));
+    w.doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = w.add_vec3(normals, false);
     if (tangents) {
       // A mirrored layout runs +u along −x and keeps +Y up: w = −1.
       const float sign = mirror_uv ? -1.f : 1.f;
       const std::vector<glm::vec4> t(4, glm::vec4(sign, 0, 0, sign));
       w.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] =
           w.add_accessor(w.add_view(t.data(), 64), kFloat, 4, "VEC4");
+    } else {
+      // Tangents that would tilt the wrong way, but without NORMAL the spec says to ignore them.
+      const std::vector<glm::vec4> wrong(4, glm::vec4(0, -1, 0, 1));
+      w.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] =
+          w.add_accessor(w.add_view(wrong.data(), 64), kFloat, 4, "VEC4");
+      w.doc["meshes"][0]["primitives"][0]["attributes"].erase("NORMAL");
     }
     if (mirror_uv) {
       const std::vector<glm::vec2> uv = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
@@ -371,15 +379,62 @@ TEST_CASE("normal maps: tangents from the file or generated agree; mirrors and +
   }
 }
 
-TEST_CASE("textures: images no material uses are never decoded") {
+TEST_CASE("textures: images no used material samples are never decoded; copies once") {
   TempDir dir("unused-images");
   GltfWriter w = quad_file(json::object());
   w.doc["images"] = {{{"uri", "missing.png"}}, {{"uri", "data:image/png;base64,AAAA"}}};
   w.doc["textures"] = {{{"source", 0}}, {{"source", 1}}};
+  // A material that samples them, but that no primitive uses.
+  w.add_material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 1}}}}}});
   const Scene scene = load_gltf(w.write_gltf(dir / "unused.gltf"));
   CHECK(scene.geometry.size() == 2);
   CHECK(scene.images.size() == 2);
   CHECK(scene.images[0].width == 0);
+
+  // Images 0-7 on one bufferView, 8 and 9 data URIs with the same bytes: two decodes. Material 0
+  // samples textures 0 and 7, material 1 textures 8 and 9.
+  const json emissive = {1, 1, 1};
+  GltfWriter copies = quad_file({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 7}}}}},
+                                 {"emissiveFactor", emissive},
+                                 {"emissiveTexture", {{"index", 0}}}});
+  const std::vector<unsigned char> png = png8(2, 2, 4, kTexels);
+  for (int k = 0; k < 8; ++k) add_texture(copies, png, nullptr, Embed::buffer_view);
+  for (auto& image : copies.doc["images"])
+    image["bufferView"] = copies.doc["images"][0]["bufferView"];
+  add_texture(copies, png);
+  add_texture(copies, png);
+  copies.add_material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 9}}}}},
+                       {"emissiveFactor", emissive},
+                       {"emissiveTexture", {{"index", 8}}}});
+  json second = copies.doc["meshes"][0]["primitives"][0];
+  second["material"] = 1;
+  copies.doc["meshes"][0]["primitives"].push_back(second);
+  const Scene deduped = load_gltf(copies.write_glb(dir / "copies.glb"));
+  size_t decoded = 0;
+  for (const TextureImage& i : deduped.images) decoded += i.width > 0;
+  CHECK(decoded == 2);
+  CHECK(deduped.textures[7].image == deduped.textures[0].image);
+  CHECK(deduped.textures[9].image == deduped.textures[8].image);
+  // The point (0.25, 0.75) of triangle 1 (and of 3, material 1): the red texel, through each.
+  for (uint32_t tri : {1u, 3u})
+    CHECK(near(surface_at(deduped, tri, 0.25f, 0.5f, glm::vec3(0, 0, 1)).brdf.base_color,
+               glm::vec3(1, 0, 0)));
+}
+
+TEST_CASE("texture errors: the decoded size of all images is bounded before decoding") {
+  TempDir dir("image-budget");
+  GltfWriter w = quad_file({{"emissiveFactor", {1, 1, 1}}});
+  // Five different 16-bit PNGs whose headers claim 11000 × 11000 texels: 968 MB each decoded.
+  for (int k = 0; k < 5; ++k) {
+    std::vector<unsigned char> png = png16_rgb(1, 1, {uint16_t(k), 2, 3});
+    for (int at : {16, 20}) png[size_t(at) + 2] = 0x2a, png[size_t(at) + 3] = 0xf8;  // 11000
+    add_texture(w, png);
+    w.add_material({{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", k}}}});
+    json primitive = w.doc["meshes"][0]["primitives"][0];
+    primitive["material"] = k + 1;
+    w.doc["meshes"][0]["primitives"].push_back(primitive);
+  }
+  check_error(w.write_gltf(dir / "huge.gltf"), {"images would take", "MiB limit"});
 }
 
 TEST_CASE("texture errors name the file and the element") {
