@@ -396,10 +396,7 @@ int info(const std::vector<std::string>& args) {
   };
   skip(!emissive_triangles && scene.lights.empty(),
        "shadow rays (no emitters and no lights; an --environment FILE.exr map brings them back)");
-  skip(!textured, "texture lookups and uv interpolation (no textures)");
-  skip(scene.colors.empty(), "vertex colours (none)");
-  skip(!masked && !blended, "alpha tests (every material is opaque)");
-  skip(!transmissive, "transmission (no transmissive material)");
+  for (const std::string& what : scene.unused_work()) skip(true, what.c_str());
   std::printf("skips      %s\n", skips.empty() ? "nothing" : skips.c_str());
   return 0;
 }

@@ -61,10 +61,8 @@ class PathTracer final : public Integrator {
     for (size_t t = 0; t < tested.size(); ++t)
       any |= tested[t] =
           scene.materials[scene.geometry.material[t]].alpha_mode != Material::AlphaMode::opaque;
-    if (any)
-      alpha_ = std::make_unique<AlphaFilter>(std::move(tested), *this);
-    else
-      stats_.skipped.push_back("alpha tests (every material is opaque)");
+    if (any) alpha_ = std::make_unique<AlphaFilter>(std::move(tested), *this);
+    for (std::string& what : scene.unused_work()) stats_.skipped.push_back(std::move(what));
   }
 
   const RenderStats& stats() const override { return stats_; }

@@ -25,6 +25,21 @@ Camera frame_bounds(const Box& bounds, float aspect, float yfov) {
   return cam;
 }
 
+std::vector<std::string> Scene::unused_work() const {
+  bool textured = false, alpha = false, transmission = false;
+  for (const Material& m : materials) {
+    textured |= m.textured();
+    alpha |= m.alpha_mode != Material::AlphaMode::opaque;
+    transmission |= m.transmission > 0.f;
+  }
+  std::vector<std::string> out;
+  if (!textured) out.push_back("texture lookups and uv interpolation (no textures)");
+  if (colors.empty()) out.push_back("vertex colours (none)");
+  if (!alpha) out.push_back("alpha tests (every material is opaque)");
+  if (!transmission) out.push_back("transmission (no transmissive material)");
+  return out;
+}
+
 glm::vec3 PunctualLight::irradiance_towards(const glm::vec3& to) const {
   if (type == Type::directional) return intensity;
   const float d2 = glm::dot(to, to);

@@ -134,6 +134,12 @@ struct Scene {
   size_t node_count = 0;
 
   Box bounds() const { return geometry.bounds(); }
+
+  // The shading work this scene does not need, in words, for `dacrt info` and the render's
+  // statistics: texture lookups and uv interpolation (no textured material), vertex colours,
+  // alpha tests (every material opaque), transmission (no transmissive material). Shadow rays are
+  // the integrator's call (an environment map needs them too).
+  std::vector<std::string> unused_work() const;
 };
 
 // A camera that looks at the whole box from the +Z side (glTF's front), slightly above, with the

@@ -103,9 +103,12 @@ TEST_CASE("furnace: a white diffuse sphere under a uniform environment of 1 rend
   check_renders(r.film, 1.0);
   // Nothing emits: no shadow rays at all, and the render says so.
   CHECK(r.stats.by_type[size_t(RayType::shadow)].rays == 0);
-  REQUIRE(r.stats.skipped.size() == 2);
+  REQUIRE(r.stats.skipped.size() == 5);
   CHECK(r.stats.skipped[0].find("shadow") != std::string::npos);
-  CHECK(r.stats.skipped[1].find("alpha tests") != std::string::npos);
+  CHECK(r.stats.skipped[1].find("texture lookups") != std::string::npos);
+  CHECK(r.stats.skipped[2].find("vertex colours") != std::string::npos);
+  CHECK(r.stats.skipped[3].find("alpha tests") != std::string::npos);
+  CHECK(r.stats.skipped[4].find("transmission") != std::string::npos);
   // An albedo of 0.5 lets through half per bounce: a convex sphere sends every bounce ray to the
   // sky, so the sphere's pixels are 0.5 and the background 1.
   scene.materials[0].base_color = glm::vec3(0.5f);
@@ -307,8 +310,8 @@ TEST_CASE("furnace: under an environment map of 1, a white diffuse sphere render
   Result r = render(scene, s);
   check_renders(r.film, 1.0);
   CHECK(r.stats.by_type[size_t(RayType::shadow)].rays > 0);
-  REQUIRE(r.stats.skipped.size() == 1);  // only the alpha tests: every material is opaque
-  CHECK(r.stats.skipped[0].find("alpha") != std::string::npos);
+  REQUIRE(r.stats.skipped.size() == 4);  // shading work only: the map needs shadow rays
+  CHECK(r.stats.skipped[0].find("shadow") == std::string::npos);
   // With a light in the scene next-event estimation samples the map only half of the time, and
   // every pdf in the MIS weights must say so. This light shines from behind, on nothing the
   // camera sees (visible normals all have z > 0.14): the image stays 1.
@@ -479,9 +482,13 @@ TEST_CASE("transmission: a smooth white thin sheet under a uniform sky of 1 rend
   Result r = render(scene, s);
   check_renders(r.film, 1.0);
   // (Without the rays that cross to the far side the sheet would show only its Fresnel
-  // reflection, ~0.04.) A transmissive scene does not skip transmission.
-  CHECK(std::find(r.stats.skipped.begin(), r.stats.skipped.end(),
-                  "transmission (no transmissive material)") == r.stats.skipped.end());
+  // reflection, ~0.04.) A transmissive scene does not skip transmission; an opaque one does.
+  const std::string skip = "transmission (no transmissive material)";
+  CHECK(std::find(r.stats.skipped.begin(), r.stats.skipped.end(), skip) == r.stats.skipped.end());
+  scene.materials[0].transmission = 0.f;
+  Result opaque = render(scene, s);
+  CHECK(std::find(opaque.stats.skipped.begin(), opaque.stats.skipped.end(), skip) !=
+        opaque.stats.skipped.end());
 }
 
 TEST_CASE("transmission: next-event estimation lights a rough sheet through its back") {
