@@ -39,6 +39,7 @@
 #include <new>
 #include <optional>
 #include <string_view>
+#include <unordered_map>
 
 #include "io/gltf_file.h"
 #include "io/texture_decode.h"
@@ -185,18 +186,44 @@ struct CornerStream {
 };
 
 // Tangents for a normal map laid out by `uv` when the file gives none, 3 per triangle of
-// `corners`: each vertex sums the unit uv tangents (∂p/∂u) of its triangles weighted by their
-// angle there, apart for triangles whose layout is mirrored (as MikkTSpace splits them); each
-// corner's sum is then made orthogonal to its shading normal, `normal(corners[t], k)`. w is the
-// bitangent's sign (bitangent = cross(n, t) · w): glTF's v runs down the image while a normal
-// map's +Y points up it, so an unmirrored layout has w = 1 with cross(n, t) along −∂p/∂v.
-// Zero where no uv tangent reached the vertex.
+// `corners`, grouped and weighted as MikkTSpace does (not its code, so not bit-identical): at
+// each corner the triangle's uv tangent ∂p/∂u is projected onto the plane of the corner's shading
+// normal `normal(corners[t], k)`, normalised and weighted by the triangle's angle there; corners
+// sum over the triangles that share their vertex (vertices with the same position, normal and uv
+// count as one, as MikkTSpace welds them), apart for triangles whose layout is mirrored; each sum
+// is projected and normalised again. w is the bitangent's sign (bitangent = cross(n, t) · w):
+// glTF's v runs down the image while a normal map's +Y points up it, so an unmirrored layout has
+// w = 1 with cross(n, t) along −∂p/∂v. Zero where no uv tangent reached the corner.
 template <class CornerNormal>
 std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
                                          const std::vector<glm::vec2>& uv,
                                          const std::vector<std::array<uint32_t, 3>>& corners,
                                          CornerNormal normal) {
-  std::vector<glm::vec3> sum(2 * p.size(), glm::vec3(0.f));
+  // One key per distinct (position, normal, uv) among the corners.
+  struct Key {
+    glm::vec3 p, n;
+    glm::vec2 uv;
+    bool operator==(const Key& o) const { return p == o.p && n == o.n && uv == o.uv; }
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      uint32_t bits[8];
+      std::memcpy(bits, &k.p, 12), std::memcpy(bits + 3, &k.n, 12), std::memcpy(bits + 6, &k.uv, 8);
+      size_t h = 0;
+      for (uint32_t b : bits) h = (h ^ b) * 0x100000001b3ull;
+      return h;
+    }
+  };
+  std::unordered_map<Key, uint32_t, KeyHash> welded;
+  std::vector<uint32_t> group(3 * corners.size());
+  for (size_t t = 0; t < corners.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t i = corners[t][size_t(k)];
+      group[3 * t + size_t(k)] =
+          welded.try_emplace(Key{p[i], normal(corners[t], k), uv[i]}, uint32_t(welded.size()))
+              .first->second;
+    }
+  std::vector<glm::vec3> sum(2 * welded.size(), glm::vec3(0.f));
   std::vector<uint8_t> mirrored(corners.size(), 0);
   for (size_t t = 0; t < corners.size(); ++t) {
     const auto& c = corners[t];
@@ -206,22 +233,23 @@ std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
     if (!(std::abs(det) > 0.f)) continue;
     const glm::vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det, dpdv = (e2 * d1.x - e1 * d2.x) / det;
     mirrored[t] = glm::dot(glm::cross(glm::cross(e1, e2), dpdu), dpdv) > 0.f;
-    const float len = glm::length(dpdu);
-    if (!(len > 0.f) || !std::isfinite(len)) continue;
     for (int k = 0; k < 3; ++k) {
+      const glm::vec3 n = normal(c, k);
+      const glm::vec3 projected = dpdu - n * glm::dot(n, dpdu);
+      const float len = glm::length(projected);
       const glm::vec3 a = p[c[size_t(k + 1) % 3]] - p[c[size_t(k)]];
       const glm::vec3 b = p[c[size_t(k + 2) % 3]] - p[c[size_t(k)]];
       const float ab = glm::length(a) * glm::length(b);
-      if (!(ab > 0.f) || !std::isfinite(ab)) continue;
+      if (!(len > 0.f) || !std::isfinite(len) || !(ab > 0.f) || !std::isfinite(ab)) continue;
       const float angle = std::acos(std::clamp(glm::dot(a, b) / ab, -1.f, 1.f));
-      sum[2 * size_t(c[size_t(k)]) + mirrored[t]] += dpdu * (angle / len);
+      sum[2 * size_t(group[3 * t + size_t(k)]) + mirrored[t]] += projected * (angle / len);
     }
   }
   std::vector<glm::vec4> out(3 * corners.size(), glm::vec4(0.f));
   for (size_t t = 0; t < corners.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const glm::vec3 n = normal(corners[t], k);
-      glm::vec3 s = sum[2 * size_t(corners[t][size_t(k)]) + mirrored[t]];
+      glm::vec3 s = sum[2 * size_t(group[3 * t + size_t(k)]) + mirrored[t]];
       s -= n * glm::dot(n, s);
       const float len = glm::length(s);
       if (len > 0.f && std::isfinite(len))

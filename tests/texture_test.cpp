@@ -544,3 +544,30 @@ TEST_CASE("textured scenes of ../shared load with their images, uvs and tangents
   CHECK(bottle.tangents.size() == 3 * bottle.geometry.size());  // from the file
   CHECK(!bottle.texcoords[0].empty());
 }
+
+TEST_CASE("generated tangents: corners with the same position, normal and uv share one tangent") {
+  // Two unindexed triangles of a quad (six vertices): the corners they share get the same
+  // tangent, the angle-weighted mean of their different uv tangents, as MikkTSpace welds them.
+  TempDir dir("welded");
+  GltfWriter w;
+  const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},
+                                    {0, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  // uv (x, 1 − y), except the last corner: v 0.2, which turns the second triangle's ∂p/∂u.
+  const std::vector<glm::vec2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 1}, {1, 0}, {0, 0.2f}};
+  const std::vector<glm::vec3> n(6, glm::vec3(0, 0, 1));
+  w.add_material({{"normalTexture", {{"index", 0}}}});
+  json attributes = {{"POSITION", w.add_vec3(p)},
+                     {"NORMAL", w.add_vec3(n, false)},
+                     {"TEXCOORD_0", w.add_accessor(w.add_view(uv.data(), 48), kFloat, 6, "VEC2")}};
+  w.set_scene({w.add_node({{"mesh", w.add_mesh({{"attributes", attributes}, {"material", 0}})}})});
+  add_texture(w, png8(2, 2, 4, kTexels));
+  const Scene scene = load_gltf(w.write_gltf(dir / "welded.gltf"));
+  REQUIRE(scene.tangents.size() == 6);
+  // Corner 0 of each triangle is (0, 0, 0); corner 2 of the first and 1 of the second (1, 1, 0).
+  CHECK(near(glm::vec3(scene.tangents[0]), glm::vec3(scene.tangents[3])));
+  CHECK(near(glm::vec3(scene.tangents[2]), glm::vec3(scene.tangents[4])));
+  // Between the first triangle's +x and the second's (1, −0.25, 0) direction.
+  CHECK(scene.tangents[0].y < -0.01f);
+  CHECK(scene.tangents[0].y > -0.24f);
+  CHECK(near(glm::vec3(scene.tangents[1]), glm::vec3(1, 0, 0)));  // its own vertex: +x
+}
