@@ -26,21 +26,23 @@ std::unique_ptr<Integrator> Integrator::create(std::string_view name, const Scen
   return registry().find(name)(scene, backend, settings);
 }
 
-void camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
-                glm::vec3& direction) {
+float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
+                 glm::vec3& direction) {
   const float aspect = float(width) / float(height);
   if (camera.orthographic) {
     const glm::vec3 local((2.f * x / width - 1.f) * camera.ymag * aspect,
                           (1.f - 2.f * y / height) * camera.ymag, 0.f);
     origin = glm::vec3(camera.to_world * glm::vec4(local, 1.f));
     direction = -glm::vec3(camera.to_world[2]);
-    return;
+    return camera.znear;
   }
   const float tan_half = std::tan(0.5f * camera.yfov);
   glm::vec3 local((2.f * x / width - 1.f) * tan_half * aspect, (1.f - 2.f * y / height) * tan_half,
                   -1.f);
   origin = camera.position();
   direction = glm::normalize(glm::vec3(camera.to_world * glm::vec4(local, 0.f)));
+  // The near plane is at depth znear: `local` (depth 1) scaled by znear, |local| · znear away.
+  return camera.znear * glm::length(local);
 }
 
 }  // namespace dacrt

@@ -30,7 +30,7 @@ struct RenderSettings {
   int max_depth = 64;      // scattering events per path; Russian roulette ends most earlier
   int roulette_depth = 3;  // Russian roulette from this many bounces on
   uint64_t seed = 0;
-  glm::vec3 environment{0.f};          // uniform radiance of everything the rays escape to
+  glm::vec3 environment{0.f};  // uniform radiance of everything the rays escape to
   // An equirectangular map instead (importance-sampled in next-event estimation); null: uniform.
   std::shared_ptr<const EnvironmentMap> environment_map;
   size_t wavefront = size_t(1) << 19;  // live paths at most per wavefront
@@ -75,8 +75,10 @@ class Integrator {
   };
 };
 
-// The pinhole camera ray through pixel (x + u, y + v) of a width × height image, unit direction.
-void camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
-                glm::vec3& direction);
+// The camera ray through image point (x, y) (pixels, from the top-left corner) of a width ×
+// height image, unit direction. Returns where along it the camera's near plane (znear) lies: the
+// ray's tmin, so nothing nearer than znear is seen.
+float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
+                 glm::vec3& direction);
 
 }  // namespace dacrt

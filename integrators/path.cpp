@@ -132,8 +132,8 @@ class PathTracer final : public Integrator {
         float x = float(pixel_[j] % uint32_t(s_.width)) + random(j, 0, pixel_x);
         float y = float(pixel_[j] / uint32_t(s_.width)) + random(j, 0, pixel_y);
         glm::vec3 o, d;
-        camera_ray(camera, s_.width, s_.height, x, y, o, d);
-        rays_.set(j, o, d, 0.f, INFINITY, uint32_t(j));
+        const float tmin = camera_ray(camera, s_.width, s_.height, x, y, o, d);
+        rays_.set(j, o, d, tmin, INFINITY, uint32_t(j));
       }
     });
   }

@@ -145,6 +145,30 @@ TEST_CASE("furnace: a smooth white metal sphere under a uniform environment of 1
   }
 }
 
+TEST_CASE("cameras see nothing nearer than their znear") {
+  Scene scene;
+  scene.geometry = quad_grid(1);  // [0, 1]² at z = 0, facing +z
+  Material light = Material::lambert(glm::vec3(0.f));
+  light.emission = glm::vec3(1.f);
+  scene.materials = {light};
+  RenderSettings s;
+  s.width = s.height = 8, s.spp = 1, s.max_depth = 0;
+  for (const bool orthographic : {false, true})
+    for (const float znear : {0.f, 1.9f, 2.05f, 2.1f}) {
+      INFO("orthographic " << orthographic << ", znear " << znear);
+      // 2 in front of the quad: the near plane is a plane, so at 2.05 even the corner pixels,
+      // which meet the quad 2.06 away along their rays (perspective), see nothing.
+      Camera cam = looking_at(glm::vec3(0.5f, 0.5f, 2.f), glm::vec3(0.5f, 0.5f, 0.f), 0.4f);
+      cam.orthographic = orthographic;
+      cam.ymag = 0.4f;
+      cam.znear = znear;
+      scene.cameras = {cam};
+      Result r = render(scene, s);
+      for (size_t p = 0; p < r.film.pixels(); ++p)
+        CHECK(r.film.mean_and_error(p).x == (znear < 2.f ? 1.0 : 0.0));
+    }
+}
+
 TEST_CASE("an orthographic camera sees parallel rays: a unit quad covers exactly its pixels") {
   // ymag 1 over 16 × 16 pixels: 8 pixels per unit, whatever the distance.
   Scene scene;
