@@ -200,17 +200,23 @@ std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
                                          const std::vector<std::array<uint32_t, 3>>& corners,
                                          CornerNormal normal) {
   // One key per distinct (position, normal, uv) among the corners.
+  // Keys compare and hash the same canonical bits: −0 as +0, every NaN as one NaN (NaN uvs
+  // would otherwise never equal themselves and pile up under one hash).
   struct Key {
-    glm::vec3 p, n;
-    glm::vec2 uv;
-    bool operator==(const Key& o) const { return p == o.p && n == o.n && uv == o.uv; }
+    uint32_t bits[8];
+    Key(const glm::vec3& p, const glm::vec3& n, const glm::vec2& uv) {
+      const float f[8] = {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y};
+      for (int k = 0; k < 8; ++k) {
+        const float c = std::isnan(f[k]) ? std::numeric_limits<float>::quiet_NaN() : f[k] + 0.f;
+        std::memcpy(&bits[k], &c, 4);
+      }
+    }
+    bool operator==(const Key& o) const { return std::memcmp(bits, o.bits, sizeof bits) == 0; }
   };
   struct KeyHash {
     size_t operator()(const Key& k) const {
-      uint32_t bits[8];
-      std::memcpy(bits, &k.p, 12), std::memcpy(bits + 3, &k.n, 12), std::memcpy(bits + 6, &k.uv, 8);
-      size_t h = 0;
-      for (uint32_t b : bits) h = (h ^ b) * 0x100000001b3ull;
+      size_t h = 0xcbf29ce484222325ull;
+      for (uint32_t b : k.bits) h = (h ^ b) * 0x100000001b3ull;
       return h;
     }
   };
@@ -220,7 +226,7 @@ std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
     for (int k = 0; k < 3; ++k) {
       const uint32_t i = corners[t][size_t(k)];
       group[3 * t + size_t(k)] =
-          welded.try_emplace(Key{p[i], normal(corners[t], k), uv[i]}, uint32_t(welded.size()))
+          welded.try_emplace(Key(p[i], normal(corners[t], k), uv[i]), uint32_t(welded.size()))
               .first->second;
     }
   std::vector<glm::vec3> sum(2 * welded.size(), glm::vec3(0.f));
@@ -725,16 +731,18 @@ class Loader {
     }
     // Images with the same encoded bytes (or bufferView) are decoded once: textures point at the
     // first of them.
-    std::vector<size_t> used;
+    std::vector<size_t> used, first(model_.images.size());
+    std::unordered_map<uint64_t, std::vector<size_t>> by_source;  // source hash → images
     for (size_t i = 0; i < image_used.size(); ++i) {
       if (!image_used[i]) continue;
-      size_t same = i;
-      for (size_t j : used)
-        if (same_source(j, i)) same = j;
-      if (same == i) used.push_back(i);
-      for (Texture& t : scene_.textures)
-        if (t.image == i) t.image = uint32_t(same);
+      std::vector<size_t>& bucket = by_source[source_hash(i)];
+      auto same =
+          std::find_if(bucket.begin(), bucket.end(), [&](size_t j) { return same_source(j, i); });
+      first[i] = same == bucket.end() ? i : *same;
+      if (first[i] == i) used.push_back(i), bucket.push_back(i);
     }
+    for (size_t t = 0; t < scene_.textures.size(); ++t)
+      if (texture_used_[t]) scene_.textures[t].image = uint32_t(first[scene_.textures[t].image]);
     scene_.images.resize(model_.images.size());
     // The sizes first, so that the whole set is bounded before anything is decoded.
     constexpr uint64_t kMaxDecodedBytes = uint64_t(1) << 32;
@@ -746,7 +754,9 @@ class Loader {
     if (total > kMaxDecodedBytes)
       fail("its images would take " + str(total >> 20) + " MiB decoded, more than the " +
            str(kMaxDecodedBytes >> 20) + " MiB limit");
-    // In parallel; the first failure in image order is the one reported.
+    // In parallel. Reported: the first header error in image order (above), else the first
+    // decoding error in image order. Decoding holds one image twice (stb's buffer, then ours) per
+    // thread at a time, on top of what is kept.
     std::vector<std::string> errors(used.size());
     tbb::parallel_for(size_t(0), used.size(), [&](size_t k) {
       const size_t i = used[k];
@@ -783,6 +793,15 @@ class Loader {
     return {image.image.data(), image.image.size()};
   }
 
+  // The bufferView, or a hash of the encoded bytes (FNV-1a).
+  uint64_t source_hash(size_t i) const {
+    const tinygltf::Image& image = model_.images[i];
+    if (image.bufferView != -1) return uint64_t(image.bufferView);
+    uint64_t h = 0xcbf29ce484222325ull ^ image.image.size();
+    for (unsigned char c : image.image) h = (h ^ c) * 0x100000001b3ull;
+    return h | (uint64_t(1) << 63);  // apart from bufferView indices
+  }
+
   bool same_source(size_t a, size_t b) const {
     const tinygltf::Image &x = model_.images[a], &y = model_.images[b];
     if (x.bufferView != -1 || y.bufferView != -1) return x.bufferView == y.bufferView;
@@ -803,8 +822,8 @@ class Loader {
 
   // The material's textures are needed once a primitive uses it (only those are decoded).
   void use_textures(const Material& m) {
-    for (const TextureRef* ref : m.textures())
-      if (*ref) texture_used_[size_t(ref->texture)] = true;
+    for (const TextureRef* ref : m.sampled_textures())
+      if (ref && *ref) texture_used_[size_t(ref->texture)] = true;
   }
 
   uint32_t material_for(int index, const std::string& where) {
@@ -985,7 +1004,8 @@ class Loader {
       const std::string name = set ? "TEXCOORD_1" : "TEXCOORD_0";
       auto attribute = prim.attributes.find(name);
       bool needed = false;  // does this primitive's material sample set `set`?
-      for (const TextureRef* ref : mat.textures()) needed |= *ref && ref->texcoord == set;
+      for (const TextureRef* ref : mat.sampled_textures())
+        needed |= ref && *ref && ref->texcoord == set;
       if (!needed || attribute == prim.attributes.end()) continue;
       const std::string role = name + " of " + where;
       std::vector<glm::vec4> values = read_floats(

@@ -124,13 +124,15 @@ std::optional<GltfBrdf::Sample> GltfBrdf::sample(const glm::vec3& wo, float u_lo
   if (wo.z <= 0.f) return std::nullopt;
   glm::vec3 wi;
   const Lobes p = lobes(wo);
-  if (u_lobe < p.specular + p.diffuse && u_lobe >= p.specular) {
+  // (Without transmission, everything past the specular lobe is diffuse, whatever the rounding of
+  // specular + diffuse.)
+  if (u_lobe >= p.specular && (u_lobe < p.specular + p.diffuse || !(p.transmission > 0.f))) {
     wi = sample_cosine_hemisphere(u1, u2);
   } else {
     const glm::vec3 h = sample_ggx_visible_normal(wo, alpha_, u1, u2);
     wi = 2.f * glm::dot(wo, h) * h - wo;
     if (wi.z <= 0.f) return std::nullopt;
-    if (u_lobe >= p.specular + p.diffuse) wi = mirrored(wi);  // transmission
+    if (u_lobe >= p.specular) wi = mirrored(wi);  // transmission
   }
   if (wi.z == 0.f) return std::nullopt;
   const float density = pdf(wo, wi);

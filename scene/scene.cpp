@@ -27,7 +27,11 @@ Camera frame_bounds(const Box& bounds, float aspect, float yfov) {
 
 std::vector<std::string> Scene::unused_work() const {
   bool textured = false, alpha = false, transmission = false;
-  for (const Material& m : materials) {
+  std::vector<bool> used(materials.size(), false);
+  for (uint32_t m : geometry.material) used[m] = true;
+  for (size_t i = 0; i < materials.size(); ++i) {
+    if (!used[i]) continue;  // a material no triangle has costs nothing
+    const Material& m = materials[i];
     textured |= m.textured();
     alpha |= m.alpha_mode != Material::AlphaMode::opaque;
     transmission |= m.transmission > 0.f;

@@ -42,13 +42,16 @@ struct Material {
   TextureRef transmission_texture;        // linear; transmission in .r
   float normal_scale = 1.f;
 
-  std::array<const TextureRef*, 5> textures() const {
-    return {&base_color_texture, &metallic_roughness_texture, &normal_texture, &emissive_texture,
-            &transmission_texture};
+  // The textures shading reads (null entries for the rest): an emissive texture only when the
+  // emissive factor is not black, a transmission texture only when the factor is not 0.
+  std::array<const TextureRef*, 5> sampled_textures() const {
+    return {&base_color_texture, &metallic_roughness_texture, &normal_texture,
+            emissive() ? &emissive_texture : nullptr,
+            transmission > 0.f ? &transmission_texture : nullptr};
   }
   bool textured() const {
-    for (const TextureRef* t : textures())
-      if (*t) return true;
+    for (const TextureRef* t : sampled_textures())
+      if (t && *t) return true;
     return false;
   }
 

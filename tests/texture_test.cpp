@@ -398,11 +398,14 @@ TEST_CASE("textures: images no used material samples are never decoded; copies o
                                  {"emissiveFactor", emissive},
                                  {"emissiveTexture", {{"index", 0}}}});
   const std::vector<unsigned char> png = png8(2, 2, 4, kTexels);
+  std::vector<uint8_t> flipped = kTexels;  // the rows swapped: blue top-left
+  std::swap_ranges(flipped.begin(), flipped.begin() + 8, flipped.begin() + 8);
+  const std::vector<unsigned char> other = png8(2, 2, 4, flipped);
   for (int k = 0; k < 8; ++k) add_texture(copies, png, nullptr, Embed::buffer_view);
   for (auto& image : copies.doc["images"])
     image["bufferView"] = copies.doc["images"][0]["bufferView"];
-  add_texture(copies, png);
-  add_texture(copies, png);
+  add_texture(copies, other);
+  add_texture(copies, other);
   copies.add_material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 9}}}}},
                        {"emissiveFactor", emissive},
                        {"emissiveTexture", {{"index", 8}}}});
@@ -415,10 +418,13 @@ TEST_CASE("textures: images no used material samples are never decoded; copies o
   CHECK(decoded == 2);
   CHECK(deduped.textures[7].image == deduped.textures[0].image);
   CHECK(deduped.textures[9].image == deduped.textures[8].image);
-  // The point (0.25, 0.75) of triangle 1 (and of 3, material 1): the red texel, through each.
-  for (uint32_t tri : {1u, 3u})
-    CHECK(near(surface_at(deduped, tri, 0.25f, 0.5f, glm::vec3(0, 0, 1)).brdf.base_color,
-               glm::vec3(1, 0, 0)));
+  CHECK(deduped.textures[8].image != deduped.textures[0].image);
+  // The point (0.25, 0.75) of triangle 1 (of 3 for material 1): top-left, red in the first image,
+  // blue in the other.
+  CHECK(near(surface_at(deduped, 1, 0.25f, 0.5f, glm::vec3(0, 0, 1)).brdf.base_color,
+             glm::vec3(1, 0, 0)));
+  CHECK(near(surface_at(deduped, 3, 0.25f, 0.5f, glm::vec3(0, 0, 1)).brdf.base_color,
+             glm::vec3(0, 0, 1)));
 }
 
 TEST_CASE("texture errors: the decoded size of all images is bounded before decoding") {
@@ -435,6 +441,10 @@ TEST_CASE("texture errors: the decoded size of all images is bounded before deco
     w.doc["meshes"][0]["primitives"].push_back(primitive);
   }
   check_error(w.write_gltf(dir / "huge.gltf"), {"images would take", "MiB limit"});
+  // Five copies of one such image count once: within the budget, they fail only at decoding
+  // (their data is not 11000² texels).
+  for (auto& image : w.doc["images"]) image = w.doc["images"][0];
+  check_error(w.write_gltf(dir / "copies.gltf"), {"image 0", "cannot be decoded"});
 }
 
 TEST_CASE("texture errors name the file and the element") {
@@ -553,7 +563,8 @@ TEST_CASE("generated tangents: corners with the same position, normal and uv sha
   const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},
                                     {0, 0, 0}, {1, 1, 0}, {0, 1, 0}};
   // uv (x, 1 − y), except the last corner: v 0.2, which turns the second triangle's ∂p/∂u.
-  const std::vector<glm::vec2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 1}, {1, 0}, {0, 0.2f}};
+  // The shared corner (0, 0, 0) has u = −0 once and +0 once: the same uv.
+  const std::vector<glm::vec2> uv = {{-0.f, 1}, {1, 1}, {1, 0}, {0, 1}, {1, 0}, {0, 0.2f}};
   const std::vector<glm::vec3> n(6, glm::vec3(0, 0, 1));
   w.add_material({{"normalTexture", {{"index", 0}}}});
   json attributes = {{"POSITION", w.add_vec3(p)},
