@@ -1,5 +1,5 @@
-// PNG files for texture tests: 8-bit through stb_image_write (libstb), 16-bit written here
-// (stb_image_write has no 16-bit PNGs) with stored, uncompressed deflate blocks.
+// Image files for texture tests: 8-bit PNG and JPEG through stb_image_write (libstb), 16-bit PNG
+// written here (stb_image_write has none) with stored, uncompressed deflate blocks.
 #pragma once
 
 #include <stb_image_write.h>
@@ -20,6 +20,20 @@ inline std::vector<unsigned char> png8(int width, int height, int channels,
             static_cast<std::vector<unsigned char>*>(context)->end(), bytes, bytes + size);
       },
       &out, width, height, channels, texels.data(), width * channels);
+  return out;
+}
+
+// A JPEG of `channels` (1 or 3) bytes per texel, at quality 100.
+inline std::vector<unsigned char> jpeg(int width, int height, int channels,
+                                       const std::vector<uint8_t>& texels) {
+  std::vector<unsigned char> out;
+  stbi_write_jpg_to_func(
+      [](void* context, void* data, int size) {
+        auto* bytes = static_cast<unsigned char*>(data);
+        static_cast<std::vector<unsigned char>*>(context)->insert(
+            static_cast<std::vector<unsigned char>*>(context)->end(), bytes, bytes + size);
+      },
+      &out, width, height, channels, texels.data(), 100);
   return out;
 }
 

@@ -144,7 +144,7 @@ TEST_CASE("texture sampling: nearest and bilinear, sRGB per texel, wrap modes") 
       }
 }
 
-TEST_CASE("texture images: 8- and 16-bit PNGs decode to RGBA; bad data is one error") {
+TEST_CASE("texture images: 8- and 16-bit PNGs and JPEGs decode to RGBA; bad data is one error") {
   const TextureImage rgb = decode_image(png8(2, 1, 3, {10, 20, 30, 40, 50, 60}).data(),
                                         png8(2, 1, 3, {10, 20, 30, 40, 50, 60}).size(), "x");
   CHECK(rgb.width == 2);
@@ -158,6 +158,22 @@ TEST_CASE("texture images: 8- and 16-bit PNGs decode to RGBA; bad data is one er
   CHECK(deep.texel(0, 0, false) == glm::vec4(0.f, 32768.f / 65535.f, 1.f, 1.f));
   CHECK(deep.texel(0, 1, false).b == 3.f / 65535.f);
   CHECK(deep.texel(0, 0, true).g == doctest::Approx(srgb_to_linear(32768.f / 65535.f)));
+
+  // JPEG: a flat 16 × 16 colour comes back within a step or two of its bytes (lossy).
+  const std::vector<uint8_t> flat = [] {
+    std::vector<uint8_t> t;
+    for (int i = 0; i < 256; ++i) t.insert(t.end(), {200, 100, 50});
+    return t;
+  }();
+  const std::vector<unsigned char> jpg = jpeg(16, 16, 3, flat);
+  const TextureImage photo = decode_image(jpg.data(), jpg.size(), "x");
+  REQUIRE(photo.width == 16);
+  REQUIRE(photo.rgba8.size() == 4 * 256);
+  const glm::vec4 c = photo.texel(7, 9, false) * 255.f;
+  CHECK(std::abs(c.r - 200.f) <= 2.f);
+  CHECK(std::abs(c.g - 100.f) <= 2.f);
+  CHECK(std::abs(c.b - 50.f) <= 2.f);
+  CHECK(c.a == 255.f);
 
   auto error = [](const std::vector<unsigned char>& bytes) {
     try {
