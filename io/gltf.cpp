@@ -188,17 +188,16 @@ struct CornerStream {
 // Tangents for a normal map laid out by `uv` when the file gives none, 3 per triangle of
 // `corners`, grouped and weighted as MikkTSpace does (not its code, so not bit-identical): at
 // each corner the triangle's uv tangent ∂p/∂u is projected onto the plane of the corner's shading
-// normal `normal(corners[t], k)`, normalised and weighted by the triangle's angle there; corners
+// normal `normals[3 t + k]`, normalised and weighted by the triangle's angle there; corners
 // sum over the triangles that share their vertex (vertices with the same position, normal and uv
 // count as one, as MikkTSpace welds them), apart for triangles whose layout is mirrored; each sum
 // is projected and normalised again. w is the bitangent's sign (bitangent = cross(n, t) · w):
 // glTF's v runs down the image while a normal map's +Y points up it, so an unmirrored layout has
 // w = 1 with cross(n, t) along −∂p/∂v. Zero where no uv tangent reached the corner.
-template <class CornerNormal>
 std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
                                          const std::vector<glm::vec2>& uv,
                                          const std::vector<std::array<uint32_t, 3>>& corners,
-                                         CornerNormal normal) {
+                                         const std::vector<glm::vec3>& normals) {
   // One key per distinct (position, normal, uv) among the corners.
   // Keys compare and hash the same canonical bits: −0 as +0, every NaN as one NaN (NaN uvs
   // would otherwise never equal themselves and pile up under one hash).
@@ -226,7 +225,7 @@ std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
     for (int k = 0; k < 3; ++k) {
       const uint32_t i = corners[t][size_t(k)];
       group[3 * t + size_t(k)] =
-          welded.try_emplace(Key(p[i], normal(corners[t], k), uv[i]), uint32_t(welded.size()))
+          welded.try_emplace(Key(p[i], normals[3 * t + size_t(k)], uv[i]), uint32_t(welded.size()))
               .first->second;
     }
   std::vector<glm::vec3> sum(2 * welded.size(), glm::vec3(0.f));
@@ -240,7 +239,7 @@ std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
     const glm::vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det, dpdv = (e2 * d1.x - e1 * d2.x) / det;
     mirrored[t] = glm::dot(glm::cross(glm::cross(e1, e2), dpdu), dpdv) > 0.f;
     for (int k = 0; k < 3; ++k) {
-      const glm::vec3 n = normal(c, k);
+      const glm::vec3 n = normals[3 * t + size_t(k)];
       const glm::vec3 projected = dpdu - n * glm::dot(n, dpdu);
       const float len = glm::length(projected);
       const glm::vec3 a = p[c[size_t(k + 1) % 3]] - p[c[size_t(k)]];
@@ -254,7 +253,7 @@ std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
   std::vector<glm::vec4> out(3 * corners.size(), glm::vec4(0.f));
   for (size_t t = 0; t < corners.size(); ++t)
     for (int k = 0; k < 3; ++k) {
-      const glm::vec3 n = normal(corners[t], k);
+      const glm::vec3 n = normals[3 * t + size_t(k)];
       glm::vec3 s = sum[2 * size_t(group[3 * t + size_t(k)]) + mirrored[t]];
       s -= n * glm::dot(n, s);
       const float len = glm::length(s);
@@ -1092,18 +1091,24 @@ class Loader {
       if (xf.flips) std::swap(c[1], c[2]);
       corners.push_back({uint32_t(c[0]), uint32_t(c[1]), uint32_t(c[2])});
     }
-    // Shading normals per corner, as stored.
-    auto corner_normal = [&](const std::array<uint32_t, 3>& c, int k) {
-      const glm::vec3 g = geometric_normal(points[c[0]], points[c[1]], points[c[2]]);
-      return normals.empty() ? g : unit_or(normals[c[size_t(k)]], g);
-    };
+    // Shading normals per corner, as stored: computed once, when they are kept or tangents are
+    // generated from them.
+    const bool generate = tangents.empty() && normal_map && !uv[normal_map.texcoord].empty();
+    std::vector<glm::vec3> corner_normals;  // 3 per triangle of `corners`
+    if (keep_normals_ || generate) {
+      corner_normals.reserve(3 * corners.size());
+      for (const auto& c : corners) {
+        const glm::vec3 g = geometric_normal(points[c[0]], points[c[1]], points[c[2]]);
+        for (uint32_t i : c) corner_normals.push_back(normals.empty() ? g : unit_or(normals[i], g));
+      }
+    }
     std::vector<glm::vec4> corner_tangents;  // 3 per triangle of `corners`
     if (!tangents.empty()) {
       corner_tangents.reserve(3 * corners.size());
       for (const auto& c : corners)
         for (uint32_t i : c) corner_tangents.push_back(tangents[i]);
-    } else if (normal_map && !uv[normal_map.texcoord].empty()) {
-      corner_tangents = generate_tangents(points, uv[normal_map.texcoord], corners, corner_normal);
+    } else if (generate) {
+      corner_tangents = generate_tangents(points, uv[normal_map.texcoord], corners, corner_normals);
     }
     if (normal_map) tangents_.start(before, glm::vec4(0.f));
 
@@ -1113,7 +1118,7 @@ class Loader {
       geometry.add(points[c[0]], points[c[1]], points[c[2]], material);
       for (int k = 0; k < 3; ++k) {
         const uint32_t i = c[size_t(k)];
-        if (keep_normals_) normals_.push_back(corner_normal(c, k));
+        if (keep_normals_) normals_.push_back(corner_normals[3 * t + size_t(k)]);
         for (int set = 0; set < 2; ++set)
           if (texcoords_[set].on)
             texcoords_[set].data.push_back(uv[set].empty() ? glm::vec2(0.f) : uv[set][i]);

@@ -491,15 +491,25 @@ TEST_CASE("alpha BLEND: shadow rays see through it as camera rays do") {
   check_renders(r.film, 0.7 * 0.7 * 0.5 / glm::pi<double>());
 }
 
-TEST_CASE("transmission: a smooth white thin sheet under a uniform sky of 1 renders 1") {
+namespace {
+
+// The unit square of quad_grid(1) as a thin dielectric sheet (no camera yet).
+Scene sheet_scene(const glm::vec3& color, float roughness, float transmission) {
   Scene scene;
   scene.geometry = quad_grid(1);
   Material sheet;
-  sheet.base_color = glm::vec3(1.f);
+  sheet.base_color = color;
   sheet.metallic = 0.f;
-  sheet.roughness = 0.f;
-  sheet.transmission = 1.f;
+  sheet.roughness = roughness;
+  sheet.transmission = transmission;
   scene.materials = {sheet};
+  return scene;
+}
+
+}  // namespace
+
+TEST_CASE("transmission: a smooth white thin sheet under a uniform sky of 1 renders 1") {
+  Scene scene = sheet_scene(glm::vec3(1.f), 0.f, 1.f);
   scene.cameras = {looking_at(glm::vec3(0.5f, 0.2f, 2.f), glm::vec3(0.5f, 0.5f, 0.f), 0.8f)};
   RenderSettings s;
   s.width = s.height = 16, s.spp = 32, s.environment = glm::vec3(1.f);
@@ -521,14 +531,7 @@ TEST_CASE("transmission: next-event estimation lights a rough sheet through its 
   // f_t(wo, −wo) = (1 − F0) D(n) V; from the front, f_r = F0 D(n) V (no diffuse left).
   for (const bool behind : {true, false}) {
     INFO((behind ? "behind" : "in front"));
-    Scene scene;
-    scene.geometry = quad_grid(1);
-    Material sheet;
-    sheet.base_color = glm::vec3(1.f);
-    sheet.metallic = 0.f;
-    sheet.roughness = 0.5f;
-    sheet.transmission = 1.f;
-    scene.materials = {sheet};
+    Scene scene = sheet_scene(glm::vec3(1.f), 0.5f, 1.f);
     Camera cam = looking_at(glm::vec3(0.5f, 0.5f, 3.f), glm::vec3(0.5f, 0.5f, 0.f), 1.f);
     cam.orthographic = true;
     cam.ymag = 0.25f;
@@ -584,14 +587,7 @@ TEST_CASE("transmission: next-event estimation through a rough sheet agrees with
   // A rough white sheet (transmission 0.7) under a sky of 1: as a uniform environment only BSDF
   // sampling finds it; as a constant map next-event estimation samples it too, on both sides,
   // weighed by MIS. Each pixel must agree within the two renders' errors.
-  Scene scene;
-  scene.geometry = quad_grid(1);
-  Material sheet;
-  sheet.base_color = glm::vec3(0.9f, 0.6f, 0.3f);
-  sheet.metallic = 0.f;
-  sheet.roughness = 0.4f;
-  sheet.transmission = 0.7f;
-  scene.materials = {sheet};
+  Scene scene = sheet_scene(glm::vec3(0.9f, 0.6f, 0.3f), 0.4f, 0.7f);
   scene.cameras = {looking_at(glm::vec3(0.5f, -0.3f, 1.5f), glm::vec3(0.5f, 0.5f, 0.f), 0.9f)};
   RenderSettings s;
   s.width = s.height = 12, s.spp = 256;

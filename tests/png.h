@@ -9,17 +9,19 @@
 
 namespace dacrt::test {
 
+// stb_image_write's callback: appends the bytes to the std::vector<unsigned char> `context`.
+inline void append_bytes(void* context, void* data, int size) {
+  auto* out = static_cast<std::vector<unsigned char>*>(context);
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  out->insert(out->end(), bytes, bytes + size);
+}
+
 // `channels` (1 to 4) bytes per texel, rows from the top.
 inline std::vector<unsigned char> png8(int width, int height, int channels,
                                        const std::vector<uint8_t>& texels) {
   std::vector<unsigned char> out;
-  stbi_write_png_to_func(
-      [](void* context, void* data, int size) {
-        auto* bytes = static_cast<unsigned char*>(data);
-        static_cast<std::vector<unsigned char>*>(context)->insert(
-            static_cast<std::vector<unsigned char>*>(context)->end(), bytes, bytes + size);
-      },
-      &out, width, height, channels, texels.data(), width * channels);
+  stbi_write_png_to_func(append_bytes, &out, width, height, channels, texels.data(),
+                         width * channels);
   return out;
 }
 
@@ -27,13 +29,7 @@ inline std::vector<unsigned char> png8(int width, int height, int channels,
 inline std::vector<unsigned char> jpeg(int width, int height, int channels,
                                        const std::vector<uint8_t>& texels) {
   std::vector<unsigned char> out;
-  stbi_write_jpg_to_func(
-      [](void* context, void* data, int size) {
-        auto* bytes = static_cast<unsigned char*>(data);
-        static_cast<std::vector<unsigned char>*>(context)->insert(
-            static_cast<std::vector<unsigned char>*>(context)->end(), bytes, bytes + size);
-      },
-      &out, width, height, channels, texels.data(), 100);
+  stbi_write_jpg_to_func(append_bytes, &out, width, height, channels, texels.data(), 100);
   return out;
 }
 
