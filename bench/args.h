@@ -14,7 +14,7 @@
 
 #include "bench/rays.h"
 #include "tracer/backend.h"
-#include "tracer/dacrt.h"
+#include "tracer/dacrt/dacrt.h"
 #include "tracer/options.h"
 
 namespace dacrt::bench {

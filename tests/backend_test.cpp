@@ -9,7 +9,7 @@
 #include <cstring>
 
 #include "test_geometry.h"
-#include "tracer/dacrt.h"
+#include "tracer/dacrt/dacrt.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

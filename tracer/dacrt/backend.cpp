@@ -1,0 +1,197 @@
+// The dacrt and dacrt-naive backends: a call's ray records, the triangle records kept from call
+// to call, the cut of large batches into chunks, and the statistics (the recursion itself is in
+// traversal.cpp and split.cpp).
+#include "tracer/backend.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <numeric>
+
+#include "tracer/dacrt/dacrt.h"
+#include "tracer/dacrt/traversal.h"
+
+namespace dacrt {
+namespace {
+
+using namespace kernel;
+
+class Dacrt final : public Backend {
+ public:
+  Dacrt(const Geometry& g, const Options& options, bool sampling)
+      : geometry_(g), params_(DacrtParams::from(options, sampling)) {
+    options.check_known(sampling ? "backend dacrt" : "backend dacrt-naive", DacrtParams::keys());
+    auto start = std::chrono::steady_clock::now();
+    bounds_ = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, g.size(), 16384), Box(),
+        [&](const auto& range, Box box) {
+          for (size_t i = range.begin(); i != range.end(); ++i)
+            for (int c = 0; c < 3; ++c) box.extend(g.vertex(i, c));
+          return box;
+        },
+        [](Box a, const Box& b) {
+          a.extend(b);
+          return a;
+        });
+    kernel_ = std::make_unique<Kernel>(Kernel{g, params_, bounds_.magnitude()});
+    build_seconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  void do_intersect(const RayBatch& rays, HitBatch& hits, const HitFilter* filter) override {
+    hits.resize(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+      hits.prim[i] = HitBatch::miss;
+      hits.t[i] = rays.tmax[i];
+      hits.u[i] = hits.v[i] = 0.f;
+    }
+    trace(rays, &hits, nullptr, filter);
+  }
+
+  void do_occluded(const RayBatch& rays, std::span<uint8_t> occluded,
+                   const HitFilter* filter) override {
+    std::fill_n(occluded.begin(), rays.size(), uint8_t(0));
+    trace(rays, nullptr, occluded.data(), filter);
+  }
+
+  Stats stats() const override {
+    std::lock_guard lock(stats_mutex_);
+    Stats s = stats_;
+    s.build_seconds = build_seconds_;
+    return s;
+  }
+
+  const Geometry& geometry_;
+  const DacrtParams params_;
+
+ private:
+  void trace(const RayBatch& batch, HitBatch* hits, uint8_t* occluded, const HitFilter* filter) {
+    const size_t n = batch.size();
+    // Records for the live rays, in batch order; the rest never enter the recursion. Built in
+    // parallel: live rays counted per block, then each block writes at its offset.
+    auto live = [&](size_t i) {
+      return Ray::valid(batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i]);
+    };
+    constexpr size_t block = 16384;
+    const size_t blocks = (n + block - 1) / block;
+    std::vector<size_t> offset(blocks + 1, 0);
+    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+      for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) offset[b + 1] += live(i);
+    });
+    std::partial_sum(offset.begin(), offset.end(), offset.begin());
+    // The ray and triangle records are kept from call to call (no page faults, nothing zeroed,
+    // triangles encoded once); a call that finds them in use by a concurrent one makes its own.
+    const size_t count = offset[blocks];
+    std::unique_lock buffer_lock(buffer_mutex_, std::try_to_lock);
+    std::unique_ptr<RayRef[]> own_rays;
+    std::vector<Triangles> own_triangles;
+    RayRef* refs;
+    std::vector<Triangles>* triangles = &own_triangles;
+    if (buffer_lock.owns_lock()) {
+      if (ray_capacity_ < count) ray_buffer_.reset(), ray_buffer_.reset(new RayRef[count]);
+      ray_capacity_ = std::max(ray_capacity_, count);
+      refs = ray_buffer_.get();
+      triangles = &triangles_;
+    } else {
+      own_rays.reset(new RayRef[count]);
+      refs = own_rays.get();
+    }
+    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+      size_t out = offset[b];
+      for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
+        if (!live(i)) continue;
+        const glm::vec3 d = batch.direction(i);
+        refs[out++] = {batch.origin(i), d, batch.tmin[i], batch.tmax[i], uint32_t(i)};
+      }
+    });
+    // Large batches are cut into chunks that trace at once, each with its own triangle records:
+    // right from the root every thread has work. Inside a chunk, large nodes hand subtrees to
+    // other threads (Traversal::fork), which also evens out chunks that take unequal time.
+    const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+    const size_t chunks =
+        std::min({threads, size_t(params_.chunks), std::max<size_t>(1, count / params_.task_rays)});
+    if (triangles->empty()) triangles->emplace_back().encode(geometry_);
+    while (triangles->size() < chunks) triangles->push_back(triangles->front());
+    const uint64_t call = calls_++;
+    Stats total;
+    std::mutex total_mutex;
+    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+      const uint32_t rb = uint32_t(count * c / chunks), re = uint32_t(count * (c + 1) / chunks);
+      Triangles& own = (*triangles)[c];
+      Traversal t{*kernel_,
+                  refs,
+                  hits,
+                  occluded,
+                  batch,
+                  filter,
+                  own.refs.data(),
+                  Pcg32(hash(params_.seed, call, c)),
+                  {}};
+      if (!bounds_.empty() && rb < re)
+        t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
+      std::lock_guard lock(total_mutex);
+      total += t.stats;
+    });
+    total.rays = n;
+    uint64_t bytes = (buffer_lock.owns_lock() ? ray_capacity_ : count) * sizeof(RayRef) +
+                     triangles->size() * geometry_.size() * sizeof(TriangleRef);
+    std::lock_guard lock(stats_mutex_);
+    stats_ += total;
+    stats_.peak_bytes = std::max(stats_.peak_bytes, bytes);
+  }
+
+  struct Triangles {
+    std::vector<TriangleRef> refs;  // every triangle, in any order
+    Box centres;                    // of their boxes
+
+    void encode(const Geometry& g) {
+      refs.resize(g.size());
+      centres = tbb::parallel_reduce(
+          tbb::blocked_range<uint32_t>(0, uint32_t(g.size()), 16384), Box(),
+          [&](const auto& range, Box box) {
+            for (uint32_t i = range.begin(); i != range.end(); ++i) {
+              const TriangleRef& r = refs[i] = TriangleRef::encode(g, i);
+              const float step = r.step();
+              box.extend(glm::vec3(r.center(0, step), r.center(1, step), r.center(2, step)));
+            }
+            return box;
+          },
+          [](Box x, const Box& y) {
+            x.extend(y);
+            return x;
+          });
+    }
+  };
+  std::mutex buffer_mutex_;           // held by the call that uses the records below
+  std::vector<Triangles> triangles_;  // one per chunk
+  std::unique_ptr<RayRef[]> ray_buffer_;
+  size_t ray_capacity_ = 0;
+  Box bounds_;
+  std::unique_ptr<Kernel> kernel_;
+  double build_seconds_ = 0.0;
+  std::atomic<uint64_t> calls_{0};  // numbers each call's random stream
+  mutable std::mutex stats_mutex_;
+  Stats stats_;
+};
+
+}  // namespace
+
+uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, const DacrtParams& params) {
+  return rays * sizeof(RayRef) + uint64_t(params.chunks) * triangles * sizeof(TriangleRef);
+}
+
+namespace {
+
+const Backend::Registration dacrt_registration{"dacrt", [](const Geometry& g, const Options& o) {
+                                                 return std::make_unique<Dacrt>(g, o, true);
+                                               }};
+const Backend::Registration naive_registration{
+    "dacrt-naive",
+    [](const Geometry& g, const Options& o) { return std::make_unique<Dacrt>(g, o, false); }};
+
+}  // namespace
+}  // namespace dacrt

@@ -1,0 +1,121 @@
+// Vector versions of the ray/box slab test (Ray::box_hits) over RayRef records, bit for bit the
+// scalar test's answers (see box_simd.h).
+#include "tracer/dacrt/box_simd.h"
+
+#ifdef DACRT_X86
+#include <immintrin.h>
+
+#include <cstddef>
+
+namespace dacrt::kernel {
+
+// Ray::box_hits for the records p[0..n), n <= 64, eight per AVX2 instruction: the same operations
+// in the same order (_mm256_min_ps(b, a) is std::min(a, b) exactly, NaN and signed zeros
+// included), so the mask is bit for bit the scalar test's. Bit i is p[i]; nothing past p[n - 1] is
+// read.
+__attribute__((target("avx2"))) uint64_t box_mask_avx2(const RayRef* p, int n, const Box& box,
+                                                       float magnitude) {
+  static_assert(sizeof(RayRef) == 9 * sizeof(float) && offsetof(RayRef, d) == 12 &&
+                offsetof(RayRef, tmin) == 24 && offsetof(RayRef, far) == 28);
+  const float* base = reinterpret_cast<const float*>(p);
+  const __m256i stride = _mm256_setr_epi32(0, 9, 18, 27, 36, 45, 54, 63);
+  __m256 lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = _mm256_set1_ps(box.lo[a]), hi[a] = _mm256_set1_ps(box.hi[a]);
+  const __m256 sign = _mm256_set1_ps(-0.f), mag = _mm256_set1_ps(magnitude),
+               scale = _mm256_set1_ps(0x1p-16f), tiny = _mm256_set1_ps(1e-30f),
+               one = _mm256_set1_ps(1.f);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  uint64_t mask = 0;
+  for (int g = 0; 8 * g < n; ++g) {
+    const float* r = base + 72 * g;
+    // Lanes past the last record gather nothing (and give 0, a ray that hits nothing: dropped).
+    const __m256 live = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(n - 8 * g), lane));
+    __m256 o[3], inv[3];
+    for (int a = 0; a < 3; ++a) {
+      o[a] = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + a, stride, live, 4);
+      // Ray::inverse: 1/d, with |d| < 1e-30 replaced by ±1e-30
+      const __m256 d = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + 3 + a, stride, live, 4);
+      const __m256 small = _mm256_cmp_ps(_mm256_andnot_ps(sign, d), tiny, _CMP_LT_OQ);
+      const __m256 clamped = _mm256_or_ps(_mm256_and_ps(sign, d), tiny);
+      inv[a] = _mm256_div_ps(one, _mm256_blendv_ps(d, clamped, small));
+    }
+    __m256 near = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + 6, stride, live, 4),
+           far = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + 7, stride, live, 4);
+    // Ray::pad_for: 2^-16 (max |o| + magnitude)
+    const __m256 om =
+        _mm256_max_ps(_mm256_max_ps(_mm256_andnot_ps(sign, o[0]), _mm256_andnot_ps(sign, o[1])),
+                      _mm256_andnot_ps(sign, o[2]));
+    const __m256 pad = _mm256_mul_ps(scale, _mm256_add_ps(om, mag));
+    for (int a = 0; a < 3; ++a) {
+      const __m256 ta = _mm256_mul_ps(_mm256_sub_ps(_mm256_sub_ps(lo[a], pad), o[a]), inv[a]);
+      const __m256 tb = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(hi[a], pad), o[a]), inv[a]);
+      near = _mm256_max_ps(_mm256_min_ps(tb, ta), near);  // std::max(near, std::min(ta, tb))
+      far = _mm256_min_ps(_mm256_max_ps(tb, ta), far);    // std::min(far, std::max(ta, tb))
+    }
+    const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(near, far, _CMP_LE_OQ), live);
+    mask |= uint64_t(uint32_t(_mm256_movemask_ps(hit))) << (8 * g);
+  }
+  return mask;
+}
+
+// GCC 12's AVX-512 headers start masked intrinsics from _mm512_undefined_*(), which
+// -Wmaybe-uninitialized reports once inlined (GCC bug 105593, fixed in GCC 13).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+// |x| for AVX512F, which has float logic only as integer logic.
+__attribute__((target("avx512f"))) inline __m512 abs_avx512(__m512 x) {
+  return _mm512_castsi512_ps(
+      _mm512_andnot_epi32(_mm512_set1_epi32(int32_t(0x80000000u)), _mm512_castps_si512(x)));
+}
+
+// Field `field` of up to 16 records of 9 floats from r; lanes outside `live` read nothing, give 0.
+__attribute__((target("avx512f"))) inline __m512 gather_avx512(const float* r, int field,
+                                                               __mmask16 live) {
+  const __m512i stride =
+      _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+                         _mm512_set1_epi32(9));
+  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), live, stride, r + field, 4);
+}
+
+// box_mask_avx2 sixteen rays per instruction.
+__attribute__((target("avx512f"))) uint64_t box_mask_avx512(const RayRef* p, int n, const Box& box,
+                                                            float magnitude) {
+  const float* base = reinterpret_cast<const float*>(p);
+  __m512 lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = _mm512_set1_ps(box.lo[a]), hi[a] = _mm512_set1_ps(box.hi[a]);
+  const __m512i sign = _mm512_set1_epi32(int32_t(0x80000000u));
+  const __m512 mag = _mm512_set1_ps(magnitude), scale = _mm512_set1_ps(0x1p-16f),
+               tiny = _mm512_set1_ps(1e-30f), one = _mm512_set1_ps(1.f);
+  uint64_t mask = 0;
+  for (int g = 0; 16 * g < n; ++g) {
+    const float* r = base + 144 * g;
+    const int left = n - 16 * g;
+    const __mmask16 live = left >= 16 ? __mmask16(0xffff) : __mmask16((1u << left) - 1u);
+    __m512 o[3], inv[3];
+    for (int a = 0; a < 3; ++a) {
+      o[a] = gather_avx512(r, a, live);
+      const __m512 d = gather_avx512(r, 3 + a, live);
+      const __mmask16 small = _mm512_cmp_ps_mask(abs_avx512(d), tiny, _CMP_LT_OQ);
+      const __m512 clamped = _mm512_castsi512_ps(_mm512_or_epi32(
+          _mm512_and_epi32(sign, _mm512_castps_si512(d)), _mm512_castps_si512(tiny)));
+      inv[a] = _mm512_div_ps(one, _mm512_mask_blend_ps(small, d, clamped));
+    }
+    __m512 near = gather_avx512(r, 6, live), far = gather_avx512(r, 7, live);
+    const __m512 om =
+        _mm512_max_ps(_mm512_max_ps(abs_avx512(o[0]), abs_avx512(o[1])), abs_avx512(o[2]));
+    const __m512 pad = _mm512_mul_ps(scale, _mm512_add_ps(om, mag));
+    for (int a = 0; a < 3; ++a) {
+      const __m512 ta = _mm512_mul_ps(_mm512_sub_ps(_mm512_sub_ps(lo[a], pad), o[a]), inv[a]);
+      const __m512 tb = _mm512_mul_ps(_mm512_sub_ps(_mm512_add_ps(hi[a], pad), o[a]), inv[a]);
+      near = _mm512_max_ps(_mm512_min_ps(tb, ta), near);
+      far = _mm512_min_ps(_mm512_max_ps(tb, ta), far);
+    }
+    mask |= uint64_t(_mm512_mask_cmp_ps_mask(live, near, far, _CMP_LE_OQ)) << (16 * g);
+  }
+  return mask;
+}
+#pragma GCC diagnostic pop
+
+}  // namespace dacrt::kernel
+#endif

@@ -1,0 +1,175 @@
+// The recursion: a node splits (split.cpp) or is a leaf; children are entered in the chosen order,
+// each with the rays that reach its box (filtered), or with all of them when filtering cannot pay.
+#include "tracer/dacrt/traversal.h"
+
+#include <tbb/task_group.h>
+
+#include <atomic>
+
+#include "tracer/backend.h"
+#include "tracer/dacrt/box_simd.h"
+#include "tracer/partition.h"
+#include "tracer/triangle.h"
+#include "tracer/triangle_block.h"
+
+namespace dacrt::kernel {
+
+void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
+  ++stats.leaves;
+  const Geometry& g = k.geometry;
+  // Records a hit of ray `ref` on triangle `tri` (already accepted by the triangle test) unless
+  // the hit filter turns it down.
+  auto record = [&](RayRef& ref, uint32_t tri, const TriangleHit& h) {
+    const uint32_t i = ref.id;
+    if (rejected(hit_filter, batch, i, tri, h.u, h.v)) return;
+    if (occluded) {
+      occluded[i] = 1;
+      ref.far = -inf;  // drops out of every later box test and leaf
+    } else if (closer(h.t, tri, ref.far, hits->prim[i])) {
+      ref.far = h.t;
+      hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
+    }
+  };
+  if (k.params.simd < Simd::avx2 || !avx2_available()) {
+    for (uint32_t r = rb; r < re; ++r) {
+      RayRef& ref = rays[r];
+      if (!(ref.far >= ref.tmin)) continue;  // occluded already
+      // The same shear as every other backend's, so t is bit for bit theirs.
+      const Ray ray = Ray::shear(ref.o, ref.d);
+      for (uint32_t j = tb; j < te && ref.far >= ref.tmin; ++j) {
+        const uint32_t tri = tris[j].id;
+        ++stats.triangle_tests;
+        TriangleHit h;
+        if (intersect_triangle(ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2), ref.tmin,
+                               ref.far, h))
+          record(ref, tri, h);
+      }
+    }
+    return;
+  }
+  // Up to 64 triangles at a time in blocks of eight, loaded once for all the leaf's rays.
+  constexpr uint32_t group = 64;
+  std::array<TriangleBlock, group / 8> blocks;
+  for (uint32_t g0 = tb; g0 < te; g0 += group) {
+    const uint32_t g1 = std::min(te, g0 + group);
+    int nb = 0;
+    for (uint32_t j = g0; j < g1; j += 8, ++nb) {
+      uint32_t ids[8];
+      const int count = int(std::min(8u, g1 - j));
+      for (int l = 0; l < count; ++l) ids[l] = tris[j + l].id;
+      blocks[nb].load(g, ids, count);
+    }
+    for (uint32_t r = rb; r < re; ++r) {
+      RayRef& ref = rays[r];
+      if (!(ref.far >= ref.tmin)) continue;
+      const Ray ray = Ray::shear(ref.o, ref.d);
+      for (int b = 0; b < nb && ref.far >= ref.tmin; ++b) {
+        const TriangleBlock& block = blocks[b];
+        stats.triangle_tests += block.n;
+        // Candidates, then the scalar test on each, in lane order (the tie rule makes the order
+        // irrelevant for the answer).
+        for (uint32_t m = block_candidates(block, ray, ref.tmin, ref.far); m && ref.far >= ref.tmin;
+             m &= m - 1) {
+          const int l = std::countr_zero(m);
+          const uint32_t tri = block.id[l];
+          TriangleHit h;
+          if (intersect_triangle(ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2),
+                                 ref.tmin, ref.far, h))
+            record(ref, tri, h);
+        }
+      }
+    }
+  }
+}
+
+// Moves the rays of [rb, re) that may touch `box` to the front (with hits_first false: those that
+// cannot); returns the end of them.
+__attribute__((noinline)) uint32_t Traversal::filter(const Box& box, uint32_t rb, uint32_t re,
+                                                     bool hits_first) {
+  stats.box_tests += re - rb;
+  const float m = k.magnitude;
+  RayRef* mid;
+#ifdef DACRT_X86
+  auto partition = [&](auto mask) {
+    return block_partition(rays + rb, rays + re, [&](const RayRef* p, int n) {
+      const uint64_t hit = mask(p, n, box, m);
+      return hits_first ? hit : ~hit & (~uint64_t(0) >> (64 - n));
+    });
+  };
+  if (k.params.simd >= Simd::avx512 && avx512_available())
+    mid = partition(box_mask_avx512);
+  else if (k.params.simd >= Simd::avx2 && avx2_available())
+    mid = partition(box_mask_avx2);
+  else
+#endif
+    mid = block_partition_by(rays + rb, rays + re,
+                             [&](const RayRef& r) { return r.hits(box, m) == hits_first; });
+  return uint32_t(mid - rays);
+}
+
+void Traversal::node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
+                     uint32_t re, int depth) {
+  const DacrtParams& p = k.params;
+  const uint32_t nt = te - tb, nr = re - rb;
+  if (nt <= uint32_t(p.leaf_triangles) || depth >= p.max_depth ||
+      (nr <= uint32_t(p.leaf_rays) && uint64_t(nr) * nt <= uint64_t(p.leaf_work)))
+    return leaf(tb, te, rb, re);
+  const Split split = choose_split(box, centres, tb, te, rb, re);
+  if (!split.valid) return leaf(tb, te, rb, re);
+  ++stats.nodes;
+  if (nr >= uint32_t(p.task_rays)) return fork(split, rb, re, depth);
+  for (const Split::Child& c : split.children) {
+    uint32_t end = re;
+    if (skips_filter(c))
+      ++stats.filter_skips;
+    else
+      end = filter(c.box, rb, re);
+    if (end > rb) node(c.box, c.centres, c.tb, c.te, rb, end, depth + 1);
+  }
+}
+
+// A large node's children as two tasks. The triangle ranges are disjoint, but a ray may need both
+// children, and the second, B, must see the closest hit the first, A, found. So the rays are
+// partitioned [rb, b_only) neither box, [b_only, a_begin) only B's, [a_begin, re) A's. A traverses
+// its rays here while a task traverses B with the rays only B needs; when both are done, the rays
+// of A that still reach B's box (with their new closest hits) traverse B too. If the task only
+// starts once A is done (nobody stole it), it traverses B once with all its rays, as one thread
+// would: the same box tests, in the same order, as the sequential loop in node().
+void Traversal::fork(const Split& split, uint32_t rb, uint32_t re, int depth) {
+  const Split::Child &a = split.children[0], &b = split.children[1];
+  const bool skip_a = skips_filter(a), skip_b = skips_filter(b);
+  stats.filter_skips += skip_a + skip_b;
+  // Moves the rays of [from, to) that miss the child to the front and returns their end; a child
+  // that skips filtering takes every ray.
+  auto misses = [&](const Split::Child& c, bool skip, uint32_t from, uint32_t to) {
+    return skip ? from : filter(c.box, from, to, false);
+  };
+  const uint32_t a_begin = misses(a, skip_a, rb, re);
+  const uint32_t b_only = misses(b, skip_b, rb, a_begin);
+  // B after A: the rays of [first, from) and those of [from, re) that still reach B's box.
+  auto after_a = [&](Traversal& t, uint32_t first, uint32_t from) {
+    const uint32_t end = skip_b ? re : t.filter(b.box, from, re);
+    if (end > first) t.node(b.box, b.centres, b.tb, b.te, first, end, depth + 1);
+  };
+  if (b_only == a_begin || a_begin == re) {  // nothing to run beside A
+    if (re > a_begin) node(a.box, a.centres, a.tb, a.te, a_begin, re, depth + 1);
+    return after_a(*this, b_only, a_begin);
+  }
+  Traversal task{k, rays, hits, occluded, batch, hit_filter, tris, Pcg32(rng.next()), {}};
+  std::atomic<bool> a_done{false};
+  bool beside = false;  // the task ran while A was running
+  tbb::task_group group;
+  group.run([&] {
+    if (a_done.load(std::memory_order_acquire)) return after_a(task, b_only, a_begin);
+    beside = true;
+    ++task.stats.tasks;
+    task.node(b.box, b.centres, b.tb, b.te, b_only, a_begin, depth + 1);
+  });
+  node(a.box, a.centres, a.tb, a.te, a_begin, re, depth + 1);
+  a_done.store(true, std::memory_order_release);
+  group.wait();
+  stats += task.stats;
+  if (beside) after_a(*this, a_begin, a_begin);
+}
+
+}  // namespace dacrt::kernel

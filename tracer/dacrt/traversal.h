@@ -1,0 +1,84 @@
+// Traversal: one walk of the DACRT recursion over a range of ray records and a range of triangle
+// records, both partitioned in place (traversal.cpp: nodes, leaves, filtering, forks; split.cpp:
+// the split choice). It allocates nothing, so a call's memory is known before it starts.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "tracer/dacrt/records.h"
+#include "tracer/ray_batch.h"
+#include "tracer/stats.h"
+#include "util/random.h"
+
+namespace dacrt {
+class HitFilter;
+}
+
+namespace dacrt::kernel {
+
+// What every traversal of one backend shares: the geometry, the options, the scene's magnitude
+// (for the box tests' pad).
+struct Kernel {
+  const Geometry& geometry;
+  const DacrtParams& params;
+  float magnitude;
+};
+
+// choose_split's scratch. choose_split returns before the recursion goes on and never waits for
+// other tasks, so one set per thread serves every node of every traversal (and keeps recursion
+// frames small).
+struct SplitScratch {
+  struct Bin {
+    Box box, centres;
+    uint32_t count = 0;
+  };
+  // Per candidate split: sampled rays that hit the left / right box, and that enter it first.
+  struct Counts {
+    std::array<uint32_t, 256> left, right, left_first, right_first;  // sample_splits zeroes them
+  };
+  std::array<Bin, 256> bins{};
+  std::array<Box, 256> left_box{}, right_box{};
+  std::array<uint32_t, 256> left_n{}, right_n{};
+  Counts counts{};
+};
+
+// A traversal of a subtree: a range of ray records and a range of triangle records, both
+// partitioned in place. Allocates nothing, so a call's memory is known before it starts. Large
+// nodes run their second child as a parallel task on its own Traversal (see fork).
+struct Traversal {
+  const Kernel& k;
+  RayRef* rays;                 // the call's live rays
+  HitBatch* hits;               // closest-hit mode; null for occlusion
+  uint8_t* occluded;            // occlusion mode; null for closest hit
+  const RayBatch& batch;        // the call's rays, as given (for the hit filter)
+  const HitFilter* hit_filter;  // null: every hit counts
+  TriangleRef* tris;            // every triangle
+  Pcg32 rng;
+  Stats stats;
+
+  struct Split {
+    bool valid = false;  // false: no split beats a leaf
+    struct Child {
+      Box box;
+      Box centres;  // of its triangles' boxes
+      uint32_t tb, te;
+      double alpha;  // fraction of sampled rays that hit the child's box; -1 if not sampled
+    };
+    std::array<Child, 2> children;  // in traversal order
+  };
+
+  void node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
+            int depth);
+  void fork(const Split& split, uint32_t rb, uint32_t re, int depth);
+  Split choose_split(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
+                     uint32_t re);
+  bool skips_filter(const Split::Child& c);
+  void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
+  uint32_t filter(const Box& box, uint32_t rb, uint32_t re, bool hits_first = true);
+  void sample_splits(const Box* left, const Box* right, int n, uint32_t rb, uint32_t samples,
+                     SplitScratch::Counts& counts);
+  uint32_t draw_samples(uint32_t rb, uint32_t re, uint32_t wanted);
+};
+
+}  // namespace dacrt::kernel
