@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include <cstring>
@@ -120,6 +121,9 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
       {{"task_rays", "1"}, {"filter_skip", "0"}},     // forks whose children take every ray
       {{"task_rays", "1"}, {"filter_skip", "0.5"}},   // forks where one child may
       {{"task_rays", "100000000"}, {"chunks", "1"}},  // one traversal on one thread
+      {{"top_triangles", "0"}},                       // nothing kept: pure per-call DACRT
+      {{"top_triangles", "1"}},                       // everything that splits is kept
+      {{"top_triangles", "1"}, {"small_nodes", "all"}, {"task_rays", "1"}},
   };
   for (const auto& s : settings) {
     Options o;
@@ -350,4 +354,113 @@ TEST_CASE("dacrt stays exact at extreme scales and far from the origin") {
     compare(g, rays, expected, "dacrt");
     compare(g, rays, expected, "dacrt-naive");
   }
+}
+
+TEST_CASE("dacrt stays exact with triangles whose extent overflows float") {
+  // A box of such a triangle has an infinite extent and an infinite centre: binning must neither
+  // index out of bounds with NaN nor lose the triangle. Mixed with ordinary triangles, alone, and
+  // with the huge coordinates on every axis.
+  for (int axis = 0; axis < 3; ++axis)
+    for (size_t ordinary : {size_t(0), size_t(1), size_t(2000)}) {
+      INFO("axis " << axis << ", " << ordinary << " ordinary triangles");
+      Geometry g = random_soup(ordinary, 91);
+      const float big = 3e38f;
+      for (int k = 0; k < 3;
+           ++k) {  // three huge triangles through the unit cube, at different depths
+        glm::vec3 a(0.2f * k, 0.1f, 0.3f), b = a, c = a;
+        a[axis] = -big, b[axis] = big, c[(axis + 1) % 3] += 0.5f;
+        g.add(a, b, c, 0);
+      }
+      RayBatch rays = random_rays(random_soup(1000, 91), 20000, 92, RayType::bounce);
+      const HitBatch expected = brute_hits(g, rays);
+      size_t huge_hits = 0;
+      for (size_t i = 0; i < rays.size(); ++i)
+        huge_hits += expected.hit(i) && expected.prim[i] >= ordinary;
+      CHECK(huge_hits > 100);
+      compare(g, rays, expected, "dacrt");
+      compare(g, rays, expected, "dacrt-naive");
+    }
+}
+
+TEST_CASE("the kept top levels serve every later call exactly, whatever its rays") {
+  // The top is built once, on the first call's records, and later calls, chunks and forks only
+  // reorder below it: batches of every size and kind in a row on one backend must all match brute.
+  for (auto& c : cases()) {
+    for (const char* top : {"1", "16", "256"}) {
+      for (const char* name : {"dacrt", "dacrt-naive"}) {
+        const std::string label = std::string(c.name) + ", top_triangles=" + top + ", " + name;
+        INFO(label);
+        Options o;
+        o.set("top_triangles", top);
+        o.set("task_rays", "64");
+        auto b = Backend::create(name, c.geometry, o);
+        uint64_t seed = 700;
+        std::vector<RayBatch> batches;
+        for (size_t n : {size_t(20000), size_t(1), size_t(3), size_t(100), size_t(5000)})
+          batches.push_back(random_rays(c.geometry, n, ++seed, RayType::bounce));
+        batches.push_back(surface_rays(c.geometry, 5000, ++seed, true));
+        batches.push_back(axis_rays(c.geometry, 5000, ++seed));
+        size_t wrong = 0;
+        for (const RayBatch& rays : batches) {
+          const HitBatch expected = brute_hits(c.geometry, rays);
+          HitBatch got;
+          std::vector<uint8_t> occluded(rays.size());
+          b->intersect(rays, got);
+          b->occluded(rays, occluded);
+          for (size_t i = 0; i < rays.size(); ++i)
+            wrong += got.prim[i] != expected.prim[i] || !same_bits(got.t[i], expected.t[i]) ||
+                     occluded[i] != uint8_t(expected.hit(i));
+        }
+        CHECK(wrong == 0);
+        // Every scene here has more than 256 triangles, and but one has distinct centres (its
+        // triangles share one box centre: no split exists, so nothing can be kept).
+        if (std::string(c.name) != "one box centre")
+          CHECK(b->stats().kept_nodes > 0);
+        else
+          CHECK(b->stats().kept_nodes == 0);
+      }
+    }
+  }
+  // Two calls at once: the second finds the records in use and traces with its own, unkept.
+  Geometry g = random_soup(3000, 31);
+  auto b = Backend::create("dacrt", g);
+  RayBatch r1 = random_rays(g, 20000, 32, RayType::bounce),
+           r2 = random_rays(g, 20000, 33, RayType::bounce);
+  const HitBatch e1 = brute_hits(g, r1), e2 = brute_hits(g, r2);
+  for (int round = 0; round < 5; ++round) {
+    HitBatch h1, h2;
+    tbb::parallel_invoke([&] { b->intersect(r1, h1); }, [&] { b->intersect(r2, h2); });
+    CHECK(h1.prim == e1.prim);
+    CHECK(h2.prim == e2.prim);
+  }
+  Options none;
+  none.set("top_triangles", "0");
+  CHECK(Backend::create("dacrt", g, none)->stats().kept_nodes == 0);
+}
+
+TEST_CASE("a call with few rays pays for its rays, not for every triangle, once the top is kept") {
+  // Counted, not timed: the triangle records a call bins. Without the kept top, a one-ray call
+  // bins every triangle at the root and most of them again at each level near it; with it, only
+  // the frontier nodes its ray reaches.
+  Geometry g = random_soup(100000, 41);
+  RayBatch big = random_rays(g, 50000, 42, RayType::bounce);
+  RayBatch one = random_rays(g, 1, 43, RayType::bounce);
+  uint64_t binned[2];
+  for (int kept = 0; kept < 2; ++kept) {
+    Options o;
+    o.set("top_triangles", kept ? "1024" : "0");
+    auto b = Backend::create("dacrt", g, o);
+    HitBatch h;
+    b->intersect(big, h);
+    const Stats before = b->stats();
+    for (int call = 0; call < 10; ++call) b->intersect(one, h);
+    const Stats after = b->stats();
+    binned[kept] = (after.binned - before.binned) / 10;
+    MESSAGE("top_triangles=" << (kept ? 1024 : 0) << ": a one-ray call bins " << binned[kept]
+                             << " triangle records and visits "
+                             << (after.kept_nodes - before.kept_nodes) / 10 << " kept nodes");
+    CHECK((after.kept_nodes > before.kept_nodes) == bool(kept));
+  }
+  CHECK(binned[0] >= 100000);
+  CHECK(binned[1] <= 100000 / 10);
 }

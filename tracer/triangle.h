@@ -72,9 +72,12 @@ inline bool intersect_triangle(const Ray& r, const glm::vec3& p0, const glm::vec
     exact = !(std::abs(t) > delta_t);
   }
   if (exact) {
-    const double t_exact = exact_t(r, p0, p1, p2);
+    // The rounded t is compared, as in the float path: two hits whose double t round to the same
+    // float must both pass a tmax equal to it, or which one wins the tie would depend on the order
+    // the triangles are visited in (a fuzzing finding: tests/fuzz/disagree-1.gltf).
+    const float t_exact = float(exact_t(r, p0, p1, p2));
     if (!(t_exact >= tmin && t_exact <= tmax)) return false;
-    hit.t = float(t_exact);
+    hit.t = t_exact;
     hit.u = e1 / det;
     hit.v = e2 / det;
     return true;

@@ -13,6 +13,7 @@
 #include <numeric>
 
 #include "tracer/dacrt/dacrt.h"
+#include "tracer/dacrt/top.h"
 #include "tracer/dacrt/traversal.h"
 
 namespace dacrt {
@@ -114,7 +115,22 @@ class Dacrt final : public Backend {
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const size_t chunks =
         std::min({threads, size_t(params_.chunks), std::max<size_t>(1, count / params_.task_rays)});
-    if (triangles->empty()) triangles->emplace_back().encode(geometry_);
+    const bool own_buffers = buffer_lock.owns_lock();
+    if (triangles->empty()) {
+      triangles->emplace_back().encode(geometry_);
+      // The kept top levels are built on the first records, before any copy is made, so that
+      // every chunk's copy has their order (below them each call reorders within their ranges).
+      if (own_buffers && params_.top_triangles > 0 && !bounds_.empty()) {
+        auto start = std::chrono::steady_clock::now();
+        Triangles& first = triangles->front();
+        top_.build(*kernel_, first.refs.data(), uint32_t(geometry_.size()), bounds_, first.centres);
+        std::lock_guard lock(stats_mutex_);
+        build_seconds_ +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      }
+    }
+    // A concurrent call's own records have no kept top.
+    const TopLevels* top = own_buffers && !top_.nodes.empty() ? &top_ : nullptr;
     while (triangles->size() < chunks) triangles->push_back(triangles->front());
     const uint64_t call = calls_++;
     Stats total;
@@ -129,16 +145,20 @@ class Dacrt final : public Backend {
                   batch,
                   filter,
                   own.refs.data(),
+                  top,
                   Pcg32(hash(params_.seed, call, c)),
                   {}};
-      if (!bounds_.empty() && rb < re)
+      if (top && rb < re)
+        t.kept_node(0, rb, re, 0);
+      else if (!bounds_.empty() && rb < re)
         t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
       std::lock_guard lock(total_mutex);
       total += t.stats;
     });
     total.rays = n;
     uint64_t bytes = (buffer_lock.owns_lock() ? ray_capacity_ : count) * sizeof(RayRef) +
-                     triangles->size() * geometry_.size() * sizeof(TriangleRef);
+                     triangles->size() * geometry_.size() * sizeof(TriangleRef) +
+                     (top ? top_.nodes.capacity() * sizeof(TopLevels::Node) : 0);
     std::lock_guard lock(stats_mutex_);
     stats_ += total;
     stats_.peak_bytes = std::max(stats_.peak_bytes, bytes);
@@ -169,6 +189,7 @@ class Dacrt final : public Backend {
   std::mutex buffer_mutex_;           // held by the call that uses the records below
   std::vector<Triangles> triangles_;  // one per chunk
   std::unique_ptr<RayRef[]> ray_buffer_;
+  TopLevels top_;  // built with the first records
   size_t ray_capacity_ = 0;
   Box bounds_;
   std::unique_ptr<Kernel> kernel_;
@@ -181,7 +202,8 @@ class Dacrt final : public Backend {
 }  // namespace
 
 uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, const DacrtParams& params) {
-  return rays * sizeof(RayRef) + uint64_t(params.chunks) * triangles * sizeof(TriangleRef);
+  return rays * sizeof(RayRef) + uint64_t(params.chunks) * triangles * sizeof(TriangleRef) +
+         TopLevels::max_nodes(triangles, params) * sizeof(TopLevels::Node);
 }
 
 namespace {

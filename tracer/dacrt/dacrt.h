@@ -54,6 +54,10 @@ struct DacrtParams {
   // A batch of at least 2 × task_rays rays is cut into up to this many chunks (no more than the
   // threads), traced at once, each with its own copy of the triangle records.
   int chunks = 2;
+  // Nodes of at least this many triangles are kept from call to call (tracer/dacrt/top.h): split
+  // once, by the SAH, so that a call pays for its rays at the top levels, not for every triangle.
+  // 0: nothing is kept, every call is pure per-call DACRT.
+  int top_triangles = 1024;
 
   static const std::set<std::string, std::less<>>& keys();
   // Reads every key of keys() from the options (filter_skip=paper or a number).
@@ -62,7 +66,8 @@ struct DacrtParams {
 
 // The most memory one dacrt or dacrt-naive call uses beyond its inputs and outputs, known before
 // it starts: a 36-byte record per ray and a 20-byte record per triangle for each chunk (both kept
-// from call to call), however many threads trace. Nothing is allocated per node.
+// from call to call), and the kept top levels' nodes, however many threads trace. Nothing is
+// allocated per node.
 uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, const DacrtParams& params = {});
 
 }  // namespace dacrt

@@ -11,7 +11,7 @@ const std::set<std::string, std::less<>>& DacrtParams::keys() {
       "filter_skip",    "cost_traversal", "cost_intersect",
       "seed",           "max_depth",      "max_leaf_triangles",
       "small_nodes",    "simd",           "task_rays",
-      "chunks"};
+      "chunks",         "top_triangles"};
   return k;
 }
 
@@ -33,6 +33,8 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.max_depth = o.get("max_depth", p.max_depth);
   p.task_rays = o.get("task_rays", p.task_rays);
   p.chunks = o.get("chunks", p.chunks);
+  p.top_triangles = o.get("top_triangles", p.top_triangles);
+  if (p.top_triangles < 0) throw Error("option top_triangles must be >= 0 (0: keep no top levels)");
   std::string small = o.get("small_nodes", std::string("sah"));
   if (small != "sah" && small != "all") throw Error("option small_nodes must be sah or all");
   p.small_nodes_sah = small == "sah";

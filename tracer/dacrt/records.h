@@ -3,6 +3,7 @@
 // make each level one streaming pass, and their sizes are what dacrt_memory_bound counts.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -16,6 +17,7 @@
 namespace dacrt::kernel {
 
 constexpr float inf = std::numeric_limits<float>::infinity();
+constexpr float max_float = std::numeric_limits<float>::max();
 using Simd = DacrtParams::Simd;
 
 // What binning and partitioning read of a triangle, in one 20-byte record, so that a node streams
@@ -31,8 +33,21 @@ struct TriangleRef {
 
   float step() const { return std::bit_cast<float>(uint32_t(exp + 127) << 23); }
   float hi(int a, float step) const { return lo[a] + float(ext[a]) * step; }
-  // The box centre along `a`: where binning puts the triangle.
-  float center(int a, float step) const { return lo[a] + 0.5f * (float(ext[a]) * step); }
+  // The box centre along `a`: where binning puts the triangle. Clamped to finite values (a box
+  // whose extent overflows has an infinite centre, a box reaching -inf a NaN one), so that the
+  // centres' box of a node stays finite; any value works for binning as long as it is this one.
+  float center(int a, float step) const {
+    const float c = lo[a] + 0.5f * (float(ext[a]) * step);
+    return c != c ? 0.f : std::clamp(c, -max_float, max_float);
+  }
+  // center() on a vector of (x, y, z, unused): the same values lane by lane.
+  using f4 = float __attribute__((vector_size(16)));
+  static f4 clamp_centre(f4 c) {
+    const f4 zero = {}, hi = zero + max_float, lo = zero - max_float;
+    c = c == c ? c : zero;
+    c = c < hi ? c : hi;
+    return c > lo ? c : lo;
+  }
 
   static TriangleRef encode(const Geometry& g, uint32_t i) {
     TriangleRef r;
@@ -44,7 +59,7 @@ struct TriangleRef {
       hi[a] = std::max({p0, p1, p2});
       extent = std::max(extent, hi[a] - r.lo[a]);
     }
-    if (!std::isfinite(extent)) {  // never hits; any box that does not lose it will do
+    if (!std::isfinite(extent)) {  // an extent past float: the box reaches infinity, conservatively
       r.exp = 127;
       r.ext[0] = r.ext[1] = r.ext[2] = 255;
       return r;

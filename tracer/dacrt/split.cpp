@@ -57,28 +57,51 @@ uint32_t Traversal::draw_samples(uint32_t rb, uint32_t re, uint32_t wanted) {
   return wanted;
 }
 
+// Which of K bins a triangle centre falls into, on [lo, hi] along the binning axis. The same
+// function bins and partitions, so they always agree. Centres are finite (TriangleRef::center
+// clamps them), but hi − lo may still overflow: the map then works on halved coordinates (exact).
+// NaN goes to bin 0, and no index leaves [0, K).
+struct BinMap {
+  float lo, scale, pre;
+  int K;
+  BinMap(float lo_, float hi, int bins) : K(bins) {
+    pre = std::isfinite(hi - lo_) ? 1.f : 0.5f;
+    lo = lo_ * pre;
+    scale = float(K) / (hi * pre - lo);
+  }
+  bool valid() const { return scale > 0.f && std::isfinite(scale); }
+  int operator()(float c) const {
+    const float x = (c * pre - lo) * scale;
+    return x >= 0.f ? int(std::min(x, float(K - 1))) : 0;
+  }
+};
+
 // Bins the node's triangles, estimates α for every candidate split, and partitions the triangles
 // by the cheapest one. Its large scratch arrays live only in this frame, never across the
 // recursion, so deep trees cannot exhaust a worker thread's stack.
 __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& box,
                                                                    const Box& centres, uint32_t tb,
                                                                    uint32_t te, uint32_t rb,
-                                                                   uint32_t re) {
+                                                                   uint32_t re, bool by_area) {
   const DacrtParams& p = k.params;
   const uint32_t nt = te - tb, nr = re - rb;
   static thread_local SplitScratch scratch;
-  auto& [bins, left_box, right_box, left_n, right_n, counts] = scratch;
+  stats.binned += nt;
+  // References, not a structured binding: lambdas below use them (clang 14 cannot capture those).
+  auto& bins = scratch.bins;
+  auto& left_box = scratch.left_box;
+  auto& right_box = scratch.right_box;
+  auto& left_n = scratch.left_n;
+  auto& right_n = scratch.right_n;
+  auto& counts = scratch.counts;
   using Bin = SplitScratch::Bin;
   // Binning on triangle box centres along the longest axis of the centres' box (Wald 2007). Each
   // bin also keeps its centres' box, so the children know theirs without another pass.
   const int axis = centres.longest_axis();
-  const float lo = centres.lo[axis], extent = centres.hi[axis] - centres.lo[axis];
   const int K = p.bins;
-  const float scale = float(K) / extent;
-  if (!(extent > 0.f) || !std::isfinite(scale)) return {};  // one centre: make a leaf
-  auto bin_of = [&](const TriangleRef& t) {
-    return std::min(K - 1, int((t.center(axis, t.step()) - lo) * scale));
-  };
+  const BinMap map(centres.lo[axis], centres.hi[axis], K);
+  if (!map.valid()) return {};  // one centre: make a leaf
+  auto bin_of = [&](const TriangleRef& t) { return map(t.center(axis, t.step())); };
 
   // Interleaved sets of bins, merged after: consecutive triangles in one bin would otherwise wait
   // on each other's updates. Boxes are 4-wide vectors (x, y, z, unused) so that a triangle's
@@ -104,8 +127,8 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     const TriangleRef& t = tris[j];
     const f4 tlo = {t.lo[0], t.lo[1], t.lo[2], 0.f};
     const f4 d = __builtin_convertvector((i4{t.ext[0], t.ext[1], t.ext[2], 0}), f4) * t.step();
-    const f4 thi = tlo + d, c = tlo + 0.5f * d;
-    const int b = std::min(K - 1, int((c[axis] - lo) * scale));
+    const f4 thi = tlo + d, c = TriangleRef::clamp_centre(tlo + 0.5f * d);
+    const int b = map(c[axis]);
     VBin& v = vbins[j % sets][b];
     ++count[j % sets][b];
     v.lo = vmin(tlo, v.lo), v.hi = vmax(thi, v.hi);
@@ -148,7 +171,8 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   // α_R N_R). Ties (all α equal, e.g. every sampled ray starts inside the node) go to the better
   // SAH cost, which also picks the split when a node too large for a leaf must split anyway.
   // Small nodes (and dacrt-naive) pick the split by the SAH's area ratios.
-  const bool all_splits = p.sampling && (nr > uint32_t(p.sample_threshold) || !p.small_nodes_sah);
+  const bool all_splits =
+      !by_area && p.sampling && (nr > uint32_t(p.sample_threshold) || !p.small_nodes_sah);
   uint32_t samples = 0;
   if (all_splits) {
     samples = nr > uint32_t(p.sample_threshold) ? draw_samples(rb, re, p.sample_size) : nr;
@@ -161,10 +185,19 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   double best_cost = INFINITY, best_area_cost = INFINITY;
   int best = 0;
   const double parent_area = box.half_area();
+  // A child's share of the parent's area. Boxes of triangles whose extent overflows float have an
+  // infinite (or NaN) area: such a child counts as the whole parent, a finite child inside an
+  // infinite parent as nothing, so the split that sets the huge triangles apart wins.
+  auto area_ratio = [&](const Box& child) {
+    const double a = child.half_area();
+    if (!(a < INFINITY)) return 1.0;
+    if (!(parent_area < INFINITY)) return 0.0;
+    return parent_area > 0 ? a / parent_area : 1.0;
+  };
   for (int split = 1; split < K; ++split) {
     if (!left_n[split] || !right_n[split]) continue;
-    double area_l = parent_area > 0 ? left_box[split].half_area() / parent_area : 1.0;
-    double area_r = parent_area > 0 ? right_box[split].half_area() / parent_area : 1.0;
+    double area_l = area_ratio(left_box[split]);
+    double area_r = area_ratio(right_box[split]);
     double area_cost =
         p.cost_traversal + p.cost_intersect * (area_l * left_n[split] + area_r * right_n[split]);
     double cost =
@@ -199,6 +232,29 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   // Traversal order: first the child that more sampled rays enter first.
   if (p.sampling && first_r > first_l) std::swap(split.children[0], split.children[1]);
   return split;
+}
+
+void Traversal::order_kept(Split& split, int axis, uint32_t rb, uint32_t re) {
+  const DacrtParams& p = k.params;
+  const uint32_t nr = re - rb;
+  auto& [a, b] = split.children;
+  a.alpha = b.alpha = -1.0;
+  if (!p.sampling) return;  // dacrt-naive: left first, both filtered
+  uint32_t first_l = 0, first_r = 0;
+  if (nr > uint32_t(p.sample_threshold) || !p.small_nodes_sah) {
+    // α of both children and who is entered first, from a sample of the rays, as in choose_split.
+    static thread_local SplitScratch::Counts counts;
+    const uint32_t samples =
+        nr > uint32_t(p.sample_threshold) ? draw_samples(rb, re, p.sample_size) : nr;
+    sample_splits(&a.box, &b.box, 1, rb, samples, counts);
+    a.alpha = double(counts.left[0]) / samples, b.alpha = double(counts.right[0]) / samples;
+    first_l = counts.left_first[0], first_r = counts.right_first[0];
+  } else {
+    const uint32_t n = std::min(nr, 16u);
+    for (uint32_t i = 0; i < n; ++i) first_l += rays[rb + i].d[axis] >= 0.f;
+    first_r = n - first_l;
+  }
+  if (first_r > first_l) std::swap(a, b);
 }
 
 // Filtering costs one box test per ray; it pays only if enough rays miss the child.

@@ -8,6 +8,7 @@
 
 #include "tracer/backend.h"
 #include "tracer/dacrt/box_simd.h"
+#include "tracer/dacrt/top.h"
 #include "tracer/partition.h"
 #include "tracer/triangle.h"
 #include "tracer/triangle_block.h"
@@ -128,6 +129,22 @@ void Traversal::node(const Box& box, const Box& centres, uint32_t tb, uint32_t t
   }
 }
 
+void Traversal::kept_node(int32_t index, uint32_t rb, uint32_t re, int depth) {
+  const TopLevels::Node& kept = top->nodes[size_t(index)];
+  Split split = kept.split;
+  order_kept(split, kept.axis, rb, re);
+  ++stats.nodes, ++stats.kept_nodes;
+  if (re - rb >= uint32_t(k.params.task_rays)) return fork(split, rb, re, depth);
+  for (const Split::Child& c : split.children) {
+    uint32_t end = re;
+    if (skips_filter(c))
+      ++stats.filter_skips;
+    else
+      end = filter(c.box, rb, re);
+    if (end > rb) enter(c, rb, end, depth + 1);
+  }
+}
+
 // A large node's children as two tasks. The triangle ranges are disjoint, but a ray may need both
 // children, and the second, B, must see the closest hit the first, A, found. So the rays are
 // partitioned [rb, b_only) neither box, [b_only, a_begin) only B's, [a_begin, re) A's. A traverses
@@ -149,13 +166,13 @@ void Traversal::fork(const Split& split, uint32_t rb, uint32_t re, int depth) {
   // B after A: the rays of [first, from) and those of [from, re) that still reach B's box.
   auto after_a = [&](Traversal& t, uint32_t first, uint32_t from) {
     const uint32_t end = skip_b ? re : t.filter(b.box, from, re);
-    if (end > first) t.node(b.box, b.centres, b.tb, b.te, first, end, depth + 1);
+    if (end > first) t.enter(b, first, end, depth + 1);
   };
   if (b_only == a_begin || a_begin == re) {  // nothing to run beside A
-    if (re > a_begin) node(a.box, a.centres, a.tb, a.te, a_begin, re, depth + 1);
+    if (re > a_begin) enter(a, a_begin, re, depth + 1);
     return after_a(*this, b_only, a_begin);
   }
-  Traversal task{k, rays, hits, occluded, batch, hit_filter, tris, Pcg32(rng.next()), {}};
+  Traversal task{k, rays, hits, occluded, batch, hit_filter, tris, top, Pcg32(rng.next()), {}};
   std::atomic<bool> a_done{false};
   bool beside = false;  // the task ran while A was running
   tbb::task_group group;
@@ -163,9 +180,9 @@ void Traversal::fork(const Split& split, uint32_t rb, uint32_t re, int depth) {
     if (a_done.load(std::memory_order_acquire)) return after_a(task, b_only, a_begin);
     beside = true;
     ++task.stats.tasks;
-    task.node(b.box, b.centres, b.tb, b.te, b_only, a_begin, depth + 1);
+    task.enter(b, b_only, a_begin, depth + 1);
   });
-  node(a.box, a.centres, a.tb, a.te, a_begin, re, depth + 1);
+  enter(a, a_begin, re, depth + 1);
   a_done.store(true, std::memory_order_release);
   group.wait();
   stats += task.stats;

@@ -17,6 +17,8 @@ class HitFilter;
 
 namespace dacrt::kernel {
 
+struct TopLevels;
+
 // What every traversal of one backend shares: the geometry, the options, the scene's magnitude
 // (for the box tests' pad).
 struct Kernel {
@@ -54,6 +56,7 @@ struct Traversal {
   const RayBatch& batch;        // the call's rays, as given (for the hit filter)
   const HitFilter* hit_filter;  // null: every hit counts
   TriangleRef* tris;            // every triangle
+  const TopLevels* top;         // the kept top of the tree (null: every node splits anew)
   Pcg32 rng;
   Stats stats;
 
@@ -63,7 +66,8 @@ struct Traversal {
       Box box;
       Box centres;  // of its triangles' boxes
       uint32_t tb, te;
-      double alpha;  // fraction of sampled rays that hit the child's box; -1 if not sampled
+      double alpha;       // fraction of sampled rays that hit the child's box; -1 if not sampled
+      int32_t kept = -1;  // its node in the kept top levels, or -1: it splits anew (node())
     };
     std::array<Child, 2> children;  // in traversal order
   };
@@ -71,8 +75,18 @@ struct Traversal {
   void node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
             int depth);
   void fork(const Split& split, uint32_t rb, uint32_t re, int depth);
+  // A node of the kept top levels: its split is stored; this call's rays only choose the order of
+  // its children and whether to filter for them (ray sampling on the two boxes).
+  void kept_node(int32_t index, uint32_t rb, uint32_t re, int depth);
+  void enter(const Split::Child& c, uint32_t rb, uint32_t re, int depth) {
+    if (c.kept >= 0) return kept_node(c.kept, rb, re, depth);
+    node(c.box, c.centres, c.tb, c.te, rb, re, depth);
+  }
+  // Sets the children's α and traversal order of a stored split from this call's rays.
+  void order_kept(Split& split, int axis, uint32_t rb, uint32_t re);
+  // by_area: by the SAH whatever the options (the kept top levels, which no rays choose).
   Split choose_split(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
-                     uint32_t re);
+                     uint32_t re, bool by_area = false);
   bool skips_filter(const Split::Child& c);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
   uint32_t filter(const Box& box, uint32_t rb, uint32_t re, bool hits_first = true);

@@ -1,0 +1,42 @@
+// TopLevels: the top of the implicit tree, kept from call to call. The geometry does not change
+// within a frame, so the splits of the largest nodes (the triangle order and boxes of the top
+// levels) need not be binned and partitioned again by every batch: a call with a few rays would
+// otherwise pay O(triangles) per level before its rays thin out. The kept nodes are split by the
+// SAH, once, before the first call traces (a split chosen by one batch's α would serve that batch's
+// ray type, and a frame mixes camera, shadow and bounce rays); each call still samples its own rays
+// at every kept node for the children's order and for whether filtering pays, and below the kept
+// levels everything is chosen anew, by ray sampling, as in pure DACRT. Nodes of at least
+// DacrtParams::top_triangles triangles are kept, at most max_nodes() of them, so the memory is
+// bounded and stated in advance (dacrt_memory_bound). top_triangles=0 keeps nothing.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "tracer/dacrt/traversal.h"
+
+namespace dacrt::kernel {
+
+struct TopLevels {
+  struct Node {
+    Traversal::Split split;  // children in left, right order along `axis`
+    int axis;                // the binning axis: rays heading along it visit the left child first
+  };
+  std::vector<Node> nodes;  // nodes[0] is the root, when any is kept
+
+  static uint64_t max_nodes(uint64_t triangles, const DacrtParams& params) {
+    if (params.top_triangles <= 0) return 0;
+    return 2 * ((triangles + uint64_t(params.top_triangles) - 1) / uint64_t(params.top_triangles));
+  }
+
+  // Splits the records tris[0, n) in place down to nodes of fewer than top_triangles triangles.
+  void build(const Kernel& k, TriangleRef* tris, uint32_t n, const Box& bounds, const Box& centres);
+
+ private:
+  int32_t build_node(Traversal& t, const Box& box, const Box& centres, uint32_t tb, uint32_t te,
+                     int depth);
+  std::atomic<uint32_t> count_{0};
+};
+
+}  // namespace dacrt::kernel
