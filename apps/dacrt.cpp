@@ -70,8 +70,9 @@ Ray tracing
   --backend-option KEY=VALUE backend setting, repeatable (dacrt: bins, leaf_rays, leaf_work, leaf_triangles,
                              max_leaf_triangles, sample_size, sample_threshold, small_nodes, filter_skip,
                              cost_traversal, cost_intersect, simd, task_rays, chunks, seed,
-                             max_depth)
-  --wavefront N              live paths per wavefront (default 524288)
+                             max_depth, top_triangles)
+  --wavefront N              live paths at most (default: what 512 MiB of path state holds,
+                             about 1.5 million, or the frame's paths if fewer)
   --threads T                worker threads (default: all cores)
 Other
   --quiet                    no progress bar or summary on stderr

@@ -2,6 +2,10 @@
 // Samples that are not finite are dropped and counted, never averaged in.
 #pragma once
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <vector>
@@ -23,15 +27,41 @@ class Film {
   int height() const { return height_; }
   size_t pixels() const { return count_.size(); }
 
-  void add(size_t pixel, const glm::vec3& radiance) {
-    if (!std::isfinite(radiance.x) || !std::isfinite(radiance.y) || !std::isfinite(radiance.z)) {
-      ++dropped_;
-      return;
-    }
-    for (int c = 0; c < 3; ++c) sum_[3 * pixel + c] += radiance[c];
-    double m = (double(radiance.x) + radiance.y + radiance.z) / 3.0;
-    sum_sq_[pixel] += m * m;
-    ++count_[pixel];
+  void add(size_t pixel, const glm::vec3& radiance) { dropped_ += !accumulate(pixel, radiance); }
+
+  // add(pixel_of(i), radiance_of(i)) for i in [0, n), in parallel, and with every pixel's samples
+  // added in the order of i, so the sums are the same bit for bit for any number of threads. The
+  // samples are sorted into ranges of pixels (a counting sort, stable), one task per range.
+  template <class PixelOf, class RadianceOf>
+  void add_in_order(size_t n, PixelOf pixel_of, RadianceOf radiance_of) {
+    constexpr size_t block = 8192;
+    const size_t ranges = std::clamp<size_t>(pixels() / 64, 1, 1024);
+    const size_t blocks = (n + block - 1) / block;
+    auto range_of = [&](size_t i) { return size_t(uint64_t(pixel_of(i)) * ranges / pixels()); };
+    // start[r * blocks + b]: where block b's samples of range r go.
+    std::vector<uint32_t> start(ranges * blocks + 1, 0);
+    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+      for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i)
+        ++start[range_of(i) * blocks + b + 1];
+    });
+    for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    order_.resize(n);
+    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+      std::vector<uint32_t> next(ranges);
+      for (size_t r = 0; r < ranges; ++r) next[r] = start[r * blocks + b];
+      for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i)
+        order_[next[range_of(i)]++] = uint32_t(i);
+    });
+    std::atomic<uint64_t> dropped{0};
+    tbb::parallel_for(size_t(0), ranges, [&](size_t r) {
+      uint64_t own = 0;
+      for (uint32_t k = start[r * blocks], end = start[(r + 1) * blocks]; k < end; ++k) {
+        const size_t i = order_[k];
+        own += !accumulate(pixel_of(i), radiance_of(i));
+      }
+      dropped += own;
+    });
+    dropped_ += dropped;
   }
 
   uint64_t dropped() const { return dropped_; }
@@ -56,7 +86,19 @@ class Film {
   }
 
  private:
+  // False (and nothing added) for a sample that is not finite.
+  bool accumulate(size_t pixel, const glm::vec3& radiance) {
+    if (!std::isfinite(radiance.x) || !std::isfinite(radiance.y) || !std::isfinite(radiance.z))
+      return false;
+    for (int c = 0; c < 3; ++c) sum_[3 * pixel + c] += radiance[c];
+    double m = (double(radiance.x) + radiance.y + radiance.z) / 3.0;
+    sum_sq_[pixel] += m * m;
+    ++count_[pixel];
+    return true;
+  }
+
   int width_, height_;
+  std::vector<uint32_t> order_;  // add_in_order's scratch
   std::vector<double> sum_, sum_sq_;
   std::vector<uint32_t> count_;
   uint64_t dropped_ = 0;

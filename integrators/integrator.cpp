@@ -1,5 +1,6 @@
 #include "integrators/integrator.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "util/registry.h"
@@ -24,6 +25,11 @@ std::vector<std::string> Integrator::names() {
 std::unique_ptr<Integrator> Integrator::create(std::string_view name, const Scene& scene,
                                                Backend& backend, const RenderSettings& settings) {
   return registry().find(name)(scene, backend, settings);
+}
+
+size_t resolve_wavefront(const RenderSettings& s, uint64_t paths) {
+  const uint64_t n = s.wavefront > 0 ? s.wavefront : s.wavefront_budget / path_state_bytes;
+  return size_t(std::clamp<uint64_t>(std::min(n, paths), 1, uint64_t(1) << 31));
 }
 
 float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,

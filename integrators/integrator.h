@@ -33,8 +33,20 @@ struct RenderSettings {
   glm::vec3 environment{0.f};  // uniform radiance of everything the rays escape to
   // An equirectangular map instead (importance-sampled in next-event estimation); null: uniform.
   std::shared_ptr<const EnvironmentMap> environment_map;
-  size_t wavefront = size_t(1) << 19;  // live paths at most per wavefront
+  // Live paths at most (stream regeneration keeps this many while samples remain). 0: as many
+  // as wavefront_budget bytes of path state hold (path_state_bytes each), up to the frame's.
+  size_t wavefront = 0;
+  uint64_t wavefront_budget = uint64_t(512) << 20;
 };
+
+// The bytes one live path takes in the path integrator: its state (throughput, radiance, pixel,
+// sample, pdf, depth: 40), its rays in the camera, bounce, next-bounce and shadow queues (4 × 36),
+// hits (16), the stages' scratch (two ray records of 40, a contribution of 12, flags and indices:
+// 109), and the dacrt backend's ray record (36).
+inline constexpr uint64_t path_state_bytes = 40 + 4 * 36 + 16 + 109 + 36;
+
+// The live paths a render of `paths` samples keeps with these settings.
+size_t resolve_wavefront(const RenderSettings& settings, uint64_t paths);
 
 struct RayTypeStats {
   uint64_t rays = 0;
@@ -46,9 +58,12 @@ struct RenderStats {
   std::array<RayTypeStats, ray_type_count> by_type;
   std::vector<RayTypeStats> by_bounce;  // bounce rays per depth (index 0: the first bounce)
   uint64_t paths = 0;
-  uint64_t dropped_samples = 0;      // NaN or inf radiance, never averaged in
-  double seconds = 0.0;              // whole render
-  std::vector<std::string> skipped;  // work the scene did not need, in words
+  uint64_t wavefront = 0;                // live paths at most
+  uint64_t bounce_calls = 0;             // backend calls with bounce rays
+  std::vector<uint32_t> bounce_batches;  // the bounce rays of each of those calls, in order
+  uint64_t dropped_samples = 0;          // NaN or inf radiance, never averaged in
+  double seconds = 0.0;                  // whole render
+  std::vector<std::string> skipped;      // work the scene did not need, in words
 
   uint64_t total_rays() const {
     uint64_t n = 0;

@@ -56,9 +56,11 @@ inline bool intersect_triangle(const Ray& r, const glm::vec3& p0, const glm::vec
   // coordinates, and decides; inside or outside stays the float test's decision, so watertightness
   // is untouched. The error bound is the one of Pharr, Jakob and Humphreys, "Physically Based
   // Rendering", 3rd ed., section 3.9.6; it is evaluated for hits only.
+  // The bound is evaluated before the range is checked: a t within its error of 0 may be out of
+  // range while the exact one is not, and rejecting it then would make the answer depend on the
+  // tmax a backend has reached (a fuzzing finding, tests/fuzz/disagree-2.gltf).
   bool exact = !std::isfinite(t);
   if (!exact) {
-    if (!(t >= tmin && t <= tmax)) return false;
     constexpr auto gamma = [](int n) { return n * 0x1p-24f / (1.f - n * 0x1p-24f); };
     const float max_z = std::max({std::abs(az), std::abs(bz), std::abs(cz)});
     const float max_x = std::max({std::abs(ax), std::abs(bx), std::abs(cx)});
@@ -70,6 +72,7 @@ inline bool intersect_triangle(const Ray& r, const glm::vec3& p0, const glm::vec
     const float delta_t =
         3.f * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) / std::abs(det);
     exact = !(std::abs(t) > delta_t);
+    if (!exact && !(t >= tmin && t <= tmax)) return false;
   }
   if (exact) {
     // The rounded t is compared, as in the float path: two hits whose double t round to the same

@@ -21,6 +21,13 @@ bool avx512_available() {
   return yes;
 }
 
+__attribute__((target("avx2"))) inline __m256 abs8(__m256 v) {
+  return _mm256_andnot_ps(_mm256_set1_ps(-0.f), v);
+}
+__attribute__((target("avx2"))) inline __m256 max3(const __m256* v) {
+  return _mm256_max_ps(_mm256_max_ps(abs8(v[0]), abs8(v[1])), abs8(v[2]));
+}
+
 // Mirrors intersect_triangle line by line; -ffp-contract=off keeps every multiply and add apart.
 __attribute__((target("avx2"))) uint32_t block_candidates(const TriangleBlock& b, const Ray& r,
                                                           float tmin, float tmax) {
@@ -61,12 +68,22 @@ __attribute__((target("avx2"))) uint32_t block_candidates(const TriangleBlock& b
       _mm256_div_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])),
                                   _mm256_mul_ps(e2, z[2])),
                     det);
-  // In range, or not finite (the scalar test then decides with t in double).
+  // In range, or not finite, or within a bound of 0 that is at least intersect_triangle's error
+  // bound delta_t (the scalar test then decides with t in double, whatever the range). The bound
+  // is cruder than the scalar one: with M the largest |x|, |y| or |z| of the sheared corners,
+  // delta_t <= 3 (2 gamma(3) max|e| M + 2 (gamma(2) + 4 gamma(5)) M^3) / |det|; the constants
+  // here are more than twice those, so that rounding cannot take the bound below delta_t.
+  const __m256 m = _mm256_max_ps(_mm256_max_ps(max3(x), max3(y)), max3(z));
+  const __m256 max_e = _mm256_max_ps(_mm256_max_ps(abs8(e0), abs8(e1)), abs8(e2));
+  const __m256 bound = _mm256_div_ps(
+      _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(3e-6f), max_e), m),
+                    _mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(2e-5f), m), m), m)),
+      abs_det);
   const __m256 t_ok =
-      _mm256_or_ps(_mm256_and_ps(_mm256_cmp_ps(t, _mm256_set1_ps(tmin), _CMP_GE_OQ),
-                                 _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LE_OQ)),
-                   _mm256_cmp_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.f), t),
-                                 _mm256_set1_ps(INFINITY), _CMP_NLT_UQ));
+      _mm256_or_ps(_mm256_or_ps(_mm256_and_ps(_mm256_cmp_ps(t, _mm256_set1_ps(tmin), _CMP_GE_OQ),
+                                              _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LE_OQ)),
+                                _mm256_cmp_ps(abs8(t), _mm256_set1_ps(INFINITY), _CMP_NLT_UQ)),
+                   _mm256_cmp_ps(abs8(t), bound, _CMP_NGT_UQ));
   const __m256 accept =
       _mm256_and_ps(_mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), det_ok), t_ok);
   const uint32_t lanes = (1u << b.n) - 1u;

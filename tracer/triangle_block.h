@@ -39,7 +39,8 @@ bool avx2_available();
 bool avx512_available();
 
 // Bit l set: lane l's triangle may be accepted by intersect_triangle(r, ..., tmin, tmax), or has an
-// edge function of exactly zero, or a t that is not finite. Only call when avx2_available().
+// edge function of exactly zero, or a t that is not finite or within its error bound of 0. Only
+// call when avx2_available().
 uint32_t block_candidates(const TriangleBlock& b, const Ray& r, float tmin, float tmax);
 
 }  // namespace dacrt

@@ -237,7 +237,8 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
 void Traversal::order_kept(Split& split, int axis, uint32_t rb, uint32_t re) {
   const DacrtParams& p = k.params;
   const uint32_t nr = re - rb;
-  auto& [a, b] = split.children;
+  Split::Child& a = split.children[0];
+  Split::Child& b = split.children[1];
   a.alpha = b.alpha = -1.0;
   if (!p.sampling) return;  // dacrt-naive: left first, both filtered
   uint32_t first_l = 0, first_r = 0;

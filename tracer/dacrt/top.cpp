@@ -23,7 +23,8 @@ int32_t TopLevels::build_node(Traversal& t, const Box& box, const Box& centres, 
   if (!split.valid) return -1;
   const uint32_t index = count_.fetch_add(1);
   if (index >= nodes.size()) return -1;  // the bound is reached: the rest splits anew per call
-  auto& [a, b] = split.children;
+  Traversal::Split::Child& a = split.children[0];
+  Traversal::Split::Child& b = split.children[1];
   auto build_child = [&](Traversal& own, Traversal::Split::Child& c) {
     c.kept = build_node(own, c.box, c.centres, c.tb, c.te, depth + 1);
   };

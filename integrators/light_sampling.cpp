@@ -1,0 +1,92 @@
+#include "integrators/light_sampling.h"
+
+#include "scene/surface.h"
+#include "tracer/ray.h"
+
+namespace dacrt {
+namespace {
+
+// A contribution worth a shadow ray: positive somewhere.
+bool carries_light(const glm::vec3& c) {
+  return c.x > 0.f || c.y > 0.f || c.z > 0.f;
+}
+
+}  // namespace
+
+LightSampling::LightSampling(const Scene& scene, const EnvironmentMap* map)
+    : scene_(scene),
+      lights_(scene),
+      map_(map),
+      // Next-event estimation picks the map or the scene's lights: half and half when both.
+      map_share_(map_ ? (lights_.empty() ? 1.f : 0.5f) : 0.f) {}
+
+// Towards the environment map, weighed against BSDF sampling (MIS).
+bool LightSampling::environment(const ShadingPoint& x, float u1, float u2, ShadowRay& out) const {
+  const EnvironmentMap::Sample es = map_->sample(u1, u2);
+  const float pdf = map_share_ * es.pdf;
+  if (!(pdf > 0.f)) return false;
+  const glm::vec3 wi_local = x.frame.to_local(es.direction);
+  const glm::vec3* origin = x.origin_towards(es.direction, wi_local);
+  if (!origin) return false;
+  const float weight = power_heuristic(pdf, x.brdf.pdf(x.wo, wi_local));
+  out = {*origin, es.direction, INFINITY,
+         x.brdf.eval(x.wo, wi_local) * es.radiance * (std::abs(wi_local.z) * weight / pdf)};
+  return carries_light(out.contribution);
+}
+
+// Towards an emitter picked by power: a point on an emissive triangle (MIS with BSDF sampling) or
+// a punctual light.
+bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pick, float u1,
+                            float u2, ShadowRay& out) const {
+  const Geometry& g = scene_.geometry;
+  LightSampler::Sample ls = lights_.sample(pick, u1, u2);
+  ls.pmf *= 1.f - map_share_;
+  if (ls.light >= 0) return punctual(p, scene_.lights[size_t(ls.light)], ls.pmf, x, out);
+  const Material& light = scene_.materials[g.material[ls.triangle]];
+  glm::vec3 emission = emission_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
+  // An alpha-tested emitter shines only as much as it stops rays there.
+  if (light.alpha_mode != Material::AlphaMode::opaque)
+    emission *= coverage_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
+  const glm::vec3 to = ls.point - p;
+  const float dist2 = glm::dot(to, to);
+  if (!(dist2 > 0.f)) return false;
+  const glm::vec3 wi = to / std::sqrt(dist2);
+  glm::vec3 nl = g.normal(ls.triangle);
+  const float light_area = 0.5f * glm::length(nl);
+  nl = glm::normalize(nl);
+  float cos_light = -glm::dot(wi, nl);
+  if (light.double_sided) cos_light = std::abs(cos_light);
+  const glm::vec3 wi_local = x.frame.to_local(wi);
+  const glm::vec3* origin = x.origin_towards(wi, wi_local);
+  if (cos_light <= 0.f || !origin) return false;
+  const float light_pdf = ls.pmf * dist2 / (cos_light * light_area);
+  const float weight = power_heuristic(light_pdf, x.brdf.pdf(x.wo, wi_local));
+  // The segment runs between the two offset points, so neither surface can occlude it.
+  const glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);
+  out = {*origin, target - *origin, 1.f,
+         x.brdf.eval(x.wo, wi_local) * emission * (std::abs(wi_local.z) * weight / light_pdf)};
+  return carries_light(out.contribution);
+}
+
+// Towards a punctual light: a delta, so no MIS (BSDF sampling never finds it). The shadow segment
+// ends at the light, or leaves the scene towards a directional one.
+bool LightSampling::punctual(const glm::vec3& p, const PunctualLight& light, float pmf,
+                             const ShadingPoint& x, ShadowRay& out) const {
+  const bool directional = light.type == PunctualLight::Type::directional;
+  const glm::vec3 to = directional ? light.direction : p - light.position;  // light → point
+  const float dist = glm::length(to);
+  if (!(dist > 0.f)) return false;
+  const glm::vec3 wi = -to / dist;
+  const glm::vec3 wi_local = x.frame.to_local(wi);
+  const glm::vec3* origin = x.origin_towards(wi, wi_local);
+  if (!origin) return false;
+  const glm::vec3 c =
+      x.brdf.eval(x.wo, wi_local) * light.irradiance_towards(to) * (std::abs(wi_local.z) / pmf);
+  if (directional)
+    out = {*origin, wi, INFINITY, c};
+  else
+    out = {*origin, light.position - *origin, 1.f, c};
+  return carries_light(out.contribution);
+}
+
+}  // namespace dacrt

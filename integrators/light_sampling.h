@@ -1,0 +1,86 @@
+// Next-event estimation and multiple importance sampling, in one place for every integrator that
+// samples lights: the choice between the environment map and the scene's emitters, the shadow ray
+// towards an emissive triangle, a punctual light or the map, and the MIS weights (power heuristic)
+// of emission that BSDF sampling finds instead.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+
+#include "integrators/dimensions.h"
+#include "integrators/environment.h"
+#include "integrators/lights.h"
+#include "materials/gltf_brdf.h"
+#include "materials/sampling.h"
+#include "scene/scene.h"
+
+namespace dacrt {
+
+// A shading point as next-event estimation and BSDF sampling see it.
+struct ShadingPoint {
+  glm::vec3 ng;  // geometric normal, on the side the ray arrived from
+  Frame frame;   // around the shading normal, on the same side
+  GltfBrdf brdf;
+  glm::vec3 wo;            // towards the viewer, local
+  glm::vec3 above, below;  // ray origins offset to either side (below only if it transmits)
+  bool transmits;
+  // Where a ray leaving along wi (wi_local in the frame) starts, or null if the BSDF sends no
+  // light that way: the shading and geometric normals must agree on the side, and only a
+  // transmissive material reaches the other one.
+  const glm::vec3* origin_towards(const glm::vec3& wi, const glm::vec3& wi_local) const {
+    if (wi_local.z > 0.f && glm::dot(wi, ng) > 0.f) return &above;
+    if (transmits && wi_local.z < 0.f && glm::dot(wi, ng) < 0.f) return &below;
+    return nullptr;
+  }
+};
+
+// A shadow ray that adds `contribution` (times the path's throughput) if nothing occludes it.
+struct ShadowRay {
+  glm::vec3 origin, direction;
+  float tmax;
+  glm::vec3 contribution;
+};
+
+class LightSampling {
+ public:
+  // map: null for a uniform (or black) environment, which only BSDF sampling reaches.
+  LightSampling(const Scene& scene, const EnvironmentMap* map);
+
+  // Nothing to sample: no shadow rays at all.
+  bool empty() const { return lights_.empty() && !map_; }
+
+  // MIS weight of emission found by BSDF sampling (solid-angle pdf bsdf_pdf): triangle `tri`
+  // seen at distance t, at cosine `cos_light` to its normal, area `area`.
+  float emitter_weight(float bsdf_pdf, uint32_t tri, float t, float cos_light, float area) const {
+    const float light_pdf = (1.f - map_share_) * lights_.pmf(tri) * t * t / (cos_light * area);
+    return power_heuristic(bsdf_pdf, light_pdf);
+  }
+  // ... and of the environment map, along direction d.
+  float environment_weight(float bsdf_pdf, const glm::vec3& d) const {
+    return power_heuristic(bsdf_pdf, map_share_ * map_->pdf(d));
+  }
+
+  // One next-event sample at point p (on the surface, before offsetting) of shading point x;
+  // `random(dimension)` gives the path's numbers. False when the sample carries no light.
+  template <class Random>
+  bool sample(const glm::vec3& p, const ShadingPoint& x, Random&& random, ShadowRay& out) const {
+    float pick = random(light_pick);
+    if (pick < map_share_) return environment(x, random(environment_u), random(environment_v), out);
+    pick = std::min((pick - map_share_) / (1.f - map_share_), 0x1.fffffep-1f);
+    return emitter(p, x, pick, random(light_u), random(light_v), out);
+  }
+
+ private:
+  bool environment(const ShadingPoint& x, float u1, float u2, ShadowRay& out) const;
+  bool emitter(const glm::vec3& p, const ShadingPoint& x, float pick, float u1, float u2,
+               ShadowRay& out) const;
+  bool punctual(const glm::vec3& p, const PunctualLight& light, float pmf, const ShadingPoint& x,
+                ShadowRay& out) const;
+
+  const Scene& scene_;
+  const LightSampler lights_;
+  const EnvironmentMap* map_;
+  const float map_share_;  // probability that next-event estimation samples the map
+};
+
+}  // namespace dacrt
