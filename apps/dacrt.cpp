@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/report.h"
 #include "bench/bench.h"
 #include "integrators/integrator.h"
 #include "io/color.h"
@@ -66,8 +68,12 @@ Light transport
                              importance-sampled
   --seed S                   random seed (default 0)
 Ray tracing
-  --backend NAME             dacrt (default), dacrt-naive, embree, brute
-  --backend-option KEY=VALUE backend setting, repeatable (dacrt: bins, leaf_rays, leaf_work, leaf_triangles,
+  --backend NAME[,NAME...]   dacrt (default), dacrt-naive, embree, brute; several: each renders
+                             with the same seed to OUT.NAME.exr, then a table compares them
+                             (rays, seconds and Mrays/s per ray type and bounce, kernel counters,
+                             batch sizes, whole render times with the build, ratios) on stdout
+  --backend-option [NAME.]KEY=VALUE
+                             backend setting, repeatable; NAME. for one backend of several (dacrt: bins, leaf_rays, leaf_work, leaf_triangles,
                              max_leaf_triangles, sample_size, sample_threshold, small_nodes, filter_skip,
                              cost_traversal, cost_intersect, simd, task_rays, chunks, seed,
                              max_depth, top_triangles)
@@ -194,13 +200,9 @@ bool has_emitters(const Scene& scene) {
   return false;
 }
 
-nlohmann::json to_json(const RayTypeStats& s) {
-  return {{"rays", s.rays}, {"seconds", s.seconds}, {"rays_per_second", s.rays_per_second()}};
-}
-
 int render(const std::vector<std::string>& args) {
   RenderArgs r = parse_render(args);
-  for (const auto& p : {r.output, r.preview, r.stats}) check_writable(p);
+  check_writable(r.stats);
 
   std::unique_ptr<tbb::global_control> threads;
   if (r.threads > 0)
@@ -250,71 +252,67 @@ int render(const std::vector<std::string>& args) {
                  r.scene.c_str());
 
   r.backend_options.threads = r.threads;
-  auto backend = Backend::create(r.backend, scene.geometry, r.backend_options);
-  auto integrator = Integrator::create(r.integrator, scene, *backend, s);
-  Film film(s.width, s.height);
-  Progress progress("render", uint64_t(s.width) * s.height * s.spp, !r.quiet);
-  integrator->render(film, progress);
-  const RenderStats& stats = integrator->stats();
-  Image image = film.resolve();
-
-  ExrMetadata meta;
-  meta.spp = s.spp;
-  meta.backend = r.backend;
-  meta.integrator = r.integrator;
-  meta.render_seconds = stats.seconds;
-  meta.extra = {{"scene", r.scene}, {"software", "dacrt"}};
-  write_exr(r.output, image, meta);
-  if (!r.preview.empty()) write_preview_png(r.preview, image);
+  const std::vector<std::string> backends = split_list(r.backend);
+  std::vector<BackendRun> runs;
+  if (backends.empty()) throw UsageError("--backend needs at least one backend name");
+  const std::vector<std::string> known = Backend::names();
+  for (const std::string& name : backends) {
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      Backend::create(name, scene.geometry);  // throws the registry's error, before any render
+    BackendRun run;
+    run.backend = name;
+    run.output = backends.size() > 1 ? with_backend(r.output, name) : r.output;
+    run.preview = backends.size() > 1 ? with_backend(r.preview, name) : r.preview;
+    check_writable(run.output), check_writable(run.preview);
+    runs.push_back(std::move(run));
+  }
+  for (BackendRun& run : runs) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto backend =
+        Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
+    auto integrator = Integrator::create(r.integrator, scene, *backend, s);
+    Film film(s.width, s.height);
+    Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
+                      uint64_t(s.width) * s.height * s.spp, !r.quiet);
+    integrator->render(film, progress);
+    run.stats = integrator->stats();
+    run.backend_stats = backend->stats();
+    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    Image image = film.resolve();
+    ExrMetadata meta;
+    meta.spp = s.spp;
+    meta.backend = run.backend;
+    meta.integrator = r.integrator;
+    meta.render_seconds = run.stats.seconds;
+    meta.extra = {{"scene", r.scene}, {"software", "dacrt"}};
+    write_exr(run.output, image, meta);
+    if (!run.preview.empty()) write_preview_png(run.preview, image);
+    if (!r.quiet) print_summary(run, s, r.integrator);
+  }
 
   if (!r.stats.empty()) {
-    Stats b = backend->stats();
-    nlohmann::json j = {{"scene", r.scene},
-                        {"triangles", scene.geometry.size()},
-                        {"width", s.width},
-                        {"height", s.height},
-                        {"spp", s.spp},
-                        {"backend", r.backend},
-                        {"integrator", r.integrator},
-                        {"threads", tbb::this_task_arena::max_concurrency()},
-                        {"load_seconds", load_seconds},
-                        {"render_seconds", stats.seconds},
-                        {"paths", stats.paths},
-                        {"dropped_samples", stats.dropped_samples},
-                        {"skipped", stats.skipped},
-                        {"backend_stats",
-                         {{"rays", b.rays},
-                          {"triangle_tests", b.triangle_tests},
-                          {"box_tests", b.box_tests},
-                          {"nodes", b.nodes},
-                          {"leaves", b.leaves},
-                          {"filter_skips", b.filter_skips},
-                          {"tasks", b.tasks},
-                          {"build_seconds", b.build_seconds},
-                          {"peak_bytes", b.peak_bytes}}}};
-    for (int t = 0; t < ray_type_count; ++t)
-      j["rays"][std::string(to_string(RayType(t)))] = to_json(stats.by_type[t]);
-    j["bounces"] = nlohmann::json::array();
-    for (const auto& bounce : stats.by_bounce) j["bounces"].push_back(to_json(bounce));
+    auto describe = [&](const BackendRun& run) {
+      nlohmann::json j = {{"scene", r.scene},
+                          {"triangles", scene.geometry.size()},
+                          {"width", s.width},
+                          {"height", s.height},
+                          {"spp", s.spp},
+                          {"integrator", r.integrator},
+                          {"threads", tbb::this_task_arena::max_concurrency()},
+                          {"load_seconds", load_seconds}};
+      j.update(to_json(run));
+      return j;
+    };
+    nlohmann::json j;
+    if (runs.size() == 1) {
+      j = describe(runs[0]);
+    } else {
+      j = {{"backends", nlohmann::json::array()}};
+      for (const BackendRun& run : runs) j["backends"].push_back(describe(run));
+    }
     write_atomically(r.stats, "statistics", [&](std::ofstream& out) { out << j.dump(2) << "\n"; });
   }
-
-  if (!r.quiet) {
-    std::fprintf(stderr, "%s: %d×%d, %d spp, %s/%s, %.2f s\n", r.output.c_str(), s.width, s.height,
-                 s.spp, r.backend.c_str(), r.integrator.c_str(), stats.seconds);
-    for (int t = 0; t < ray_type_count; ++t) {
-      const RayTypeStats& rt = stats.by_type[t];
-      if (rt.rays)
-        std::fprintf(stderr, "  %-8s %12llu rays  %8.2f s  %7.2f Mrays/s\n",
-                     std::string(to_string(RayType(t))).c_str(), (unsigned long long)rt.rays,
-                     rt.seconds, rt.rays_per_second() * 1e-6);
-    }
-    for (const auto& skipped : stats.skipped)
-      std::fprintf(stderr, "  skipped: %s\n", skipped.c_str());
-    if (stats.dropped_samples)
-      std::fprintf(stderr, "  warning: %llu samples were NaN or inf and were dropped\n",
-                   (unsigned long long)stats.dropped_samples);
-  }
+  if (runs.size() > 1) print_comparison(stdout, runs);
   return 0;
 }
 

@@ -11,6 +11,19 @@ void Options::parse(std::string_view assignment) {
   set(std::string(assignment.substr(0, eq)), std::string(assignment.substr(eq + 1)));
 }
 
+Options Options::for_plugin(std::string_view name) const {
+  Options o;
+  o.threads = threads;
+  for (const auto& [key, value] : values_) {
+    const size_t dot = key.find('.');
+    if (dot == std::string::npos)
+      o.values_[key] = value;
+    else if (std::string_view(key).substr(0, dot) == name)
+      o.values_[key.substr(dot + 1)] = value;
+  }
+  return o;
+}
+
 std::string Options::get(std::string_view key, std::string fallback) const {
   auto it = values_.find(key);
   return it == values_.end() ? fallback : it->second;

@@ -26,6 +26,10 @@ class Options {
   double get(std::string_view key, double fallback) const;
   int get(std::string_view key, int fallback) const;
 
+  // The options one plugin of several gets: keys "name.key" as "key", keys meant for another
+  // plugin ("other.key") dropped, unprefixed keys kept.
+  Options for_plugin(std::string_view name) const;
+
   // Throws Error naming `owner` if a key outside `known` was given.
   void check_known(std::string_view owner, const std::set<std::string, std::less<>>& known) const;
 

@@ -1,0 +1,32 @@
+// What `dacrt render` reports about each backend it rendered with: the summary on stderr, the
+// statistics as JSON, and, for several backends (--backend a,b,c), one table side by side.
+#pragma once
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "tracer/stats.h"
+
+namespace dacrt {
+
+struct BackendRun {
+  std::string backend, output, preview;
+  RenderStats stats;
+  Stats backend_stats;
+  double seconds = 0.0;  // whole render, the backend's build included
+};
+
+// "a,b,c" → {a, b, c}; empty parts are dropped.
+std::vector<std::string> split_list(const std::string& list);
+// out.exr → out.NAME.exr (empty stays empty).
+std::string with_backend(const std::string& path, const std::string& backend);
+
+nlohmann::json to_json(const BackendRun& run);
+void print_summary(const BackendRun& run, const RenderSettings& s, const std::string& integrator);
+// One column per backend; ratios against the first.
+void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs);
+
+}  // namespace dacrt
