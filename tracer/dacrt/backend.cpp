@@ -202,8 +202,12 @@ class Dacrt final : public Backend {
 }  // namespace
 
 uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, const DacrtParams& params) {
+  // Bookkeeping: the per-block ray counts (one size_t per 16384 rays), the chunks' record
+  // vectors, and an allowance for the task scheduler's own allocations (measured: a few hundred
+  // bytes per call).
+  const uint64_t bookkeeping = 8 * (rays / 16384 + 2) + 65536;
   return rays * sizeof(RayRef) + uint64_t(params.chunks) * triangles * sizeof(TriangleRef) +
-         TopLevels::max_nodes(triangles, params) * sizeof(TopLevels::Node);
+         TopLevels::max_nodes(triangles, params) * sizeof(TopLevels::Node) + bookkeeping;
 }
 
 namespace {

@@ -66,8 +66,8 @@ struct DacrtParams {
 
 // The most memory one dacrt or dacrt-naive call uses beyond its inputs and outputs, known before
 // it starts: a 36-byte record per ray and a 20-byte record per triangle for each chunk (both kept
-// from call to call), and the kept top levels' nodes, however many threads trace. Nothing is
-// allocated per node.
+// from call to call), the kept top levels' nodes, and 64 KiB of bookkeeping, however many threads
+// trace. Nothing is allocated per node.
 uint64_t dacrt_memory_bound(uint64_t rays, uint64_t triangles, const DacrtParams& params = {});
 
 }  // namespace dacrt
