@@ -39,7 +39,8 @@ class Film {
     const size_t blocks = (n + block - 1) / block;
     auto range_of = [&](size_t i) { return size_t(uint64_t(pixel_of(i)) * ranges / pixels()); };
     // start[r * blocks + b]: where block b's samples of range r go.
-    std::vector<uint32_t> start(ranges * blocks + 1, 0);
+    std::vector<uint32_t>& start = start_;
+    start.assign(ranges * blocks + 1, 0);
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i)
         ++start[range_of(i) * blocks + b + 1];
@@ -98,7 +99,7 @@ class Film {
   }
 
   int width_, height_;
-  std::vector<uint32_t> order_;  // add_in_order's scratch
+  std::vector<uint32_t> order_, start_;  // add_in_order's scratch
   std::vector<double> sum_, sum_sq_;
   std::vector<uint32_t> count_;
   uint64_t dropped_ = 0;

@@ -4,10 +4,37 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <memory>
+#include <new>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace dacrt {
+
+// An allocator that leaves the elements resize() adds default-initialised (uninitialised, for the
+// plain types of a batch) instead of zeroed: batches are written right after they grow, and the
+// path tracer's queues grow every iteration, where zeroing them first was a memset per ray.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    if constexpr (sizeof...(Args) == 0)
+      ::new (static_cast<void*>(p)) U;
+    else
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+// The arrays of batches and queues: a std::vector whose resize() does not zero.
+template <class T>
+using Array = std::vector<T, UninitializedAllocator<T>>;
 
 enum class RayType : uint8_t { primary, shadow, bounce };
 inline constexpr int ray_type_count = 3;
@@ -26,8 +53,8 @@ constexpr std::string_view to_string(RayType type) {
 
 struct RayBatch {
   RayType type = RayType::primary;
-  std::vector<float> ox, oy, oz, dx, dy, dz, tmin, tmax;
-  std::vector<uint32_t> path;  // index back to the path (or pixel) that made the ray
+  Array<float> ox, oy, oz, dx, dy, dz, tmin, tmax;
+  Array<uint32_t> path;  // index back to the path (or pixel) that made the ray
 
   size_t size() const { return ox.size(); }
   void resize(size_t n) {
@@ -51,8 +78,8 @@ struct RayBatch {
 
 struct HitBatch {
   static constexpr uint32_t miss = ~0u;
-  std::vector<float> t, u, v;  // u, v: barycentric weights of corners 1 and 2
-  std::vector<uint32_t> prim;  // triangle index into Geometry, or `miss`
+  Array<float> t, u, v;  // u, v: barycentric weights of corners 1 and 2
+  Array<uint32_t> prim;   // triangle index into Geometry, or `miss`
 
   size_t size() const { return prim.size(); }
   void resize(size_t n) {

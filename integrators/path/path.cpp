@@ -250,7 +250,7 @@ class PathTracer final : public Integrator {
   }
 
   // Stage 3: rays that left the scene see the environment; their paths end.
-  void escaped(const RayBatch& rays, const std::vector<uint32_t>& queue) {
+  void escaped(const RayBatch& rays, const Array<uint32_t>& queue) {
     tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
       const uint32_t i = queue[q], path = rays.path[i];
       ended_[path] = 1;
@@ -268,7 +268,7 @@ class PathTracer final : public Integrator {
 
   // Stage 4: emitters hit add their emission (weighed against next-event estimation after the
   // camera ray).
-  void emitted(const RayBatch& rays, const HitBatch& hits, const std::vector<uint32_t>& queue) {
+  void emitted(const RayBatch& rays, const HitBatch& hits, const Array<uint32_t>& queue) {
     const Geometry& g = scene_.geometry;
     tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
       const uint32_t i = queue[q], path = rays.path[i], tri = hits.prim[i];
@@ -291,7 +291,7 @@ class PathTracer final : public Integrator {
   // Stage 5: paths at the depth limit end, and from roulette_depth on Russian roulette ends
   // paths of low throughput (the survivors' throughput grows to compensate). `queue` keeps the
   // survivors.
-  void roulette(const RayBatch& rays, std::vector<uint32_t>& queue) {
+  void roulette(const RayBatch& rays, Array<uint32_t>& queue) {
     auto survives = [&](size_t q) {
       const uint32_t path = rays.path[queue[q]];
       const int depth = paths_.depth[path];
@@ -323,7 +323,7 @@ class PathTracer final : public Integrator {
 
   // Stage 6: the material at each surviving hit; next-event estimation writes a shadow ray, BSDF
   // sampling a bounce ray, each in the hit's slot of scratch queues, compacted after.
-  void materials(const RayBatch& rays, const HitBatch& hits, const std::vector<uint32_t>& queue) {
+  void materials(const RayBatch& rays, const HitBatch& hits, const Array<uint32_t>& queue) {
     const size_t n = queue.size();
     scratch_shadow_.resize(n);
     scratch_next_.resize(n);
@@ -453,10 +453,10 @@ class PathTracer final : public Integrator {
   std::vector<uint32_t> free_;  // slots without a path
   RayBatch camera_, bounce_, next_, shadow_;
   HitBatch hits_;
-  std::vector<uint32_t> queue_, survivors_;  // the stage's ray indices
+  Array<uint32_t> queue_, survivors_;  // the stage's ray indices
   std::vector<uint8_t> flags_;
-  std::vector<ShadowRay> scratch_shadow_, scratch_next_;
-  std::vector<glm::vec3> shadow_contribution_;
+  Array<ShadowRay> scratch_shadow_, scratch_next_;
+  Array<glm::vec3> shadow_contribution_;
   std::vector<uint8_t> has_shadow_, has_next_, occluded_;
 };
 

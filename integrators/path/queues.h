@@ -35,8 +35,8 @@ size_t compact(size_t n, Keep keep, Emit emit) {
 }
 
 // The indices i in [0, n) with keep(i), in increasing order.
-template <class Keep>
-void select(size_t n, Keep keep, std::vector<uint32_t>& out) {
+template <class Keep, class Out>
+void select(size_t n, Keep keep, Out& out) {
   out.resize(n);
   out.resize(compact(n, keep, [&](size_t i, size_t k) { out[k] = uint32_t(i); }));
 }

@@ -57,7 +57,7 @@ struct DacrtParams {
   // Nodes of at least this many triangles are kept from call to call (tracer/dacrt/top.h): split
   // once, by the SAH, so that a call pays for its rays at the top levels, not for every triangle.
   // 0: nothing is kept, every call is pure per-call DACRT.
-  int top_triangles = 1024;
+  int top_triangles = 64;
 
   static const std::set<std::string, std::less<>>& keys();
   // Reads every key of keys() from the options (filter_skip=paper or a number).
