@@ -118,22 +118,12 @@ void Traversal::node(const Box& box, const Box& centres, uint32_t tb, uint32_t t
   const Split split = choose_split(box, centres, tb, te, rb, re);
   if (!split.valid) return leaf(tb, te, rb, re);
   ++stats.nodes;
-  if (nr >= uint32_t(p.task_rays)) return fork(split, rb, re, depth);
-  for (const Split::Child& c : split.children) {
-    uint32_t end = re;
-    if (skips_filter(c))
-      ++stats.filter_skips;
-    else
-      end = filter(c.box, rb, re);
-    if (end > rb) node(c.box, c.centres, c.tb, c.te, rb, end, depth + 1);
-  }
+  children(split, rb, re, depth);
 }
 
-void Traversal::kept_node(int32_t index, uint32_t rb, uint32_t re, int depth) {
-  const TopLevels::Node& kept = top->nodes[size_t(index)];
-  Split split = kept.split;
-  order_kept(split, kept.axis, rb, re);
-  ++stats.nodes, ++stats.kept_nodes;
+// The children of a split in their order, each with the rays that reach its box (or all of them
+// when filtering cannot pay); large nodes as parallel tasks (fork).
+void Traversal::children(const Split& split, uint32_t rb, uint32_t re, int depth) {
   if (re - rb >= uint32_t(k.params.task_rays)) return fork(split, rb, re, depth);
   for (const Split::Child& c : split.children) {
     uint32_t end = re;
@@ -143,6 +133,14 @@ void Traversal::kept_node(int32_t index, uint32_t rb, uint32_t re, int depth) {
       end = filter(c.box, rb, re);
     if (end > rb) enter(c, rb, end, depth + 1);
   }
+}
+
+void Traversal::kept_node(int32_t index, uint32_t rb, uint32_t re, int depth) {
+  const TopLevels::Node& kept = top->nodes[size_t(index)];
+  Split split = kept.split;
+  order_kept(split, kept.axis, rb, re);
+  ++stats.nodes, ++stats.kept_nodes;
+  children(split, rb, re, depth);
 }
 
 // A large node's children as two tasks. The triangle ranges are disjoint, but a ray may need both

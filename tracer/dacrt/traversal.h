@@ -74,6 +74,7 @@ struct Traversal {
 
   void node(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb, uint32_t re,
             int depth);
+  void children(const Split& split, uint32_t rb, uint32_t re, int depth);
   void fork(const Split& split, uint32_t rb, uint32_t re, int depth);
   // A node of the kept top levels: its split is stored; this call's rays only choose the order of
   // its children and whether to filter for them (ray sampling on the two boxes).
