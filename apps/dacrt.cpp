@@ -77,8 +77,8 @@ Ray tracing
                              max_leaf_triangles, sample_size, sample_threshold, small_nodes, filter_skip,
                              cost_traversal, cost_intersect, simd, task_rays, chunks, seed,
                              max_depth, top_triangles)
-  --wavefront N              live paths at most (default: what 512 MiB of path state holds,
-                             about 1.5 million, or the frame's paths if fewer)
+  --wavefront N              live paths at most (default: what 96 MiB of path state holds,
+                             about 286 000, or the frame's paths if fewer)
   --threads T                worker threads (default: all cores)
 Other
   --quiet                    no progress bar or summary on stderr

@@ -36,7 +36,7 @@ struct RenderSettings {
   // Live paths at most (stream regeneration keeps this many while samples remain). 0: as many
   // as wavefront_budget bytes of path state hold (path_state_bytes each), up to the frame's.
   size_t wavefront = 0;
-  uint64_t wavefront_budget = uint64_t(512) << 20;
+  uint64_t wavefront_budget = uint64_t(96) << 20;
 };
 
 // The bytes one live path takes in the path integrator: its state (throughput, radiance, pixel,

@@ -1,8 +1,10 @@
-// Replaces the global operator new and delete with counting ones (see allocations.h). Each block
-// carries its size in a header in front of it.
+// Replaces the global operator new and delete with counting ones (see allocations.h).
 #include "allocations.h"
 
 #include <atomic>
+#include <malloc.h>
+
+#include <algorithm>
 #include <cstdlib>
 #include <new>
 
@@ -17,42 +19,32 @@ void count(uint64_t n) {
   }
 }
 
-constexpr size_t header = 16;  // keeps malloc's 16-byte alignment
-
+// No header in front of the blocks (LeakSanitizer would take the pointers libraries keep to be
+// interior ones, and report them): a block's size is what malloc_usable_size says, at least what
+// was asked for, so the counts can only err upwards.
 void* allocate(size_t n) {
-  auto* p = static_cast<unsigned char*>(std::malloc(n + header));
+  void* p = std::malloc(n ? n : 1);
   if (!p) throw std::bad_alloc();
-  *reinterpret_cast<size_t*>(p) = n;
-  count(n);
-  return p + header;
+  count(malloc_usable_size(p));
+  return p;
 }
 
-void release(void* q) {
-  if (!q) return;
-  auto* p = static_cast<unsigned char*>(q) - header;
-  current -= *reinterpret_cast<size_t*>(p);
+void release(void* p) {
+  if (!p) return;
+  current -= malloc_usable_size(p);
   std::free(p);
 }
 
-// Aligned blocks: a header of `align` bytes (at least 16), with the size and the header's length
-// just in front of the block.
 void* allocate(size_t n, std::align_val_t al) {
-  const size_t align = std::max(header, size_t(al));
-  const size_t total = (n + align + align - 1) / align * align;
-  auto* p = static_cast<unsigned char*>(std::aligned_alloc(align, total));
+  const size_t align = std::max(sizeof(void*), size_t(al));
+  void* p = std::aligned_alloc(align, (std::max<size_t>(n, 1) + align - 1) / align * align);
   if (!p) throw std::bad_alloc();
-  auto* q = p + align;
-  reinterpret_cast<size_t*>(q)[-2] = n;
-  reinterpret_cast<size_t*>(q)[-1] = align;
-  count(n);
-  return q;
+  count(malloc_usable_size(p));
+  return p;
 }
 
-void release(void* q, std::align_val_t) {
-  if (!q) return;
-  auto* b = static_cast<unsigned char*>(q);
-  current -= reinterpret_cast<size_t*>(b)[-2];
-  std::free(b - reinterpret_cast<size_t*>(b)[-1]);
+void release(void* p, std::align_val_t) {
+  release(p);
 }
 
 }  // namespace
