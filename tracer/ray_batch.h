@@ -12,9 +12,14 @@
 
 namespace dacrt {
 
-// An allocator that leaves the elements resize() adds default-initialised (uninitialised, for the
-// plain types of a batch) instead of zeroed: batches are written right after they grow, and the
-// path tracer's queues grow every iteration, where zeroing them first was a memset per ray.
+// An allocator for the large arrays of batches, queues and kernel records:
+// - the elements resize() adds are default-initialised (uninitialised, for the plain types of a
+//   batch) instead of zeroed: batches are written right after they grow, and the path tracer's
+//   queues grow every iteration, where zeroing them first was a memset per ray;
+// - blocks of 2 MiB or more are aligned to 2 MiB and advised to be backed by huge pages
+//   (madvise(MADV_HUGEPAGE), honoured where transparent huge pages are set to `madvise` or
+//   `always`): first touching a wavefront's state in 4 KiB pages was a quarter of a render here.
+void* allocate_large(size_t bytes);
 template <class T>
 struct UninitializedAllocator : std::allocator<T> {
   template <class U>
@@ -24,6 +29,14 @@ struct UninitializedAllocator : std::allocator<T> {
   UninitializedAllocator() = default;
   template <class U>
   UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  T* allocate(size_t n) {
+    if (n * sizeof(T) < (size_t(2) << 20)) return std::allocator<T>::allocate(n);
+    return static_cast<T*>(allocate_large(n * sizeof(T)));
+  }
+  void deallocate(T* p, size_t n) {
+    if (n * sizeof(T) < (size_t(2) << 20)) return std::allocator<T>::deallocate(p, n);
+    ::operator delete(static_cast<void*>(p), std::align_val_t(size_t(2) << 20));
+  }
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {
     if constexpr (sizeof...(Args) == 0)
@@ -32,6 +45,10 @@ struct UninitializedAllocator : std::allocator<T> {
       ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
 };
+template <class T, class U>
+bool operator==(const UninitializedAllocator<T>&, const UninitializedAllocator<U>&) {
+  return true;
+}
 // The arrays of batches and queues: a std::vector whose resize() does not zero.
 template <class T>
 using Array = std::vector<T, UninitializedAllocator<T>>;
@@ -79,7 +96,7 @@ struct RayBatch {
 struct HitBatch {
   static constexpr uint32_t miss = ~0u;
   Array<float> t, u, v;  // u, v: barycentric weights of corners 1 and 2
-  Array<uint32_t> prim;   // triangle index into Geometry, or `miss`
+  Array<uint32_t> prim;  // triangle index into Geometry, or `miss`
 
   size_t size() const { return prim.size(); }
   void resize(size_t n) {

@@ -100,10 +100,10 @@ class PathTracer final : public Integrator {
  private:
   // The live paths, by slot (RayBatch::path).
   struct Paths {
-    std::vector<glm::vec3> throughput, radiance;
-    std::vector<uint32_t> pixel, sample;
-    std::vector<float> bsdf_pdf;  // solid-angle pdf of the direction the path's last ray took
-    std::vector<uint32_t> depth;  // scattering events so far: the depth of the vertex it is at
+    Array<glm::vec3> throughput, radiance;
+    Array<uint32_t> pixel, sample;
+    Array<float> bsdf_pdf;  // solid-angle pdf of the direction the path's last ray took
+    Array<uint32_t> depth;  // scattering events so far: the depth of the vertex it is at
     void resize(size_t n) {
       throughput.resize(n), radiance.resize(n), pixel.resize(n), sample.resize(n);
       bsdf_pdf.resize(n), depth.resize(n);
@@ -301,7 +301,7 @@ class PathTracer final : public Integrator {
       const float p = std::min(1.f, std::max({beta.x, beta.y, beta.z}));
       return random(path, Dimension::roulette) < p;
     };
-    std::vector<uint8_t>& keep = flags_;
+    Array<uint8_t>& keep = flags_;
     keep.resize(queue.size());
     tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
       keep[q] = survives(q);
@@ -449,15 +449,16 @@ class PathTracer final : public Integrator {
   std::unique_ptr<AlphaFilter> alpha_;  // null when every material is opaque
 
   Paths paths_;
-  std::vector<uint8_t> ended_;  // by slot: the path ended in this iteration
-  std::vector<uint32_t> free_;  // slots without a path
+  Array<uint8_t> ended_;  // by slot: the path ended in this iteration
+  Array<uint32_t> free_;  // slots without a path
   RayBatch camera_, bounce_, next_, shadow_;
   HitBatch hits_;
   Array<uint32_t> queue_, survivors_;  // the stage's ray indices
-  std::vector<uint8_t> flags_;
+  Array<uint8_t> flags_;
   Array<ShadowRay> scratch_shadow_, scratch_next_;
   Array<glm::vec3> shadow_contribution_;
-  std::vector<uint8_t> has_shadow_, has_next_, occluded_;
+  Array<uint8_t> has_shadow_, has_next_;
+  std::vector<uint8_t> occluded_;  // a span for Backend::occluded
 };
 
 const Integrator::Registration registration{

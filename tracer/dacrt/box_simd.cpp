@@ -5,6 +5,7 @@
 #ifdef DACRT_X86
 #include <immintrin.h>
 
+#include <algorithm>
 #include <cstddef>
 
 namespace dacrt::kernel {
@@ -69,16 +70,42 @@ __attribute__((target("avx512f"))) inline __m512 abs_avx512(__m512 x) {
       _mm512_andnot_epi32(_mm512_set1_epi32(int32_t(0x80000000u)), _mm512_castps_si512(x)));
 }
 
-// Field `field` of up to 16 records of 9 floats from r; lanes outside `live` read nothing, give 0.
-__attribute__((target("avx512f"))) inline __m512 gather_avx512(const float* r, int field,
-                                                               __mmask16 live) {
-  const __m512i stride =
-      _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
-                         _mm512_set1_epi32(9));
-  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), live, stride, r + field, 4);
+// Where field f of record r of a group of 16 lies among the group's 144 floats, loaded as nine
+// registers: float 9r + f, in the register pair (2q, 2q + 1) with q = (9r + f) / 32 (the ninth
+// register alone for q = 4). transpose[f][q] holds the index of each lane within its pair, and
+// which lanes the pair serves; a field is five two-register permutes merged by those masks,
+// instead of a gather (this test is the kernel's hottest loop).
+struct TransposeTable {
+  alignas(64) int32_t index[8][5][16];
+  uint16_t lanes[8][5];
+};
+constexpr TransposeTable transpose_table() {
+  TransposeTable t{};
+  for (int f = 0; f < 8; ++f)
+    for (int r = 0; r < 16; ++r) {
+      const int at = 9 * r + f, q = at / 32;
+      t.index[f][q][r] = at % 32;
+      t.lanes[f][q] |= uint16_t(1u << r);
+    }
+  return t;
+}
+constexpr TransposeTable transpose = transpose_table();
+
+// Field f of the group's records, lane r from record r.
+__attribute__((target("avx512f"))) inline __m512 field_avx512(const __m512* regs, int f) {
+  __m512 v = _mm512_permutex2var_ps(
+      regs[0], _mm512_load_si512(reinterpret_cast<const void*>(transpose.index[f][0])), regs[1]);
+  for (int q = 1; q < 5; ++q) {
+    const __m512i index = _mm512_load_si512(reinterpret_cast<const void*>(transpose.index[f][q]));
+    const __m512 w = q < 4 ? _mm512_permutex2var_ps(regs[2 * q], index, regs[2 * q + 1])
+                           : _mm512_permutexvar_ps(index, regs[8]);
+    v = _mm512_mask_mov_ps(v, __mmask16(transpose.lanes[f][q]), w);
+  }
+  return v;
 }
 
-// box_mask_avx2 sixteen rays per instruction.
+// box_mask_avx2 sixteen rays per instruction. The records are read as nine contiguous registers
+// (masked past the last record, so nothing beyond it is read) and transposed in registers.
 __attribute__((target("avx512f"))) uint64_t box_mask_avx512(const RayRef* p, int n, const Box& box,
                                                             float magnitude) {
   const float* base = reinterpret_cast<const float*>(p);
@@ -92,16 +119,23 @@ __attribute__((target("avx512f"))) uint64_t box_mask_avx512(const RayRef* p, int
     const float* r = base + 144 * g;
     const int left = n - 16 * g;
     const __mmask16 live = left >= 16 ? __mmask16(0xffff) : __mmask16((1u << left) - 1u);
+    __m512 regs[9];
+    const int floats = 9 * std::min(left, 16);
+    for (int k = 0; k < 9; ++k) {
+      const int in = std::clamp(floats - 16 * k, 0, 16);
+      regs[k] = in == 16 ? _mm512_loadu_ps(r + 16 * k)
+                         : _mm512_maskz_loadu_ps(__mmask16((1u << in) - 1u), r + 16 * k);
+    }
     __m512 o[3], inv[3];
     for (int a = 0; a < 3; ++a) {
-      o[a] = gather_avx512(r, a, live);
-      const __m512 d = gather_avx512(r, 3 + a, live);
+      o[a] = field_avx512(regs, a);
+      const __m512 d = field_avx512(regs, 3 + a);
       const __mmask16 small = _mm512_cmp_ps_mask(abs_avx512(d), tiny, _CMP_LT_OQ);
       const __m512 clamped = _mm512_castsi512_ps(_mm512_or_epi32(
           _mm512_and_epi32(sign, _mm512_castps_si512(d)), _mm512_castps_si512(tiny)));
       inv[a] = _mm512_div_ps(one, _mm512_mask_blend_ps(small, d, clamped));
     }
-    __m512 near = gather_avx512(r, 6, live), far = gather_avx512(r, 7, live);
+    __m512 near = field_avx512(regs, 6), far = field_avx512(regs, 7);
     const __m512 om =
         _mm512_max_ps(_mm512_max_ps(abs_avx512(o[0]), abs_avx512(o[1])), abs_avx512(o[2]));
     const __m512 pad = _mm512_mul_ps(scale, _mm512_add_ps(om, mag));
