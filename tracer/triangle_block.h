@@ -1,5 +1,6 @@
-// TriangleBlock: up to eight triangles in structure-of-arrays form, so that one ray is tested
-// against all of them with 8-wide vector instructions (AVX2 where the CPU has it).
+// TriangleBlock: up to sixteen triangles in structure-of-arrays form, so that one ray is tested
+// against all of them with vector instructions: sixteen lanes at once with AVX-512, eight at a
+// time with AVX2.
 //
 // The vector test is a filter in front of the scalar one, not a second implementation: it performs
 // intersect_triangle's float operations in the same order (IEEE results are the same in a vector
@@ -17,14 +18,15 @@
 namespace dacrt {
 
 struct TriangleBlock {
-  alignas(32) float p[3][3][8];  // [corner][axis][lane]
-  uint32_t id[8];
+  static constexpr int lanes = 16;
+  alignas(64) float p[3][3][lanes];  // [corner][axis][lane]
+  uint32_t id[lanes];
   int n = 0;  // lanes in use
 
-  // Loads the triangles ids[0..count), count <= 8; unused lanes are never reported.
+  // Loads the triangles ids[0..count), count <= 16; unused lanes are never reported.
   void load(const Geometry& g, const uint32_t* ids, int count) {
     n = count;
-    for (int l = 0; l < 8; ++l) {
+    for (int l = 0; l < lanes; ++l) {
       const uint32_t i = ids[l < count ? l : 0];
       id[l] = i;
       for (int c = 0; c < 3; ++c)
@@ -40,7 +42,9 @@ bool avx512_available();
 
 // Bit l set: lane l's triangle may be accepted by intersect_triangle(r, ..., tmin, tmax), or has an
 // edge function of exactly zero, or a t that is not finite or within its error bound of 0. Only
-// call when avx2_available().
+// call when avx2_available() (eight lanes per instruction).
 uint32_t block_candidates(const TriangleBlock& b, const Ray& r, float tmin, float tmax);
+// The same mask, sixteen lanes per instruction. Only call when avx512_available().
+uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax);
 
 }  // namespace dacrt
