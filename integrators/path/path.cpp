@@ -435,7 +435,9 @@ class PathTracer final : public Integrator {
         [&](size_t k) { return paths_.radiance[queue_[k]]; });
     tbb::parallel_for(size_t(0), queue_.size(), [&](size_t k) { ended_[queue_[k]] = 0; });
     // Free slots are taken from the back: the lowest-numbered first.
-    free_.insert(free_.end(), queue_.rbegin(), queue_.rend());
+    const size_t had = free_.size(), ended = queue_.size();
+    free_.resize(had + ended);
+    tbb::parallel_for(size_t(0), ended, [&](size_t k) { free_[had + k] = queue_[ended - 1 - k]; });
     return queue_.size();
   }
 
