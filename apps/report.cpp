@@ -1,3 +1,4 @@
+// The render reports (see report.h): per-backend summaries, statistics and the comparison table.
 #include "apps/report.h"
 
 #include <algorithm>

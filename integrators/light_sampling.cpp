@@ -1,3 +1,5 @@
+// Next-event estimation and MIS (see light_sampling.h): the environment map, emissive triangles
+// and punctual lights as shadow rays.
 #include "integrators/light_sampling.h"
 
 #include "scene/surface.h"

@@ -1,3 +1,4 @@
+// Large batch arrays on huge pages (see UninitializedAllocator in ray_batch.h).
 #include "tracer/ray_batch.h"
 
 #include <sys/mman.h>

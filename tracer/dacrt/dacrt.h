@@ -1,9 +1,12 @@
-// DACRT: divide-and-conquer ray tracing. No acceleration structure is stored: each batch of rays
+// DACRT: divide-and-conquer ray tracing. No acceleration structure is built: each batch of rays
 // and the triangles are partitioned together, recursively, until a leaf tests every ray against
 // every triangle. Ray sampling (Nabata, Iwasaki, Dobashi, Nishita, "Efficient Divide-And-Conquer
 // Ray Tracing using Ray Sampling", HPG 2013) picks the split, the traversal order, and when ray
 // filtering cannot pay. Without sampling (dacrt-naive) the split is by the surface area heuristic,
-// every child filters, and the left child goes first, as in Mora 2011 and Áfra 2012.
+// every child filters, and the left child goes first, as in Mora 2011 and Áfra 2012. Only the
+// splits of the largest nodes are kept from call to call (top.h, bounded and stated in
+// dacrt_memory_bound; top_triangles=0 keeps none), so that a small batch does not pay for every
+// triangle near the root.
 #pragma once
 
 #include <cstdint>
