@@ -203,6 +203,21 @@ bool has_emitters(const Scene& scene) {
 int render(const std::vector<std::string>& args) {
   RenderArgs r = parse_render(args);
   check_writable(r.stats);
+  // The backends and their outputs, checked before the scene is loaded.
+  const std::vector<std::string> backends = split_list(r.backend);
+  if (backends.empty()) throw UsageError("--backend needs at least one backend name");
+  std::vector<BackendRun> runs;
+  const std::vector<std::string> known = Backend::names();
+  for (const std::string& name : backends) {
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      Backend::create(name, Geometry{});  // throws the registry's error naming the backends
+    BackendRun run;
+    run.backend = name;
+    run.output = backends.size() > 1 ? with_backend(r.output, name) : r.output;
+    run.preview = backends.size() > 1 ? with_backend(r.preview, name) : r.preview;
+    check_writable(run.output), check_writable(run.preview);
+    runs.push_back(std::move(run));
+  }
 
   std::unique_ptr<tbb::global_control> threads;
   if (r.threads > 0)
@@ -252,20 +267,6 @@ int render(const std::vector<std::string>& args) {
                  r.scene.c_str());
 
   r.backend_options.threads = r.threads;
-  const std::vector<std::string> backends = split_list(r.backend);
-  std::vector<BackendRun> runs;
-  if (backends.empty()) throw UsageError("--backend needs at least one backend name");
-  const std::vector<std::string> known = Backend::names();
-  for (const std::string& name : backends) {
-    if (std::find(known.begin(), known.end(), name) == known.end())
-      Backend::create(name, scene.geometry);  // throws the registry's error, before any render
-    BackendRun run;
-    run.backend = name;
-    run.output = backends.size() > 1 ? with_backend(r.output, name) : r.output;
-    run.preview = backends.size() > 1 ? with_backend(r.preview, name) : r.preview;
-    check_writable(run.output), check_writable(run.preview);
-    runs.push_back(std::move(run));
-  }
   for (BackendRun& run : runs) {
     const auto t0 = std::chrono::steady_clock::now();
     auto backend =

@@ -6,15 +6,6 @@
 #include "tracer/ray.h"
 
 namespace dacrt {
-namespace {
-
-// A contribution worth a shadow ray: positive somewhere.
-bool carries_light(const glm::vec3& c) {
-  return c.x > 0.f || c.y > 0.f || c.z > 0.f;
-}
-
-}  // namespace
-
 LightSampling::LightSampling(const Scene& scene, const EnvironmentMap* map)
     : scene_(scene),
       lights_(scene),

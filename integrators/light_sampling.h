@@ -34,6 +34,11 @@ struct ShadingPoint {
   }
 };
 
+// A contribution (or a throughput) worth a ray: positive somewhere.
+inline bool carries_light(const glm::vec3& c) {
+  return c.x > 0.f || c.y > 0.f || c.z > 0.f;
+}
+
 // A shadow ray that adds `contribution` (times the path's throughput) if nothing occludes it.
 struct ShadowRay {
   glm::vec3 origin, direction;

@@ -292,26 +292,19 @@ class PathTracer final : public Integrator {
   // paths of low throughput (the survivors' throughput grows to compensate). `queue` keeps the
   // survivors.
   void roulette(const RayBatch& rays, Array<uint32_t>& queue) {
-    auto survives = [&](size_t q) {
-      const uint32_t path = rays.path[queue[q]];
-      const int depth = paths_.depth[path];
-      if (depth >= s_.max_depth) return false;
-      if (depth < s_.roulette_depth) return true;
-      const glm::vec3& beta = paths_.throughput[path];
-      const float p = std::min(1.f, std::max({beta.x, beta.y, beta.z}));
-      return random(path, Dimension::roulette) < p;
-    };
     Array<uint8_t>& keep = flags_;
     keep.resize(queue.size());
     tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
-      keep[q] = survives(q);
       const uint32_t path = rays.path[queue[q]];
-      if (!keep[q]) {
-        ended_[path] = 1;
-      } else if (int(paths_.depth[path]) >= s_.roulette_depth) {
+      const int depth = int(paths_.depth[path]);
+      keep[q] = depth < s_.max_depth;
+      if (keep[q] && depth >= s_.roulette_depth) {
         glm::vec3& beta = paths_.throughput[path];
-        beta /= std::min(1.f, std::max({beta.x, beta.y, beta.z}));
+        const float p = std::min(1.f, std::max({beta.x, beta.y, beta.z}));
+        keep[q] = random(path, Dimension::roulette) < p;
+        if (keep[q]) beta /= p;
       }
+      if (!keep[q]) ended_[path] = 1;
     });
     // Out of place: blocks compacting in parallel would overwrite each other's input.
     select(
@@ -390,8 +383,7 @@ class PathTracer final : public Integrator {
       ShadowRay& shadow = scratch_shadow_[q];
       if (lights_.sample(p, x, numbers, shadow)) {
         shadow.contribution *= beta;
-        has_shadow_[q] = shadow.contribution.x > 0.f || shadow.contribution.y > 0.f ||
-                         shadow.contribution.z > 0.f;
+        has_shadow_[q] = carries_light(shadow.contribution);
       }
     }
 
@@ -404,7 +396,7 @@ class PathTracer final : public Integrator {
     const glm::vec3* origin = x.origin_towards(wi, s->wi);
     if (!origin) return;
     beta *= s->weight;
-    if (!(beta.x > 0.f || beta.y > 0.f || beta.z > 0.f)) return;
+    if (!carries_light(beta)) return;
     paths_.bsdf_pdf[path] = s->pdf;
     scratch_next_[q].origin = *origin;
     scratch_next_[q].direction = wi;

@@ -88,11 +88,12 @@ class Dacrt final : public Backend {
     // triangles encoded once); a call that finds them in use by a concurrent one makes its own.
     const size_t count = offset[blocks];
     std::unique_lock buffer_lock(buffer_mutex_, std::try_to_lock);
+    const bool own_buffers = buffer_lock.owns_lock();
     std::unique_ptr<RayRef[]> own_rays;
     std::vector<Triangles> own_triangles;
     RayRef* refs;
     std::vector<Triangles>* triangles = &own_triangles;
-    if (buffer_lock.owns_lock()) {
+    if (own_buffers) {
       if (ray_capacity_ < count) ray_buffer_.reset(), ray_buffer_.reset(new RayRef[count]);
       ray_capacity_ = std::max(ray_capacity_, count);
       refs = ray_buffer_.get();
@@ -115,7 +116,6 @@ class Dacrt final : public Backend {
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const size_t chunks =
         std::min({threads, size_t(params_.chunks), std::max<size_t>(1, count / params_.task_rays)});
-    const bool own_buffers = buffer_lock.owns_lock();
     if (triangles->empty()) {
       triangles->emplace_back().encode(geometry_);
       // The kept top levels are built on the first records, before any copy is made, so that
@@ -156,7 +156,7 @@ class Dacrt final : public Backend {
       total += t.stats;
     });
     total.rays = n;
-    uint64_t bytes = (buffer_lock.owns_lock() ? ray_capacity_ : count) * sizeof(RayRef) +
+    uint64_t bytes = (own_buffers ? ray_capacity_ : count) * sizeof(RayRef) +
                      triangles->size() * geometry_.size() * sizeof(TriangleRef) +
                      (top ? top_.nodes.capacity() * sizeof(TopLevels::Node) : 0);
     std::lock_guard lock(stats_mutex_);

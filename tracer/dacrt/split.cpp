@@ -171,11 +171,10 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
   // α_R N_R). Ties (all α equal, e.g. every sampled ray starts inside the node) go to the better
   // SAH cost, which also picks the split when a node too large for a leaf must split anyway.
   // Small nodes (and dacrt-naive) pick the split by the SAH's area ratios.
-  const bool all_splits =
-      !by_area && p.sampling && (nr > uint32_t(p.sample_threshold) || !p.small_nodes_sah);
+  const bool all_splits = !by_area && samples_alpha(nr);
   uint32_t samples = 0;
   if (all_splits) {
-    samples = nr > uint32_t(p.sample_threshold) ? draw_samples(rb, re, p.sample_size) : nr;
+    samples = alpha_samples(rb, re);
     sample_splits(&left_box[1], &right_box[1], K - 1, rb, samples, counts);
   }
   auto alpha_cost = [&](uint32_t hit_l, uint32_t hit_r, int split) {
@@ -212,10 +211,8 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     first_l = counts.left_first[best - 1], first_r = counts.right_first[best - 1];
   } else if (p.sampling) {
     // Small node: no α (filtering both children is then as cheap as estimating it, and a skip
-    // almost never pays for few triangles). Order by where the rays head along the split axis.
-    const uint32_t n = std::min(nr, 16u);
-    for (uint32_t i = 0; i < n; ++i) first_l += rays[rb + i].d[axis] >= 0.f;
-    first_r = n - first_l;
+    // almost never pays for few triangles).
+    order_by_direction(rb, nr, axis, first_l, first_r);
   }
   const double leaf_cost = p.cost_intersect * nt;
   if (best_cost >= leaf_cost && nt <= uint32_t(p.max_leaf_triangles)) return {};
@@ -242,20 +239,36 @@ void Traversal::order_kept(Split& split, int axis, uint32_t rb, uint32_t re) {
   a.alpha = b.alpha = -1.0;
   if (!p.sampling) return;  // dacrt-naive: left first, both filtered
   uint32_t first_l = 0, first_r = 0;
-  if (nr > uint32_t(p.sample_threshold) || !p.small_nodes_sah) {
+  if (samples_alpha(nr)) {
     // α of both children and who is entered first, from a sample of the rays, as in choose_split.
     static thread_local SplitScratch::Counts counts;
-    const uint32_t samples =
-        nr > uint32_t(p.sample_threshold) ? draw_samples(rb, re, p.sample_size) : nr;
+    const uint32_t samples = alpha_samples(rb, re);
     sample_splits(&a.box, &b.box, 1, rb, samples, counts);
     a.alpha = double(counts.left[0]) / samples, b.alpha = double(counts.right[0]) / samples;
     first_l = counts.left_first[0], first_r = counts.right_first[0];
   } else {
-    const uint32_t n = std::min(nr, 16u);
-    for (uint32_t i = 0; i < n; ++i) first_l += rays[rb + i].d[axis] >= 0.f;
-    first_r = n - first_l;
+    order_by_direction(rb, nr, axis, first_l, first_r);
   }
   if (first_r > first_l) std::swap(a, b);
+}
+
+bool Traversal::samples_alpha(uint32_t nr) const {
+  const DacrtParams& p = k.params;
+  return p.sampling && (nr > uint32_t(p.sample_threshold) || !p.small_nodes_sah);
+}
+
+uint32_t Traversal::alpha_samples(uint32_t rb, uint32_t re) {
+  const DacrtParams& p = k.params;
+  return re - rb > uint32_t(p.sample_threshold) ? draw_samples(rb, re, p.sample_size) : re - rb;
+}
+
+// Without α: of up to 16 of the rays, those heading towards +axis enter the low (left) child
+// first, the others the right one.
+void Traversal::order_by_direction(uint32_t rb, uint32_t nr, int axis, uint32_t& first_l,
+                                   uint32_t& first_r) const {
+  const uint32_t n = std::min(nr, 16u);
+  for (uint32_t i = 0; i < n; ++i) first_l += rays[rb + i].d[axis] >= 0.f;
+  first_r = n - first_l;
 }
 
 // Filtering costs one box test per ray; it pays only if enough rays miss the child.

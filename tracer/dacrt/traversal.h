@@ -85,6 +85,13 @@ struct Traversal {
   }
   // Sets the children's α and traversal order of a stored split from this call's rays.
   void order_kept(Split& split, int axis, uint32_t rb, uint32_t re);
+  // A node of nr rays estimates α (above sample_threshold, or everywhere with small_nodes=all).
+  bool samples_alpha(uint32_t nr) const;
+  // The rays α is estimated from, moved to the front of [rb, re): a random subset of sample_size
+  // above the threshold, else all of them. Returns how many.
+  uint32_t alpha_samples(uint32_t rb, uint32_t re);
+  void order_by_direction(uint32_t rb, uint32_t nr, int axis, uint32_t& first_l,
+                          uint32_t& first_r) const;
   // by_area: by the SAH whatever the options (the kept top levels, which no rays choose).
   Split choose_split(const Box& box, const Box& centres, uint32_t tb, uint32_t te, uint32_t rb,
                      uint32_t re, bool by_area = false);
