@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "tracer/stats_json.h"
+
 namespace dacrt {
 namespace {
 
@@ -62,18 +64,7 @@ nlohmann::json to_json(const BackendRun& run) {
       {"skipped", stats.skipped},
       {"bounce_calls", stats.bounce_calls},
       {"bounce_batch", {{"min", batches.min}, {"median", batches.median}, {"max", batches.max}}},
-      {"backend_stats",
-       {{"rays", b.rays},
-        {"triangle_tests", b.triangle_tests},
-        {"box_tests", b.box_tests},
-        {"nodes", b.nodes},
-        {"kept_nodes", b.kept_nodes},
-        {"leaves", b.leaves},
-        {"filter_skips", b.filter_skips},
-        {"binned", b.binned},
-        {"tasks", b.tasks},
-        {"build_seconds", b.build_seconds},
-        {"peak_bytes", b.peak_bytes}}}};
+      {"backend_stats", to_json(b)}};
   for (int t = 0; t < ray_type_count; ++t)
     j["rays"][std::string(to_string(RayType(t)))] = to_json(stats.by_type[t]);
   j["bounces"] = nlohmann::json::array();
@@ -141,6 +132,7 @@ void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs) {
     return count(run.backend_stats.nodes) + " (" + count(run.backend_stats.kept_nodes) + ")";
   });
   row("leaves", [](const BackendRun& run) { return count(run.backend_stats.leaves); });
+  row("rays into leaves", [](const BackendRun& run) { return count(run.backend_stats.leaf_rays); });
   row("box tests", [](const BackendRun& run) { return count(run.backend_stats.box_tests); });
   row("triangle tests",
       [](const BackendRun& run) { return count(run.backend_stats.triangle_tests); });

@@ -11,6 +11,7 @@
 
 #include "bench/args.h"
 #include "bench/run.h"
+#include "tracer/stats_json.h"
 
 namespace dacrt::bench {
 
@@ -132,13 +133,7 @@ inline nlohmann::ordered_json to_json(const BenchReport& report) {
                        {"hits", r.hits},
                        {"speedup", s ? json(*s) : json(nullptr)},
                        {"build_s_runs", r.build_runs},
-                       {"backend_stats",
-                        {{"triangle_tests", r.stats.triangle_tests},
-                         {"box_tests", r.stats.box_tests},
-                         {"nodes", r.stats.nodes},
-                         {"leaves", r.stats.leaves},
-                         {"filter_skips", r.stats.filter_skips},
-                         {"tasks", r.stats.tasks}}},
+                       {"backend_stats", to_json(r.stats)},
                        {"trace_s_runs", r.trace_runs}});
   }
   return {{"scene", report.scene},

@@ -317,12 +317,13 @@ TEST_CASE("dacrt's working memory, as allocated, stays within the bound it state
     for (const char* name : {"dacrt", "dacrt-naive"}) {
       for (int threads : {1, 2, 4}) {
         INFO(std::string(name) << ", " << n << " rays, " << threads << " threads");
-        auto b = Backend::create(name, g);
         HitBatch hits;
         hits.resize(n);  // the output is not the kernel's memory
         uint64_t first = 0, later = 0;
+        std::unique_ptr<Backend> b;
         tbb::task_arena(threads).execute([&] {
-          AllocationWatch watch;
+          AllocationWatch watch;  // the build (records, kept top) and the first call
+          b = Backend::create(name, g);
           b->intersect(rays, hits);
           first = watch.peak();
           AllocationWatch again;  // records kept: a later call allocates little
@@ -451,6 +452,31 @@ TEST_CASE("the kept top levels serve every later call exactly, whatever its rays
   Options none;
   none.set("top_triangles", "0");
   CHECK(Backend::create("dacrt", g, none)->stats().kept_nodes == 0);
+}
+
+TEST_CASE("dacrt counts the rays that enter its leaves") {
+  // Ten triangles are one leaf: every ray of a call enters it, once. Above that, each ray enters
+  // at least one leaf unless every box filters it out, and no more leaves than the call visits.
+  for (const char* name : {"dacrt", "dacrt-naive"}) {
+    INFO(name);
+    Geometry small = random_soup(10, 51);
+    RayBatch rays = random_rays(small, 5000, 52, RayType::bounce);
+    auto b = Backend::create(name, small);
+    HitBatch h;
+    b->intersect(rays, h);
+    b->intersect(rays, h);
+    CHECK(b->stats().leaves == 2);
+    CHECK(b->stats().leaf_rays == 2 * rays.size());
+    Geometry g = random_soup(20000, 53);
+    RayBatch more = random_rays(g, 20000, 54, RayType::bounce);
+    auto c = Backend::create(name, g);
+    c->intersect(more, h);
+    const Stats s = c->stats();
+    CHECK(s.leaf_rays > s.leaves);
+    // A leaf tests each of its rays against each of its triangles, at most leaf_triangles (16)
+    // unless the depth bound or a failed split stops earlier.
+    CHECK(s.triangle_tests <= 64 * s.leaf_rays);
+  }
 }
 
 TEST_CASE("a call with few rays pays for its rays, not for every triangle, once the top is kept") {

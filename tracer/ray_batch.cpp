@@ -3,14 +3,19 @@
 
 #include <sys/mman.h>
 
+#include <cstdint>
+
 namespace dacrt {
 
 void* allocate_large(size_t bytes) {
-  constexpr size_t huge = size_t(2) << 20;
-  bytes = (bytes + huge - 1) / huge * huge;
-  void* p = ::operator new(bytes, std::align_val_t(huge));
+  void* p = ::operator new(bytes);
 #ifdef MADV_HUGEPAGE
-  madvise(p, bytes, MADV_HUGEPAGE);  // advice only: nothing to do if it is not taken
+  // Advice only, for the whole 2 MiB pages inside the block (its ends stay in small pages): an
+  // aligned allocation would cost up to 2 MiB more address space than asked for.
+  constexpr uintptr_t huge = uintptr_t(2) << 20;
+  const uintptr_t begin = (uintptr_t(p) + huge - 1) & ~(huge - 1);
+  const uintptr_t end = (uintptr_t(p) + bytes) & ~(huge - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
 #endif
   return p;
 }

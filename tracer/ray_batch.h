@@ -16,7 +16,7 @@ namespace dacrt {
 // - the elements resize() adds are default-initialised (uninitialised, for the plain types of a
 //   batch) instead of zeroed: batches are written right after they grow, and the path tracer's
 //   queues grow every iteration, where zeroing them first was a memset per ray;
-// - blocks of 2 MiB or more are aligned to 2 MiB and advised to be backed by huge pages
+// - in blocks of 2 MiB or more, the whole 2 MiB pages are advised to be backed by huge pages
 //   (madvise(MADV_HUGEPAGE), honoured where transparent huge pages are set to `madvise` or
 //   `always`): first touching a wavefront's state in 4 KiB pages was a quarter of a render here.
 void* allocate_large(size_t bytes);
@@ -35,7 +35,7 @@ struct UninitializedAllocator : std::allocator<T> {
   }
   void deallocate(T* p, size_t n) {
     if (n * sizeof(T) < (size_t(2) << 20)) return std::allocator<T>::deallocate(p, n);
-    ::operator delete(static_cast<void*>(p), std::align_val_t(size_t(2) << 20));
+    ::operator delete(static_cast<void*>(p));
   }
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {

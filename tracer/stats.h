@@ -11,6 +11,7 @@ struct Stats {
   uint64_t box_tests = 0;       // ray/box tests (filtering and sampling)
   uint64_t nodes = 0;           // inner nodes (DACRT)
   uint64_t leaves = 0;          // leaves (DACRT)
+  uint64_t leaf_rays = 0;       // rays entering leaves, summed over the leaves (DACRT)
   uint64_t kept_nodes = 0;      // of the nodes, those of the kept top levels (DACRT)
   uint64_t binned = 0;          // triangle records binned to choose splits (DACRT): triangle work
   uint64_t filter_skips = 0;    // children entered without ray filtering (DACRT)
@@ -20,7 +21,7 @@ struct Stats {
 
   Stats& operator+=(const Stats& o) {
     rays += o.rays, triangle_tests += o.triangle_tests, box_tests += o.box_tests;
-    nodes += o.nodes, leaves += o.leaves, filter_skips += o.filter_skips;
+    nodes += o.nodes, leaves += o.leaves, leaf_rays += o.leaf_rays, filter_skips += o.filter_skips;
     kept_nodes += o.kept_nodes, binned += o.binned;
     tasks += o.tasks;
     return *this;

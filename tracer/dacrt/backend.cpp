@@ -39,6 +39,13 @@ class Dacrt final : public Backend {
           return a;
         });
     kernel_ = std::make_unique<Kernel>(Kernel{g, params_, bounds_.magnitude()});
+    // The first chunk's triangle records, and the kept top levels on them, before any copy is
+    // made, so that every chunk's copy has their order (below them each call reorders within
+    // their ranges). This is the backend's build: what every call finds ready.
+    Triangles& first = triangles_.emplace_back();
+    first.encode(g);
+    if (params_.top_triangles > 0 && !bounds_.empty())
+      top_.build(*kernel_, first.refs.data(), uint32_t(g.size()), bounds_, first.centres);
     build_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
@@ -89,18 +96,20 @@ class Dacrt final : public Backend {
     const size_t count = offset[blocks];
     std::unique_lock buffer_lock(buffer_mutex_, std::try_to_lock);
     const bool own_buffers = buffer_lock.owns_lock();
-    std::unique_ptr<RayRef[]> own_rays;
+    Array<RayRef> own_rays;
     std::vector<Triangles> own_triangles;
     RayRef* refs;
     std::vector<Triangles>* triangles = &own_triangles;
     if (own_buffers) {
-      if (ray_capacity_ < count) ray_buffer_.reset(), ray_buffer_.reset(new RayRef[count]);
-      ray_capacity_ = std::max(ray_capacity_, count);
-      refs = ray_buffer_.get();
+      if (ray_buffer_.size() < count) {
+        ray_buffer_ = {};  // freed before the larger one is allocated
+        ray_buffer_.resize(count);
+      }
+      refs = ray_buffer_.data();
       triangles = &triangles_;
     } else {
-      own_rays.reset(new RayRef[count]);
-      refs = own_rays.get();
+      own_rays.resize(count);
+      refs = own_rays.data();
     }
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       size_t out = offset[b];
@@ -116,20 +125,9 @@ class Dacrt final : public Backend {
     const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const size_t chunks =
         std::min({threads, size_t(params_.chunks), std::max<size_t>(1, count / params_.task_rays)});
-    if (triangles->empty()) {
-      triangles->emplace_back().encode(geometry_);
-      // The kept top levels are built on the first records, before any copy is made, so that
-      // every chunk's copy has their order (below them each call reorders within their ranges).
-      if (own_buffers && params_.top_triangles > 0 && !bounds_.empty()) {
-        auto start = std::chrono::steady_clock::now();
-        Triangles& first = triangles->front();
-        top_.build(*kernel_, first.refs.data(), uint32_t(geometry_.size()), bounds_, first.centres);
-        std::lock_guard lock(stats_mutex_);
-        build_seconds_ +=
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      }
-    }
-    // A concurrent call's own records have no kept top.
+    // A concurrent call cannot copy the kept records (the call that owns them is reordering
+    // them), so it encodes its own, which have no kept top.
+    if (triangles->empty()) triangles->emplace_back().encode(geometry_);
     const TopLevels* top = own_buffers && !top_.nodes.empty() ? &top_ : nullptr;
     while (triangles->size() < chunks) triangles->push_back(triangles->front());
     const uint64_t call = calls_++;
@@ -156,7 +154,7 @@ class Dacrt final : public Backend {
       total += t.stats;
     });
     total.rays = n;
-    uint64_t bytes = (own_buffers ? ray_capacity_ : count) * sizeof(RayRef) +
+    uint64_t bytes = (own_buffers ? ray_buffer_.size() : count) * sizeof(RayRef) +
                      triangles->size() * geometry_.size() * sizeof(TriangleRef) +
                      (top ? top_.nodes.capacity() * sizeof(TopLevels::Node) : 0);
     std::lock_guard lock(stats_mutex_);
@@ -165,8 +163,8 @@ class Dacrt final : public Backend {
   }
 
   struct Triangles {
-    std::vector<TriangleRef> refs;  // every triangle, in any order
-    Box centres;                    // of their boxes
+    Array<TriangleRef> refs;  // every triangle, in any order
+    Box centres;              // of their boxes
 
     void encode(const Geometry& g) {
       refs.resize(g.size());
@@ -188,9 +186,8 @@ class Dacrt final : public Backend {
   };
   std::mutex buffer_mutex_;           // held by the call that uses the records below
   std::vector<Triangles> triangles_;  // one per chunk
-  std::unique_ptr<RayRef[]> ray_buffer_;
-  TopLevels top_;  // built with the first records
-  size_t ray_capacity_ = 0;
+  Array<RayRef> ray_buffer_;          // on huge pages where they are advised (ray_batch.h)
+  TopLevels top_;                     // built with the first records
   Box bounds_;
   std::unique_ptr<Kernel> kernel_;
   double build_seconds_ = 0.0;

@@ -17,6 +17,7 @@ namespace dacrt::kernel {
 
 void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
   ++stats.leaves;
+  stats.leaf_rays += re - rb;
   const Geometry& g = k.geometry;
   // Records a hit of ray `ref` on triangle `tri` (already accepted by the triangle test) unless
   // the hit filter turns it down.
