@@ -56,6 +56,9 @@ Options
                              each with every ray type at --count
   --json FILE                also write the results as JSON
   --seed S                   seed of the ray generators (default 0)
+  --tmax-at-hit              intersect rays (primary, bounce, random) end at their closest hit, found
+                             by the reference backend before any timing: the work a traversal
+                             would do if it always found the closest hit first (its order perfect)
   --quiet                    no progress on stderr
   -h, --help                 this text
 
@@ -99,6 +102,7 @@ struct BenchArgs {
   bool has_backend_options = false;
   Sweep sweep = Sweep::none;
   uint64_t seed = 0;
+  bool tmax_at_hit = false;
   bool quiet = false;
   bool help = false;
 };
@@ -211,6 +215,8 @@ inline BenchArgs parse_bench_args(const std::vector<std::string>& args) {
       b.json = value();
     } else if (a == "--seed") {
       b.seed = uint64_t(parse_bench_int(a, value(), 0, LONG_MAX));
+    } else if (a == "--tmax-at-hit") {
+      b.tmax_at_hit = true;
     } else if (a == "--quiet") {
       b.quiet = true;
     } else if (!a.empty() && a[0] == '-') {

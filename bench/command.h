@@ -38,7 +38,6 @@ inline void check_backend_options(const BenchArgs& a) {
   }
 }
 
-
 inline int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
   const BenchArgs a = parse_bench_args(argv);
   if (a.help) {
@@ -80,6 +79,7 @@ inline int bench_command(const std::vector<std::string>& argv, std::ostream& out
       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
   report.repeat = a.repeat;
   report.seed = a.seed;
+  report.tmax_at_hit = a.tmax_at_hit;
   report.sweep = a.sweep;
   report.reference = reference_backend(a);
   report.baseline = choose_baseline(a.backends);

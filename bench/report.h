@@ -21,6 +21,7 @@ struct BenchReport {
   int threads = 0;
   int repeat = 0;
   uint64_t seed = 0;
+  bool tmax_at_hit = false;
   Sweep sweep = Sweep::none;
   std::string reference;  // whose primary hits seeded the secondary rays
   std::string baseline;   // the "vs" column's backend; empty when there is none
@@ -99,6 +100,7 @@ inline void print_table(std::ostream& out, const BenchReport& report) {
   out << "Scene " << report.scene << ": " << report.triangles << " triangles, " << report.threads
       << " threads, median of " << report.repeat << (report.repeat == 1 ? " run" : " runs")
       << "; secondary rays from " << report.reference << "'s primary hits";
+  if (report.tmax_at_hit) out << "; intersect rays end at their closest hit (--tmax-at-hit)";
   if (!vs.empty()) out << "; " << vs << " = " << report.baseline << "'s trace s / the row's";
   out << ".\n\n";
   print_row(rows[0]);
@@ -141,6 +143,7 @@ inline nlohmann::ordered_json to_json(const BenchReport& report) {
           {"threads", report.threads},
           {"repeat", report.repeat},
           {"seed", report.seed},
+          {"tmax_at_hit", report.tmax_at_hit},
           {"sweep", std::string(to_string(report.sweep))},
           {"reference", report.reference},
           {"baseline", report.baseline.empty() ? json(nullptr) : json(report.baseline)},

@@ -149,7 +149,15 @@ class BenchRunner {
           batch = random_rays(scene.bounds(), c.count.value_or(primary.size()), args_.seed);
           break;
       }
-      const RayBatch& rays = kind == BenchRay::primary ? primary : batch;
+      if (args_.tmax_at_hit && !uses_occluded(kind)) {
+        if (kind == BenchRay::primary) batch = primary;
+        HitBatch closest;
+        Backend::create(reference_backend(args_), scene.geometry, base_options())
+            ->intersect(batch, closest);
+        for (size_t i = 0; i < batch.size(); ++i) batch.tmax[i] = closest.t[i];
+      }
+      const bool in_place = kind == BenchRay::primary && !args_.tmax_at_hit;
+      const RayBatch& rays = in_place ? primary : batch;
       if (rays.size() == 0) {
         warn(std::string(to_string(kind)) + ": no rays (no primary ray hit the scene): skipped");
         done_ += args_.backends.size() * size_t(args_.repeat);

@@ -361,6 +361,55 @@ TEST_CASE("bench: triangle sweep and ray subsets") {
   CHECK(triangles == std::set<size_t>{12, 6, 3, 2, 1});
 }
 
+TEST_CASE("bench: --tmax-at-hit keeps every closest hit and never adds work") {
+  // Rays that end at their closest hit still find it (the same hits as open rays). dacrt-naive's
+  // tree and order do not depend on the rays, so with them it can only cull more: no more box or
+  // triangle tests than the open rays. (dacrt's sampled splits change with the rays.)
+  // The Cornell box of scenes/ is closed, so bounce rays hit too; small leaves make the tree deep
+  // enough for culling to show.
+  TempDir dir("bench-tmax");
+  const std::string scene = DACRT_SOURCE_DIR "/scenes/cornell-box.gltf";
+  nlohmann::json runs[2];
+  for (int at_hit = 0; at_hit < 2; ++at_hit) {
+    const std::string json = dir / ("tmax" + std::to_string(at_hit) + ".json");
+    std::vector<std::string> args = {scene,
+                                     "--count",
+                                     "4096",
+                                     "--repeat",
+                                     "1",
+                                     "--rays",
+                                     "primary,bounce,random",
+                                     "--backends",
+                                     "dacrt,dacrt-naive,brute",
+                                     "--json",
+                                     json,
+                                     "--quiet",
+                                     "--backend-option",
+                                     "leaf_triangles=2"};
+    if (at_hit) args.push_back("--tmax-at-hit");
+    std::ostringstream out;
+    REQUIRE(bench_command(args, out) == 0);
+    runs[at_hit] = read_json(json);
+    CHECK(runs[at_hit]["tmax_at_hit"] == bool(at_hit));
+    CHECK((out.str().find("--tmax-at-hit") != std::string::npos) == bool(at_hit));
+  }
+  REQUIRE(runs[0]["results"].size() == runs[1]["results"].size());
+  bool fewer = false;
+  for (size_t i = 0; i < runs[0]["results"].size(); ++i) {
+    const auto &open = runs[0]["results"][i], &clipped = runs[1]["results"][i];
+    INFO(open["rays"].get<std::string>() << " " << open["backend"].get<std::string>());
+    REQUIRE(open["backend"] == clipped["backend"]);
+    CHECK(open["hits"] == clipped["hits"]);
+    CHECK(open["hits"].get<uint64_t>() > 0);
+    if (open["backend"] != "dacrt-naive") continue;
+    const auto &a = open["backend_stats"], &b = clipped["backend_stats"];
+    CHECK(b["box_tests"].get<uint64_t>() <= a["box_tests"].get<uint64_t>());
+    CHECK(b["triangle_tests"].get<uint64_t>() <= a["triangle_tests"].get<uint64_t>());
+    fewer |= b["triangle_tests"].get<uint64_t>() < a["triangle_tests"].get<uint64_t>();
+  }
+  CHECK(fewer);
+}
+
 TEST_CASE("bench: usage errors and scene errors") {
   TempDir dir("bench-errors");
   const std::string scene = write_box_gltf(dir);
