@@ -16,9 +16,10 @@ namespace dacrt {
 // - the elements resize() adds are default-initialised (uninitialised, for the plain types of a
 //   batch) instead of zeroed: batches are written right after they grow, and the path tracer's
 //   queues grow every iteration, where zeroing them first was a memset per ray;
-// - in blocks of 2 MiB or more, the whole 2 MiB pages are advised to be backed by huge pages
+// - the whole 2 MiB pages inside a block are advised to be backed by huge pages
 //   (madvise(MADV_HUGEPAGE), honoured where transparent huge pages are set to `madvise` or
 //   `always`): first touching a wavefront's state in 4 KiB pages was a quarter of a render here.
+// ::operator new(bytes), with that advice.
 void* allocate_large(size_t bytes);
 template <class T>
 struct UninitializedAllocator : std::allocator<T> {
@@ -29,14 +30,11 @@ struct UninitializedAllocator : std::allocator<T> {
   UninitializedAllocator() = default;
   template <class U>
   UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
-  T* allocate(size_t n) {
-    if (n * sizeof(T) < (size_t(2) << 20)) return std::allocator<T>::allocate(n);
-    return static_cast<T*>(allocate_large(n * sizeof(T)));
-  }
-  void deallocate(T* p, size_t n) {
-    if (n * sizeof(T) < (size_t(2) << 20)) return std::allocator<T>::deallocate(p, n);
-    ::operator delete(static_cast<void*>(p));
-  }
+  // allocate_large is ::operator new (its alignment) plus the advice, which it gives only where
+  // a whole 2 MiB page lies inside the block.
+  static_assert(alignof(T) <= __STDCPP_DEFAULT_NEW_ALIGNMENT__);
+  T* allocate(size_t n) { return static_cast<T*>(allocate_large(n * sizeof(T))); }
+  void deallocate(T* p, size_t) { ::operator delete(static_cast<void*>(p)); }
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {
     if constexpr (sizeof...(Args) == 0)

@@ -2,10 +2,10 @@
 // within a frame, so the splits of the largest nodes (the triangle order and boxes of the top
 // levels) need not be binned and partitioned again by every batch: a call with a few rays would
 // otherwise pay O(triangles) per level before its rays thin out. The kept nodes are split by the
-// SAH, once, before the first call traces (a split chosen by one batch's α would serve that batch's
-// ray type, and a frame mixes camera, shadow and bounce rays); each call still samples its own rays
-// at every kept node for the children's order and for whether filtering pays, and below the kept
-// levels everything is chosen anew, by ray sampling, as in pure DACRT. Nodes of at least
+// SAH, once, when the backend is created (a split chosen by one batch's α would serve that
+// batch's ray type, and a frame mixes camera, shadow and bounce rays); each call still samples its
+// own rays at every kept node for the children's order and for whether filtering pays, and below
+// the kept levels everything is chosen anew, by ray sampling, as in pure DACRT. Nodes of at least
 // DacrtParams::top_triangles triangles are kept, at most max_nodes() of them, so the memory is
 // bounded and stated in advance (dacrt_memory_bound). top_triangles=0 keeps nothing.
 #pragma once
