@@ -6,8 +6,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -17,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "apps/report.h"
@@ -28,6 +31,8 @@
 #include "tracer/backend.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/memory.h"
+#include "util/paths.h"
 #include "util/progress.h"
 
 namespace fs = std::filesystem;
@@ -85,6 +90,16 @@ Other
   -h, --help                 this text
 )";
 
+// The largest image side, whether given or derived from a camera's aspect ratio.
+constexpr int kMaxSide = 1 << 15;
+
+// A number for messages, as the user wrote it or near: 1e-07, 80000000, 1.5.
+std::string format_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
 struct RenderArgs {
   std::string scene, output, preview, stats;
   GltfOptions gltf;
@@ -94,7 +109,7 @@ struct RenderArgs {
   std::string backend = "dacrt", integrator = "path";
   Options backend_options;
   int threads = 0;
-  bool quiet = false;
+  bool quiet = false, help = false;
   RenderSettings settings;
 };
 
@@ -135,8 +150,8 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
       return args[++i];
     };
     if (a == "-h" || a == "--help") {
-      std::fputs(render_help, stdout);
-      std::exit(0);
+      r.help = true;
+      return r;
     } else if (a == "-o" || a == "--output")
       r.output = value();
     else if (a == "--preview")
@@ -146,9 +161,9 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
     else if (a == "--spp")
       r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
     else if (a == "--width")
-      r.width = int(parse_int(a, value(), 1, 1 << 15));
+      r.width = int(parse_int(a, value(), 1, kMaxSide));
     else if (a == "--height")
-      r.height = int(parse_int(a, value(), 1, 1 << 15));
+      r.height = int(parse_int(a, value(), 1, kMaxSide));
     else if (a == "--camera")
       r.settings.camera = int(parse_int(a, value(), 0, 1 << 20));
     else if (a == "--scene")
@@ -200,10 +215,27 @@ bool has_emitters(const Scene& scene) {
   return false;
 }
 
+// The render's largest allocations, estimated before any is made: the film, the resolved image
+// (and its preview), the path state. Throws Error naming the file and what is too big when they
+// exceed the memory this process may still take.
+void check_memory(const RenderArgs& r, const RenderSettings& s) {
+  const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
+  const uint64_t film =
+      Film::bytes(s.width, s.height) + pixels * (12 + (r.preview.empty() ? 0 : 15));
+  const uint64_t paths = resolve_wavefront(s, pixels * uint64_t(s.spp)) * path_state_bytes;
+  const uint64_t available = available_memory();
+  if (film + paths <= available) return;
+  throw Error(r.scene + ": a " + std::to_string(s.width) + " x " + std::to_string(s.height) +
+              " render needs about " + format_bytes(film + paths) + " (" + format_bytes(film) +
+              " for the image, " + format_bytes(paths) + " of path state), more than the " +
+              format_bytes(available) + " of memory available");
+}
+
 int render(const std::vector<std::string>& args) {
   RenderArgs r = parse_render(args);
-  check_writable(r.stats);
-  // The backends and their outputs, checked before the scene is loaded.
+  if (r.help) return std::fputs(render_help, stdout), 0;
+  // Everything an output needs, checked before the scene is loaded: the backends, writable and
+  // distinct output files that are not inputs, the display transform of a preview.
   const std::vector<std::string> backends = split_list(r.backend);
   if (backends.empty()) throw UsageError("--backend needs at least one backend name");
   std::vector<BackendRun> runs;
@@ -211,13 +243,25 @@ int render(const std::vector<std::string>& args) {
   for (const std::string& name : backends) {
     if (std::find(known.begin(), known.end(), name) == known.end())
       Backend::create(name, Geometry{});  // throws the registry's error naming the backends
+    if (std::count(backends.begin(), backends.end(), name) > 1)
+      throw UsageError("--backend names " + name + " twice");
     BackendRun run;
     run.backend = name;
     run.output = backends.size() > 1 ? with_backend(r.output, name) : r.output;
     run.preview = backends.size() > 1 ? with_backend(r.preview, name) : r.preview;
-    check_writable(run.output), check_writable(run.preview);
     runs.push_back(std::move(run));
   }
+  std::vector<NamedFile> inputs = {{"the scene", r.scene}}, outputs;
+  if (!r.environment_file.empty()) {
+    check_input_file(r.environment_file, "environment map");
+    inputs.push_back({"the environment map", r.environment_file});
+  }
+  for (const BackendRun& run : runs)
+    outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
+  outputs.push_back({"--stats", r.stats});
+  for (const NamedFile& out : outputs) check_writable(out.path);
+  check_outputs(outputs, inputs);
+  if (!r.preview.empty()) check_display_transform();
 
   std::unique_ptr<tbb::global_control> threads;
   if (r.threads > 0)
@@ -234,21 +278,35 @@ int render(const std::vector<std::string>& args) {
     throw Error(r.scene + ": camera " + std::to_string(s.camera) +
                 " does not exist (the scene has " + std::to_string(scene.cameras_from_file) + ")");
   const float aspect = scene.cameras[s.camera].aspect;
+  // A size derived from the camera's aspect ratio meets the limits of --width and --height.
+  auto derived = [&](double size, const char* side, const char* given_flag, int given) {
+    if (!(size <= double(kMaxSide)))
+      throw Error(r.scene + ": camera " + std::to_string(s.camera) + "'s aspectRatio " +
+                  format_number(aspect) + " with " + given_flag + " " + std::to_string(given) +
+                  " gives a " + side + " of " +
+                  (size < 1e15 ? std::to_string(std::llround(size)) : format_number(size)) +
+                  " pixels, more than " + std::to_string(kMaxSide) +
+                  " (give --width and --height)");
+    return std::max(1, int(std::lround(size)));
+  };
   if (r.width && r.height) {
     s.width = *r.width, s.height = *r.height;
   } else if (aspect > 0.f) {
     if (r.width)
-      s.width = *r.width, s.height = std::max(1, int(std::lround(*r.width / aspect)));
+      s.width = *r.width,
+      s.height = derived(*r.width / double(aspect), "height", "--width", *r.width);
     else if (r.height)
-      s.height = *r.height, s.width = std::max(1, int(std::lround(*r.height * aspect)));
-    else if (aspect >= 1.f)
-      s.width = 512, s.height = std::max(1, int(std::lround(512 / aspect)));
+      s.height = *r.height,
+      s.width = derived(*r.height * double(aspect), "width", "--height", *r.height);
+    else if (aspect >= 1.f)  // the longer side 512: the other cannot exceed the limit
+      s.width = 512, s.height = std::max(1, int(std::lround(512 / double(aspect))));
     else
-      s.height = 512, s.width = std::max(1, int(std::lround(512 * aspect)));
+      s.height = 512, s.width = std::max(1, int(std::lround(512 * double(aspect))));
   } else {
     s.width = r.width.value_or(r.height.value_or(512));
     s.height = r.height.value_or(r.width.value_or(512));
   }
+  check_memory(r, s);
   if (!r.environment_file.empty()) {
     s.environment_map =
         std::make_shared<const EnvironmentMap>(read_exr(r.environment_file), r.environment_file);
@@ -403,23 +461,40 @@ int info(const std::vector<std::string>& args) {
 
 }  // namespace
 
+// A command's exit code, once what it wrote to stdout has reached the file (a full disk, a closed
+// pipe, /dev/full: the output is lost, and that is an error).
+int flushed(int code) {
+  errno = 0;
+  std::cout.flush();
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout) && std::cout.good()) return code;
+  const int err = errno;
+  throw Error(std::string("cannot write to standard output") +
+              (err ? ": " + std::generic_category().message(err) : std::string()));
+}
+
+int run(std::vector<std::string> args) {
+  if (args.empty()) {
+    std::fputs(main_help, stderr);
+    return 2;
+  }
+  const std::string command = args[0];
+  args.erase(args.begin());
+  if (command == "-h" || command == "--help" || command == "help") {
+    std::fputs(main_help, stdout);
+    return 0;
+  }
+  if (command == "render") return render(args);
+  if (command == "info") return info(args);
+  if (command == "bench") return bench_main(args);
+  throw UsageError("unknown command '" + command + "'");
+}
+
 int main(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
+  // A file-size limit (ulimit -f) makes a write fail with EFBIG, reported as an error, instead of
+  // killing the process with SIGXFSZ halfway through a file.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
-    if (args.empty()) {
-      std::fputs(main_help, stderr);
-      return 2;
-    }
-    const std::string command = args[0];
-    args.erase(args.begin());
-    if (command == "-h" || command == "--help" || command == "help") {
-      std::fputs(main_help, stdout);
-      return 0;
-    }
-    if (command == "render") return render(args);
-    if (command == "info") return info(args);
-    if (command == "bench") return bench_main(args);
-    throw UsageError("unknown command '" + command + "'");
+    return flushed(run(std::vector<std::string>(argv + 1, argv + argc)));
   } catch (const UsageError& e) {
     std::fprintf(stderr, "dacrt: %s (see dacrt --help)\n", e.what());
     return 2;

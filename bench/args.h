@@ -35,7 +35,8 @@ Ray types
   ao         primary hits, cosine-weighted around the normal, tmax = 10 % of the box diagonal;
              occluded
   bounce     primary hits, cosine-weighted diffuse directions, tmax = inf; intersect
-  random     uniform origins in the scene's box, uniform directions, tmax = inf; intersect
+  random     uniform origins in the scene's box (a side under 1 % of the longest widened to that,
+             so no origin lies on a flat scene's plane), uniform directions, tmax = inf; intersect
   Secondary rays start at the primary hits found by one reference backend (dacrt) before any
   timing; primary misses make none, so their count is the number of hits unless --count is given.
 

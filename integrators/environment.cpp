@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <glm/gtc/constants.hpp>
 #include <string>
 
@@ -22,6 +23,31 @@ glm::vec3 EnvironmentMap::from_uv(const glm::vec2& uv) {
   return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
 }
 
+namespace {
+
+// Radiance above this is refused: a path carrying it, divided by the pdfs of a few bounces,
+// would overflow float (3.4e38) and be dropped from the film, silently darkening the image.
+constexpr float kMaxRadiance = 1e18f;
+
+// What is wrong with the first bad channel of c, for messages: "has G = -1 (negative)".
+std::string bad_radiance(const glm::vec3& c) {
+  for (int k = 0; k < 3; ++k) {
+    const float v = c[k];
+    const char* why = std::isnan(v)      ? "not a number"
+                      : std::isinf(v)    ? "infinite"
+                      : v < 0.f          ? "negative"
+                      : v > kMaxRadiance ? "above 1e18, the brightest radiance accepted"
+                                         : nullptr;
+    if (!why) continue;
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", double(v));
+    return std::string("has ") + "RGB"[k] + " = " + value + " (" + why + ")";
+  }
+  return "is valid";
+}
+
+}  // namespace
+
 EnvironmentMap::EnvironmentMap(Image image, const std::string& what) : image_(std::move(image)) {
   const int w = image_.width, h = image_.height;
   if (w <= 0 || h <= 0) throw Error(what + ": the environment image is empty");
@@ -37,9 +63,10 @@ EnvironmentMap::EnvironmentMap(Image image, const std::string& what) : image_(st
     const double solid_angle = glm::two_pi<double>() / w * (std::cos(theta0) - std::cos(theta1));
     for (int x = 0; x < w; ++x) {
       const glm::vec3 c(image_.pixel(x, y)[0], image_.pixel(x, y)[1], image_.pixel(x, y)[2]);
-      if (!(c.x >= 0.f && c.y >= 0.f && c.z >= 0.f) || !std::isfinite(c.x + c.y + c.z))
+      if (!(c.x >= 0.f && c.y >= 0.f && c.z >= 0.f && c.x <= kMaxRadiance && c.y <= kMaxRadiance &&
+            c.z <= kMaxRadiance))
         throw Error(what + ": environment pixel (" + std::to_string(x) + ", " + std::to_string(y) +
-                    ") is negative or not finite");
+                    ") " + bad_radiance(c));
       weight[size_t(y) * w + x] = double(luminance(c)) * sin_mid;
       row_sum[size_t(y)] += weight[size_t(y) * w + x];
       integral += glm::dvec3(c) * solid_angle;

@@ -23,6 +23,11 @@ class Film {
         sum_sq_(size_t(width) * height, 0.0),
         count_(size_t(width) * height, 0) {}
 
+  // The bytes a film of this size holds (its sums and counts).
+  static uint64_t bytes(int width, int height) {
+    return uint64_t(width) * uint64_t(height) * (4 * sizeof(double) + sizeof(uint32_t));
+  }
+
   int width() const { return width_; }
   int height() const { return height_; }
   size_t pixels() const { return count_.size(); }

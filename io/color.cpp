@@ -21,6 +21,7 @@
 
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/paths.h"
 
 namespace OCIO = OCIO_NAMESPACE;
 
@@ -104,6 +105,7 @@ OCIO::ConstCPUProcessorRcPtr display_processor() {
 
   std::lock_guard<std::mutex> lock(mutex);
   if (cached && cached_key == key) return cached;
+  if (!config_path.empty()) check_input_file(config_path, "OCIO config ($OCIO)");
   try {
     OCIO::ConstProcessorRcPtr processor =
         config_path.empty() ? builtin_srgb_processor() : config_processor(config_path);
@@ -152,6 +154,10 @@ std::vector<float> to_display(const Image& image) {
   }
   std::transform(out.begin(), out.end(), out.begin(), sanitize_display);
   return out;
+}
+
+void check_display_transform() {
+  display_processor();
 }
 
 void write_preview_png(const std::string& path, const Image& image) {

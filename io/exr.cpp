@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -25,11 +26,15 @@
 
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/paths.h"
 
 namespace dacrt {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The largest image read_exr accepts (16 384 x 8 192, 1.5 GiB of float RGB).
+constexpr int64_t kMaxExrPixels = int64_t(1) << 27;
 
 Error write_error(const std::string& path, const std::string& reason) {
   return Error("cannot write EXR '" + path + "': " + reason);
@@ -84,15 +89,24 @@ void write_exr(const std::string& path, const Image& image, const ExrMetadata& m
 }
 
 Image read_exr(const std::string& path) {
+  check_input_file(path, "EXR image");
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i window = file.header().dataWindow();
+    // Bounded before anything is allocated: a header may claim any window.
+    const int64_t width = int64_t(window.max.x) - window.min.x + 1,
+                  height = int64_t(window.max.y) - window.min.y + 1;
+    if (width < 1 || height < 1)
+      throw Error("cannot read EXR '" + path + "': its data window is empty");
+    if (width * height > kMaxExrPixels)
+      throw Error("cannot read EXR '" + path + "': " + std::to_string(width) + " x " +
+                  std::to_string(height) + " pixels is more than the 2^27 accepted");
     const Imf::ChannelList& channels = file.header().channels();
     for (const char* name : {"R", "G", "B"})
       if (!channels.findChannel(name))
         throw Error("cannot read EXR '" + path + "': it has no " + name + " channel");
 
-    Image image(window.max.x - window.min.x + 1, window.max.y - window.min.y + 1);
+    Image image(static_cast<int>(width), static_cast<int>(height));
     const size_t x_stride = 3 * sizeof(float);
     const size_t y_stride = x_stride * size_t(image.width);
     Imf::FrameBuffer frame;

@@ -3,10 +3,12 @@
 #include "util/atomic_file.h"
 
 #include <doctest/doctest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 
 #include "temp_dir.h"
@@ -43,12 +45,18 @@ TEST_CASE("write_atomically: a failing writer leaves nothing, a good one replace
 }
 
 TEST_CASE("write_atomically: a run interrupted while writing leaves no temporary file") {
-  for (int sig : {SIGINT, SIGTERM}) {
+  // Every signal that ends a process by default and can be caught: interruptions, limits (a
+  // file-size or CPU limit), a closed pipe, timers, and crashes.
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGALRM, SIGUSR1, SIGUSR2, SIGXCPU,
+                  SIGXFSZ, SIGVTALRM, SIGPROF, SIGABRT, SIGBUS, SIGFPE, SIGILL, SIGSEGV, SIGSYS}) {
+    INFO(strsignal(sig));
     TempDir dir("interrupted");
     const std::string path = dir / "out.exr";
     pid_t child = fork();
     REQUIRE(child >= 0);
     if (child == 0) {
+      const rlimit no_core{0, 0};
+      setrlimit(RLIMIT_CORE, &no_core);
       std::signal(sig, SIG_DFL);  // the test runner's own crash handler has no business here
       write_atomically(path, "test", [sig](std::ofstream& out) {
         out << "half of an image";

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli.h"
 #include "gltf_writer.h"
 #include "io/exr.h"
 #include "test_geometry.h"
@@ -19,41 +20,6 @@ using namespace dacrt::test;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct Run {
-  int code;
-  std::string err, out;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-Run run(const TempDir& dir, const std::string& args) {
-  std::string cmd = std::string(DACRT_CLI) + " " + args + " >" + (dir / "stdout.txt") + " 2>" +
-                    (dir / "stderr.txt") + " </dev/null";
-  int status = std::system(cmd.c_str());
-  Run r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "stderr.txt"),
-        slurp(dir / "stdout.txt")};
-  fs::remove(dir / "stdout.txt");
-  fs::remove(dir / "stderr.txt");
-  return r;
-}
-
-size_t lines(const std::string& s) {
-  return size_t(std::count(s.begin(), s.end(), '\n'));
-}
-
-// Nothing but the inputs in `dir`: no image, no preview, no stats, no temporary files.
-void check_no_outputs(const TempDir& dir) {
-  for (const auto& e : fs::directory_iterator(dir.path())) {
-    std::string name = e.path().filename().string();
-    CHECK_MESSAGE(name.find(".gltf") != std::string::npos, "left behind: " << name);
-  }
-}
 
 const std::string cornell = DACRT_SOURCE_DIR "/scenes/cornell-box.gltf";
 

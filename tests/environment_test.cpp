@@ -97,9 +97,24 @@ TEST_CASE("environment map: bad images are errors naming the file") {
   Image bad = test_map(false);
   bad.pixel(3, 2)[1] = -1.f;
   CHECK_THROWS_WITH_AS(EnvironmentMap(bad, "sky.exr"),
-                       doctest::Contains("sky.exr: environment pixel (3, 2)"), Error);
+                       "sky.exr: environment pixel (3, 2) has G = -1 (negative)", Error);
   bad.pixel(3, 2)[1] = std::numeric_limits<float>::quiet_NaN();
-  CHECK_THROWS_AS(EnvironmentMap(bad, "sky.exr"), Error);
+  CHECK_THROWS_WITH_AS(EnvironmentMap(bad, "sky.exr"), doctest::Contains("G = nan (not a number)"),
+                       Error);
+  bad.pixel(3, 2)[1] = 1.f;
+  bad.pixel(3, 2)[2] = std::numeric_limits<float>::infinity();
+  CHECK_THROWS_WITH_AS(EnvironmentMap(bad, "sky.exr"), doctest::Contains("B = inf (infinite)"),
+                       Error);
+  // Finite but so bright that the paths carrying it overflow float: said as such (it was called
+  // "negative or not finite").
+  bad.pixel(3, 2)[2] = 1.f;
+  bad.pixel(3, 2)[0] = 3.4e38f;
+  CHECK_THROWS_WITH_AS(EnvironmentMap(bad, "sky.exr"),
+                       "sky.exr: environment pixel (3, 2) has R = 3.4e+38 (above 1e18, the "
+                       "brightest radiance accepted)",
+                       Error);
+  bad.pixel(3, 2)[0] = 1e18f;  // the limit itself is accepted
+  CHECK_NOTHROW(EnvironmentMap(bad, "sky.exr"));
   CHECK_THROWS_WITH_AS(EnvironmentMap(Image(), "empty.exr"), doctest::Contains("empty.exr"), Error);
   // All black is valid: nothing to sample.
   const EnvironmentMap black(Image(4, 2), "black");

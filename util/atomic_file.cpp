@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "util/error.h"
+#include "util/paths.h"
 
 namespace dacrt {
 
@@ -19,8 +20,12 @@ namespace {
 
 // The temporary file being written, for the signal handler: an interrupted run removes it, so
 // Ctrl-C leaves neither a half-written output nor a stray temporary. The handler is installed
-// only while a file is written and hands the signal on to whatever handler was there before.
-constexpr int handled[] = {SIGINT, SIGTERM, SIGHUP};
+// only while a file is written and hands the signal on to whatever handler was there before. The
+// signals are those whose default action ends the process and that can be caught. (The CLI
+// ignores SIGXFSZ, so that a file-size limit is a write error it reports rather than a kill.)
+constexpr int handled[] = {SIGHUP,  SIGINT,  SIGQUIT, SIGTERM, SIGPIPE,   SIGALRM,
+                           SIGUSR1, SIGUSR2, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF,
+                           SIGABRT, SIGBUS,  SIGFPE,  SIGILL,  SIGSEGV,   SIGSYS};
 char pending[4096];
 struct sigaction previous[std::size(handled)];
 
@@ -56,14 +61,23 @@ struct PendingFile {
 void write_atomically(const std::string& path, const std::string& what,
                       const std::function<void(std::ofstream&)>& write) {
   const std::string prefix = "cannot write " + what + " '" + path + "': ";
-  const fs::path target(path), dir = target.parent_path();
   std::error_code ec;
+  // Through a symbolic link, the file it points to is replaced, not the link.
+  const fs::path target =
+      fs::is_symlink(fs::symlink_status(path, ec)) ? resolved_path(path) : fs::path(path);
+  const fs::path dir = target.parent_path();
   if (!dir.empty() && !fs::exists(dir, ec))
     throw Error(prefix + "directory '" + dir.string() + "' does not exist");
   if (!dir.empty() && !fs::is_directory(dir, ec))
     throw Error(prefix + "'" + dir.string() + "' is not a directory");
 
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  {
+    const fs::file_status status = fs::status(target, ec);
+    if (fs::exists(status) && !fs::is_regular_file(status))
+      throw Error(prefix + "it is " + file_kind(status) + ", not a regular file");
+  }
+
+  const std::string tmp = target.string() + ".tmp-" + std::to_string(::getpid());
   const PendingFile pending_file(tmp);
   auto fail = [&](const std::string& reason) {
     std::error_code ignored;
@@ -77,14 +91,27 @@ void write_atomically(const std::string& path, const std::string& what,
     throw Error(prefix + "cannot create '" + tmp + "'" +
                 (err ? " (" + std::generic_category().message(err) + ")" : std::string()));
   }
+  // The reason the system gave for a failed write (ENOSPC, EFBIG, EIO…), when there is one.
+  auto system_reason = [](int err) {
+    return err ? " (" + std::generic_category().message(err) + ")" : std::string();
+  };
+  errno = 0;
   try {
     write(stream);
   } catch (const std::exception& e) {
+    const int err = errno;
     stream.close();
-    throw fail(e.what());
+    const std::string what = e.what();
+    throw fail(what + (what.find(std::generic_category().message(err)) == std::string::npos
+                           ? system_reason(err)
+                           : std::string()));
   }
+  if (stream) stream.flush();
+  int err = stream ? 0 : errno;
   stream.close();
-  if (!stream) throw fail("writing '" + tmp + "' failed (disk full?)");
+  if (!stream && !err) err = errno;
+  if (!stream)
+    throw fail("writing '" + tmp + "' failed" + (err ? system_reason(err) : " (disk full?)"));
   fs::rename(tmp, target, ec);
   if (ec) throw fail(ec.message());
 }
@@ -96,7 +123,11 @@ void check_writable(const std::string& path) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw Error(path + ": cannot write: directory " + dir.string() + " does not exist");
-  if (fs::is_directory(path, ec)) throw Error(path + ": cannot write: it is a directory");
+  // The file is replaced by renaming a new one over it: a device or a FIFO would be replaced by a
+  // regular file (as root, /dev/null itself), a directory cannot be.
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw Error(path + ": cannot write: it is " + file_kind(status) + ", not a regular file");
   if (::access(dir.c_str(), W_OK) != 0)
     throw Error(path + ": cannot write: directory " + dir.string() + " is not writable");
 }

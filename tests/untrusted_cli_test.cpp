@@ -1,0 +1,225 @@
+// Hostile and careless command lines: outputs that collide with each other or with inputs, inputs
+// that are not regular files, prerequisites that would fail only after the render, sizes derived
+// from a camera, file-size limits and full disks, a standard output that cannot be written. Each
+// fails with one line naming what is wrong, exit 1 (2 for usage), writes nothing and leaves the
+// inputs as they were.
+#include <doctest/doctest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "cli.h"
+#include "gltf_writer.h"
+
+using namespace dacrt::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A one-triangle scene with a camera (`aspect` > 0 sets its aspectRatio) in `dir`.
+std::string small_scene(const TempDir& dir, double aspect = 0.0,
+                        const std::string& name = "s.gltf") {
+  GltfWriter w;
+  int node = w.add_triangles({{-1, -1, -3}, {1, -1, -3}, {0, 1, -3}});
+  nlohmann::json perspective = {{"yfov", 0.8}, {"znear", 0.01}};
+  if (aspect > 0.0) perspective["aspectRatio"] = aspect;
+  w.doc["cameras"] = {{{"type", "perspective"}, {"perspective", perspective}}};
+  int camera = w.add_node({{"camera", 0}});
+  w.set_scene({node, camera});
+  return w.write_gltf(dir / name);
+}
+
+// The one error line of a failed run, checked: exit `code`, one line, every word in it.
+void check_refused(const Run& r, int code, std::initializer_list<std::string> words) {
+  INFO(r.err);
+  CHECK(r.code == code);
+  CHECK(lines(r.err) == 1);
+  for (const std::string& w : words) CHECK_MESSAGE(r.err.find(w) != std::string::npos, w);
+}
+
+uint64_t mem_available() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  uint64_t kib = 0;
+  while (in >> key >> kib)
+    if (key == "MemAvailable:") return kib * 1024;
+  return 0;
+}
+
+}  // namespace
+
+TEST_CASE("untrusted cli: outputs that name the same file, or an input, are refused first") {
+  TempDir dir("collide");
+  const std::string scene = small_scene(dir);
+  const std::string before = slurp(scene);
+  const std::string render = "render " + scene + " --spp 1 --quiet ";
+  const std::string out = dir / "out.exr";
+  // -o and --stats, -o and --preview: the same file spelt the same or otherwise.
+  check_refused(run(dir, render + "-o " + out + " --stats " + out), 1,
+                {"--stats", "-o", "same file"});
+  check_refused(run(dir, render + "-o " + out + " --preview " + out), 1, {"--preview", "-o"});
+  fs::create_directory(dir.path() / "sub");
+  check_refused(run(dir, render + "-o " + out + " --preview " + (dir / "./sub/../out.exr")), 1,
+                {"--preview", "same file"});
+  check_refused(run(dir, render + "--stats " + out + " --preview " + out), 1,
+                {"--stats", "--preview"});
+  // Through a symbolic link (dangling: out.exr does not exist yet), and a hard link.
+  fs::create_symlink("out.exr", dir.path() / "link.exr");
+  check_refused(run(dir, render + "-o " + out + " --stats " + (dir / "link.exr")), 1,
+                {"link.exr", "same file"});
+  fs::remove(dir.path() / "link.exr");
+  // An output that is an input: the scene (by another path), the environment map.
+  check_refused(run(dir, render + "-o " + scene), 1, {"-o", "would overwrite the scene"});
+  check_refused(run(dir, render + "--stats " + (dir / "sub/../s.gltf")), 1, {"--stats", "scene"});
+  fs::create_hard_link(scene, dir.path() / "hard.gltf");
+  check_refused(run(dir, render + "--preview " + (dir / "hard.gltf")), 1, {"hard.gltf", "scene"});
+  fs::remove(dir.path() / "hard.gltf");
+  // Several backends: each image gets its name, so one named twice would collide.
+  check_refused(run(dir, render + "-o " + out + " --backend dacrt,dacrt"), 2, {"dacrt", "twice"});
+  CHECK(slurp(scene) == before);
+  fs::remove_all(dir.path() / "sub");
+  check_no_outputs(dir);
+  // Distinct files pass.
+  Run ok = run(dir, render + "-o " + out + " --stats " + (dir / "out.json"));
+  CHECK(ok.code == 0);
+}
+
+TEST_CASE("untrusted cli: the environment map as output, and outputs through links") {
+  TempDir dir("collide-env");
+  const std::string scene = small_scene(dir);
+  const std::string env = dir / "sky.exr";
+  REQUIRE(
+      run(dir, "render " + scene + " --spp 1 --quiet -o " + env + " --width 8 --height 4").code ==
+      0);
+  const std::string sky = slurp(env);
+  const std::string render = "render " + scene + " --spp 1 --quiet --environment " + env;
+  check_refused(run(dir, render + " -o " + env), 1, {"-o", "environment map"});
+  check_refused(run(dir, render + " -o " + (dir / "o.exr") + " --stats " + env), 1,
+                {"--stats", "environment map"});
+  CHECK(slurp(env) == sky);
+  // A link as output: the file it points to is replaced, the link stays a link.
+  fs::create_symlink("target.exr", dir.path() / "link.exr");
+  REQUIRE(
+      run(dir, "render " + scene + " --spp 1 --quiet --width 4 --height 4 -o " + (dir / "link.exr"))
+          .code == 0);
+  CHECK(fs::is_symlink(fs::symlink_status(dir.path() / "link.exr")));
+  CHECK(fs::is_regular_file(dir.path() / "target.exr"));
+}
+
+TEST_CASE("untrusted cli: inputs and outputs that are not regular files") {
+  TempDir dir("not-regular");
+  const std::string scene = small_scene(dir);
+  const std::string fifo = dir / "fifo.exr";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const std::string render = "render " + scene + " --spp 1 --quiet -o " + (dir / "o.exr");
+  // A FIFO as environment map or as $OCIO blocked the reader forever: refused (the timeout is
+  // only there so that a regression fails instead of hanging the suite).
+  check_refused(run(dir, render + " --environment " + fifo, "timeout 60"), 1,
+                {"fifo.exr", "environment map", "FIFO"});
+  check_refused(run(dir, render + " --preview " + (dir / "p.png"), "OCIO=" + fifo + " timeout 60"),
+                1, {"fifo.exr", "OCIO", "FIFO"});
+  check_refused(run(dir, "info " + fifo, "timeout 60"), 1, {"fifo.exr", "regular file"});
+  fs::create_directory(dir.path() / "d.exr");
+  check_refused(run(dir, render + " --environment " + (dir / "d.exr")), 1, {"d.exr", "directory"});
+  // Outputs: renaming a new file over a FIFO (or, for root, over /dev/null) would replace it.
+  check_refused(run(dir, "render " + scene + " --spp 1 --quiet -o " + fifo), 1,
+                {"fifo.exr", "FIFO"});
+  check_refused(run(dir, "render " + scene + " --spp 1 --quiet --stats " + fifo), 1, {"FIFO"});
+  CHECK(fs::is_fifo(fifo));
+  check_refused(run(dir, "render " + scene + " --spp 1 --quiet -o /dev/null"), 1,
+                {"/dev/null", "character device"});
+  CHECK(fs::is_character_file("/dev/null"));
+  fs::remove(fifo);
+  fs::remove(dir.path() / "d.exr");
+  check_no_outputs(dir);
+}
+
+TEST_CASE("untrusted cli: a broken $OCIO is an error before the render, not after") {
+  TempDir dir("ocio");
+  const std::string scene = small_scene(dir);
+  write_text(dir / "bad.ocio", "ocio_profile_version: 2\nthis is: [not a config\n");
+  // A million samples per pixel would take hours: the error must come first.
+  const std::string render =
+      "render " + scene + " --spp 1000000 -o " + (dir / "o.exr") + " --preview " + (dir / "o.png");
+  for (const std::string& config : {dir / "bad.ocio", dir / "missing.ocio"}) {
+    Run r = run(dir, render, "OCIO=" + config + " timeout 120");
+    check_refused(r, 1, {config, "OCIO"});
+  }
+  fs::remove(dir.path() / "bad.ocio");
+  check_no_outputs(dir);
+  // Without a preview, $OCIO is not used.
+  CHECK(run(dir, "render " + scene + " --spp 1 --quiet -o " + (dir / "o.exr"),
+            "OCIO=" + (dir / "missing.ocio"))
+            .code == 0);
+}
+
+TEST_CASE("untrusted cli: sizes derived from a camera meet the limits of the flags") {
+  TempDir dir("aspect");
+  // aspectRatio 1e-7 with --width 8 asked for a height of 80 000 000 (the flags stop at 32 768).
+  const std::string thin = small_scene(dir, 1e-7, "thin.gltf");
+  check_refused(
+      run(dir, "render " + thin + " --width 8 --quiet -o " + (dir / "o.exr")), 1,
+      {"thin.gltf", "camera 0", "aspectRatio 1e-07 with --width 8", "height of ", "32768"});
+  const std::string wide = small_scene(dir, 1e7, "wide.gltf");
+  check_refused(run(dir, "render " + wide + " --height 8 --quiet -o " + (dir / "o.exr")), 1,
+                {"wide.gltf", "--height 8", "width of "});
+  // The default size keeps the longer side at 512, whatever the ratio.
+  CHECK(run(dir, "render " + wide + " --spp 1 --quiet -o " + (dir / "o.exr")).code == 0);
+  fs::remove(dir.path() / "o.exr");
+  // Within the limit, given both: the ratio is not used.
+  CHECK(run(dir, "render " + thin + " --width 8 --height 8 --spp 1 --quiet -o " + (dir / "o.exr"))
+            .code == 0);
+}
+
+TEST_CASE("untrusted cli: a render that cannot fit in memory is refused before it starts") {
+  TempDir dir("memory");
+  const std::string scene = small_scene(dir);
+  // 32768² pixels: a film of 36 GiB before anything else.
+  if (mem_available() > (uint64_t(64) << 30)) {
+    MESSAGE("skipped: this machine has over 64 GiB available, a 32768² render could start");
+    return;
+  }
+  Run r =
+      run(dir,
+          "render " + scene + " --width 32768 --height 32768 --spp 1 --quiet -o " + (dir / "o.exr"),
+          "timeout 120");
+  check_refused(r, 1, {"s.gltf", "32768 x 32768", "needs about", "GiB", "available"});
+  check_no_outputs(dir);
+}
+
+TEST_CASE("untrusted cli: a file-size limit is one error line and leaves no temporary file") {
+  TempDir dir("fsize");
+  const std::string scene = small_scene(dir);
+  // ulimit -f counts 512-byte blocks (dash): 20 KiB, less than a 256² EXR.
+  Run r = run(dir,
+              "render " + scene + " --spp 1 --quiet --width 256 --height 256 -o " + (dir / "o.exr"),
+              "ulimit -f 20;");
+  check_refused(r, 1, {"o.exr", "File too large"});
+  r = run(dir,
+          "render " + scene + " --spp 1 --quiet --width 256 --height 256 -o " + (dir / "o.exr") +
+              " --preview " + (dir / "o.png"),
+          "ulimit -f 20;");
+  check_refused(r, 1, {"File too large"});
+  check_no_outputs(dir);
+}
+
+TEST_CASE("untrusted cli: output to a full standard output is an error") {
+  TempDir dir("full");
+  const std::string scene = small_scene(dir);
+  check_refused(run(dir, "info " + scene, "", "/dev/full"), 1, {"standard output"});
+  check_refused(run(dir, "--help", "", "/dev/full"), 1, {"standard output"});
+  check_refused(run(dir, "render --help", "", "/dev/full"), 1, {"standard output"});
+  check_refused(
+      run(dir, "bench " + scene + " --count 64 --repeat 1 --rays primary --quiet", "", "/dev/full"),
+      1, {"standard output"});
+  // The comparison table of several backends goes to stdout too.
+  Run r =
+      run(dir,
+          "render " + scene + " --spp 1 --quiet --width 8 --height 8 --backend dacrt,brute -o " +
+              (dir / "o.exr"),
+          "", "/dev/full");
+  check_refused(r, 1, {"standard output"});
+  CHECK(run(dir, "info " + scene).code == 0);
+}
