@@ -20,6 +20,7 @@
 #include "io/gltf.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/paths.h"
 
 namespace dacrt::bench {
 
@@ -45,7 +46,8 @@ inline int bench_command(const std::vector<std::string>& argv, std::ostream& out
     return 0;
   }
   check_backend_options(a);
-  if (!a.json.empty()) check_writable(a.json);
+  check_writable(a.json);
+  check_outputs({{"--json", a.json}}, {{"the scene", a.scene}});
 
   std::unique_ptr<tbb::global_control> threads;
   if (a.threads > 0)

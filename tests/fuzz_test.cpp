@@ -1,7 +1,8 @@
-// Inputs the loader and the kernel must survive: every file in tests/fuzz/ (what `make fuzz`
-// found, and a few hostile files written by hand) loads or fails with one dacrt::Error naming the
-// file, never crashes, and what loads traces rays with dacrt exactly as brute force does
-// (fuzz/trace_check.h); the suite runs this under ASan and UBSan too.
+// Inputs the loader, the image decoders and the kernel must survive: every file in tests/fuzz/
+// (what `make fuzz` found, and hostile files and seeds written by hand) loads or decodes or fails
+// with one dacrt::Error naming the file, never crashes, and what loads traces rays with dacrt
+// exactly as brute force does (fuzz/fuzz_input.h, as the fuzz target); the suite runs this under
+// ASan and UBSan too.
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -9,31 +10,43 @@
 #include <iterator>
 #include <vector>
 
-#include "../fuzz/trace_check.h"
-#include "io/gltf.h"
-#include "util/error.h"
+#include "../fuzz/fuzz_input.h"
 
-TEST_CASE("the glTF loader survives every kept fuzzing input") {
+TEST_CASE("the glTF loader and the image decoders survive every kept fuzzing input") {
   const std::filesystem::path dir = DACRT_SOURCE_DIR "/tests/fuzz";
-  size_t inputs = 0, errors = 0, traced = 0;
+  size_t inputs = 0, errors = 0, traced = 0, decoded = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     if (!entry.is_regular_file() || entry.path().filename() == "README.md") continue;
     std::ifstream in(entry.path(), std::ios::binary);
     const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
                                            std::istreambuf_iterator<char>());
-    INFO(entry.path().filename().string());
+    const std::string name = entry.path().filename().string();
+    INFO(name);
     ++inputs;
-    try {
-      const dacrt::Scene scene = dacrt::load_gltf_memory(
-          "/nonexistent/" + entry.path().filename().string(), bytes.data(), bytes.size());
-      CHECK(dacrt::trace_check(scene.geometry) == 0);
-      ++traced;
-    } catch (const dacrt::Error& e) {
-      ++errors;
-      CHECK(std::string(e.what()).find(entry.path().filename().string()) != std::string::npos);
+    const dacrt::FuzzOutcome outcome = dacrt::fuzz_input(bytes.data(), bytes.size(), name);
+    switch (outcome.kind) {
+      case dacrt::FuzzOutcome::loaded:
+        CHECK(outcome.wrong_hits == 0);
+        ++traced;
+        break;
+      case dacrt::FuzzOutcome::decoded:
+        ++decoded;
+        break;
+      case dacrt::FuzzOutcome::refused:
+        ++errors;
+        CHECK(outcome.error.find(name) != std::string::npos);
+        CHECK(outcome.error.find('\n') == std::string::npos);
+        break;
     }
+    // A hostile image (hostile-*.hdr, .pgm…) must be refused; a seed image must decode.
+    const std::string ext = entry.path().extension().string();
+    if (name.rfind("hostile-", 0) == 0 && ext != ".gltf" && ext != ".glb")
+      CHECK(outcome.kind == dacrt::FuzzOutcome::refused);
+    if (name.rfind("seed-", 0) == 0 && (ext == ".png" || ext == ".jpg"))
+      CHECK(outcome.kind == dacrt::FuzzOutcome::decoded);
   }
-  MESSAGE(inputs << " inputs, " << errors << " rejected with an error, " << traced << " traced");
-  CHECK(inputs > 0);
-  CHECK(traced >= 2);  // the textured seed and the extent past float, at least
+  MESSAGE(inputs << " inputs, " << errors << " rejected with an error, " << traced << " traced, "
+                 << decoded << " images decoded");
+  CHECK(traced >= 2);   // the textured seed and the extent past float, at least
+  CHECK(decoded >= 6);  // the seed PNGs and JPEGs
 }

@@ -76,6 +76,8 @@ TEST_CASE("untrusted cli: outputs that name the same file, or an input, are refu
   fs::create_hard_link(scene, dir.path() / "hard.gltf");
   check_refused(run(dir, render + "--preview " + (dir / "hard.gltf")), 1, {"hard.gltf", "scene"});
   fs::remove(dir.path() / "hard.gltf");
+  check_refused(run(dir, "bench " + scene + " --count 16 --repeat 1 --quiet --json " + scene), 1,
+                {"--json", "would overwrite the scene"});
   // Several backends: each image gets its name, so one named twice would collide.
   check_refused(run(dir, render + "-o " + out + " --backend dacrt,dacrt"), 2, {"dacrt", "twice"});
   CHECK(slurp(scene) == before);
