@@ -90,16 +90,6 @@ Other
   -h, --help                 this text
 )";
 
-// The largest image side, whether given or derived from a camera's aspect ratio.
-constexpr int kMaxSide = 1 << 15;
-
-// A number for messages, as the user wrote it or near: 1e-07, 80000000, 1.5.
-std::string format_number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", v);
-  return text;
-}
-
 struct RenderArgs {
   std::string scene, output, preview, stats;
   GltfOptions gltf;
@@ -161,9 +151,9 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
     else if (a == "--spp")
       r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
     else if (a == "--width")
-      r.width = int(parse_int(a, value(), 1, kMaxSide));
+      r.width = int(parse_int(a, value(), 1, max_image_side));
     else if (a == "--height")
-      r.height = int(parse_int(a, value(), 1, kMaxSide));
+      r.height = int(parse_int(a, value(), 1, max_image_side));
     else if (a == "--camera")
       r.settings.camera = int(parse_int(a, value(), 0, 1 << 20));
     else if (a == "--scene")
@@ -277,35 +267,10 @@ int render(const std::vector<std::string>& args) {
   if (s.camera >= int(scene.cameras.size()))
     throw Error(r.scene + ": camera " + std::to_string(s.camera) +
                 " does not exist (the scene has " + std::to_string(scene.cameras_from_file) + ")");
-  const float aspect = scene.cameras[s.camera].aspect;
-  // A size derived from the camera's aspect ratio meets the limits of --width and --height.
-  auto derived = [&](double size, const char* side, const char* given_flag, int given) {
-    if (!(size <= double(kMaxSide)))
-      throw Error(r.scene + ": camera " + std::to_string(s.camera) + "'s aspectRatio " +
-                  format_number(aspect) + " with " + given_flag + " " + std::to_string(given) +
-                  " gives a " + side + " of " +
-                  (size < 1e15 ? std::to_string(std::llround(size)) : format_number(size)) +
-                  " pixels, more than " + std::to_string(kMaxSide) +
-                  " (give --width and --height)");
-    return std::max(1, int(std::lround(size)));
-  };
-  if (r.width && r.height) {
-    s.width = *r.width, s.height = *r.height;
-  } else if (aspect > 0.f) {
-    if (r.width)
-      s.width = *r.width,
-      s.height = derived(*r.width / double(aspect), "height", "--width", *r.width);
-    else if (r.height)
-      s.height = *r.height,
-      s.width = derived(*r.height * double(aspect), "width", "--height", *r.height);
-    else if (aspect >= 1.f)  // the longer side 512: the other cannot exceed the limit
-      s.width = 512, s.height = std::max(1, int(std::lround(512 / double(aspect))));
-    else
-      s.height = 512, s.width = std::max(1, int(std::lround(512 * double(aspect))));
-  } else {
-    s.width = r.width.value_or(r.height.value_or(512));
-    s.height = r.height.value_or(r.width.value_or(512));
-  }
+  const glm::ivec2 size =
+      image_size(scene.cameras[s.camera].aspect, r.width.value_or(0), r.height.value_or(0), 512,
+                 r.scene + ": camera " + std::to_string(s.camera));
+  s.width = size.x, s.height = size.y;
   check_memory(r, s);
   if (!r.environment_file.empty()) {
     s.environment_map =

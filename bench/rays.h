@@ -99,11 +99,11 @@ void for_each_index(size_t n, const Body& body) {
 }
 
 // Resolution for about `count` pixels in the given aspect ratio (width / height; <= 0 = square).
+// Neither side is over 32 768 (the limit of --width and --height), whatever the aspect.
 inline glm::ivec2 resolution_for_count(size_t count, float aspect) {
   double a = aspect > 0.f ? double(aspect) : 1.0;
-  int w = std::max(1, int(std::lround(std::sqrt(double(count) * a))));
-  int h = std::max(1, int(std::lround(std::sqrt(double(count) / a))));
-  return {w, h};
+  auto side = [](double s) { return int(std::clamp(std::lround(s), 1l, long(1) << 15)); };
+  return {side(std::sqrt(double(count) * a)), side(std::sqrt(double(count) / a))};
 }
 
 // One ray per pixel, through the pixel centre; ray i is pixel (i mod width, i / width).

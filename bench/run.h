@@ -18,6 +18,7 @@
 
 #include "bench/args.h"
 #include "bench/rays.h"
+#include "integrators/integrator.h"
 #include "integrators/lights.h"
 #include "scene/scene.h"
 #include "tracer/backend.h"
@@ -79,12 +80,10 @@ inline Scene decimate(const Scene& scene, size_t k) {
 
 // The primary resolution: --width/--height as given (one alone keeps the camera's aspect), else
 // about `count` pixels in the camera's aspect (1024² by default).
-inline glm::ivec2 primary_resolution(const BenchArgs& a, std::optional<size_t> count,
-                                     float aspect) {
-  const double r = aspect > 0.f ? double(aspect) : 1.0;
-  if (a.width && a.height) return {*a.width, *a.height};
-  if (a.width) return {*a.width, std::max(1, int(std::lround(*a.width / r)))};
-  if (a.height) return {std::max(1, int(std::lround(*a.height * r))), *a.height};
+inline glm::ivec2 primary_resolution(const BenchArgs& a, std::optional<size_t> count, float aspect,
+                                     const std::string& camera) {
+  if (a.width || a.height)
+    return image_size(aspect, a.width.value_or(0), a.height.value_or(0), 0, camera);
   return resolution_for_count(count.value_or(size_t(1024) * 1024), aspect);
 }
 
@@ -116,7 +115,8 @@ class BenchRunner {
   void run(const BenchCase& c) {
     const Scene& scene = *c.scene;
     const Camera& camera = scene.cameras.at(0);
-    const glm::ivec2 res = primary_resolution(args_, c.count, camera.aspect);
+    const glm::ivec2 res =
+        primary_resolution(args_, c.count, camera.aspect, scene.path + ": camera 0");
     RayBatch primary = primary_rays(camera, res.x, res.y);
 
     SurfacePoints points;

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
+#include "util/error.h"
 #include "util/registry.h"
 
 namespace dacrt {
@@ -25,6 +28,31 @@ std::vector<std::string> Integrator::names() {
 std::unique_ptr<Integrator> Integrator::create(std::string_view name, const Scene& scene,
                                                Backend& backend, const RenderSettings& settings) {
   return registry().find(name)(scene, backend, settings);
+}
+
+glm::ivec2 image_size(float aspect, int width, int height, int longer, const std::string& camera) {
+  if (width > 0 && height > 0) return {width, height};
+  if (!(aspect > 0.f)) {
+    const int side = width > 0 ? width : height > 0 ? height : longer;
+    return {side, side};
+  }
+  auto derived = [&](double size, const char* side, const char* flag, int given) {
+    if (!(size <= double(max_image_side))) {
+      char ratio[32];
+      std::snprintf(ratio, sizeof ratio, "%g", double(aspect));
+      throw Error(camera + "'s aspectRatio " + ratio + " with " + flag + " " +
+                  std::to_string(given) + " gives a " + side + " of " +
+                  (size < 1e15 ? std::to_string(std::llround(size)) : std::to_string(size)) +
+                  " pixels, more than " + std::to_string(max_image_side) +
+                  " (give --width and --height)");
+    }
+    return std::max(1, int(std::lround(size)));
+  };
+  if (width > 0) return {width, derived(width / double(aspect), "height", "--width", width)};
+  if (height > 0) return {derived(height * double(aspect), "width", "--height", height), height};
+  // The longer side is `longer`: the other cannot exceed it.
+  if (aspect >= 1.f) return {longer, std::max(1, int(std::lround(longer / double(aspect))))};
+  return {std::max(1, int(std::lround(longer * double(aspect)))), longer};
 }
 
 size_t resolve_wavefront(const RenderSettings& s, uint64_t paths) {

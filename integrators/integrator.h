@@ -45,6 +45,16 @@ struct RenderSettings {
 // 109), and the dacrt backend's ray record (36).
 inline constexpr uint64_t path_state_bytes = 40 + 4 * 36 + 16 + 109 + 36;
 
+// The largest image side, whether given (--width, --height) or derived from a camera's aspect.
+inline constexpr int max_image_side = 1 << 15;
+
+// The image size for a camera of this aspect ratio (width / height; <= 0: none) and the sides
+// given (0: not given). Both given are kept; one given keeps the camera's aspect (or makes a
+// square); none gives `longer` pixels on the longer side. Throws Error("<camera>'s aspectRatio
+// 1e-07 with --width 8 gives a height of 79999999 pixels, more than 32768 …") when the derived side
+// is over max_image_side.
+glm::ivec2 image_size(float aspect, int width, int height, int longer, const std::string& camera);
+
 // The live paths a render of `paths` samples keeps with these settings.
 size_t resolve_wavefront(const RenderSettings& settings, uint64_t paths);
 

@@ -116,6 +116,12 @@ TEST_CASE("bench rays: primary rays hit what the camera sees") {
   }
 }
 
+TEST_CASE("bench rays: resolution for a ray count stays within the side limit") {
+  // A camera aspectRatio of 1e-7 (untrusted files say anything) asked for 3 162 278 rows.
+  CHECK(resolution_for_count(size_t(1) << 20, 1e-7f) == glm::ivec2(1, 32768));
+  CHECK(resolution_for_count(size_t(1) << 20, 1e7f) == glm::ivec2(32768, 1));
+}
+
 TEST_CASE("bench rays: resolution for a ray count keeps the aspect") {
   CHECK(resolution_for_count(4096, 0.f) == glm::ivec2(64, 64));
   CHECK(resolution_for_count(4096, 1.f) == glm::ivec2(64, 64));

@@ -167,6 +167,10 @@ TEST_CASE("untrusted cli: sizes derived from a camera meet the limits of the fla
   const std::string wide = small_scene(dir, 1e7, "wide.gltf");
   check_refused(run(dir, "render " + wide + " --height 8 --quiet -o " + (dir / "o.exr")), 1,
                 {"wide.gltf", "--height 8", "width of "});
+  // dacrt bench derives its primary resolution the same way.
+  check_refused(run(dir, "bench " + thin + " --width 8 --rays primary --repeat 1 --quiet"), 1,
+                {"thin.gltf", "aspectRatio 1e-07 with --width 8", "32768"});
+  CHECK(run(dir, "bench " + thin + " --count 4096 --rays primary --repeat 1 --quiet").code == 0);
   // The default size keeps the longer side at 512, whatever the ratio.
   CHECK(run(dir, "render " + wide + " --spp 1 --quiet -o " + (dir / "o.exr")).code == 0);
   fs::remove(dir.path() / "o.exr");
