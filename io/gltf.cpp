@@ -16,7 +16,7 @@
 // Ignored: occlusion textures (a path tracer computes occlusion), images no material uses (never
 // decoded), skins, morph targets, animations, and extensions that are only "used" (the spec says
 // the asset renders without them).
-// Rejected: files that *require* compressed or quantised meshes.
+// Rejected: files that *require* an extension not read here (compressed or quantised meshes...).
 // Normals that are NaN, infinite or zero are replaced by the triangle's geometric normal: they are
 // only shading hints. A non-finite position is an error, since the triangle has no place.
 #include "io/gltf.h"
@@ -277,10 +277,8 @@ class Loader {
 
   Scene run(int scene) {
     scene_.path = path_;
-    for (const std::string& ext : model_.extensionsRequired)
-      if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
-          ext == "KHR_mesh_quantization")
-        fail("requires extension " + ext + ", which is not supported");
+    // Required extensions, types, ranges and indices were checked against the schema
+    // (io/gltf_schema.cpp) before tinygltf parsed the file.
 
     bool by_default = scene == -1;
     if (by_default) scene = model_.defaultScene == -1 ? 0 : model_.defaultScene;

@@ -5,9 +5,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
 #include <string_view>
 #include <vector>
 
+#include "io/gltf_schema.h"
 #include "util/error.h"
 
 namespace dacrt {
@@ -140,8 +143,19 @@ tinygltf::Model parse(const std::string& path, const Bytes& data) {
     throw Error(path + ": GLB magic \"glTF\" is missing");
 
   size_t json_size = binary ? check_glb(path, data) : data.size();
-  if (json_depth(data.data() + (binary ? 20 : 0), json_size) > kMaxJsonDepth)
+  const unsigned char* json_text = data.data() + (binary ? 20 : 0);
+  if (json_depth(json_text, json_size) > kMaxJsonDepth)
     throw Error(path + ": JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+  // The schema is checked on the JSON as nlohmann reads it (tinygltf parses it again with the same
+  // library, so both see the same values), before tinygltf turns what is mistyped into defaults.
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(json_text, json_text + json_size);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(path + ": JSON does not parse: " + summary(e.what()));
+  }
+  for (const std::string& warning : check_gltf_schema(path, doc))
+    std::cerr << "warning: " << warning << "\n";
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&keep_encoded_image, nullptr);
