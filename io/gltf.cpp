@@ -752,8 +752,8 @@ class Loader {
       fail("its images would take " + str(total >> 20) + " MiB decoded, more than the " +
            str(kMaxDecodedBytes >> 20) + " MiB limit");
     // In parallel. Reported: the first header error in image order (above), else the first
-    // decoding error in image order. Decoding holds one image twice (stb's buffer, then ours) per
-    // thread at a time, on top of what is kept.
+    // decoding error in image order. Images are decoded straight into what is kept; on top of
+    // it, a progressive JPEG being decoded holds its coefficients (2 bytes a sample) per thread.
     std::vector<std::string> errors(used.size());
     tbb::parallel_for(size_t(0), used.size(), [&](size_t k) {
       const size_t i = used[k];

@@ -2,18 +2,28 @@
 // features end to end through surface_at (what the path tracer shades with): baseColor with
 // alpha, metallic-roughness, emissive, normal maps with file and generated tangents, vertex
 // colours, TEXCOORD_0/1, KHR_texture_transform, normalised integer attributes, and the errors
-// a broken texture gives.
+// a broken texture gives. Image decoding: the formats refused by their signature (among them the
+// files stb_image hung or overran on), PNG's colour types, bit depths and interlacing, JPEG's
+// colour spaces, and the bounds on broken, truncated and bomb files.
 #include "materials/texture.h"
 
 #include <doctest/doctest.h>
+#include <sys/wait.h>
+#include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <sstream>
 
 #include "integrators/integrator.h"
 #include "io/texture_decode.h"
 #include "scene/surface.h"
+#include "tests/allocations.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_writer.h"
 #include "tests/png.h"
@@ -186,10 +196,393 @@ TEST_CASE("texture images: 8- and 16-bit PNGs and JPEGs decode to RGBA; bad data
   CHECK(error({1, 2, 3, 4, 5, 6, 7, 8}).find("file.gltf: image 3 cannot be decoded") == 0);
   CHECK(error({}).find("image 3 cannot be decoded") != std::string::npos);
   // A PNG header claiming 12000 × 12000 texels: refused before any allocation.
-  std::vector<unsigned char> huge = png16_rgb(1, 1, {1, 2, 3});
-  for (int at : {16, 20}) huge[size_t(at) + 2] = 0x2e, huge[size_t(at) + 3] = 0xe0;  // 12000
+  const std::vector<unsigned char> huge = png_resized(png16_rgb(1, 1, {1, 2, 3}), 12000, 12000);
   INFO(error(huge));
   CHECK(error(huge).find("2^27") != std::string::npos);
+}
+
+// ---- Image decoding: which formats, which limits (io/texture_decode.cpp) -----------------------
+
+namespace {
+
+// The error decode_image throws for `bytes`, or "no error".
+std::string decode_error(const std::vector<unsigned char>& bytes) {
+  try {
+    decode_image(bytes.data(), bytes.size(), "x.png");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// Where `part` first occurs in `bytes`, or bytes.size().
+size_t find_bytes(const std::vector<unsigned char>& bytes, const std::vector<unsigned char>& part) {
+  return size_t(std::search(bytes.begin(), bytes.end(), part.begin(), part.end()) - bytes.begin());
+}
+
+std::vector<unsigned char> bytes_of(const std::string& s) {
+  return {s.begin(), s.end()};
+}
+
+// 58 bytes of Radiance HDR whose one scanline (16 texels, run-length coded) ends after its first
+// run: stb_image 2.27 loops forever on it.
+std::vector<unsigned char> truncated_hdr() {
+  std::vector<unsigned char> hdr = bytes_of("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 16\n");
+  hdr.insert(hdr.end(), {2, 2, 0, 16, 0x88, 5, 0, 0, 0, 0, 0, 0});
+  REQUIRE(hdr.size() == 58);
+  return hdr;
+}
+
+// A binary PGM (P5) of size × size texels with 16-bit samples, which stb_image 2.27 decodes into a
+// buffer of half the size it reports.
+std::vector<unsigned char> pgm16(int size) {
+  std::vector<unsigned char> pgm =
+      bytes_of("P5\n" + std::to_string(size) + " " + std::to_string(size) + "\n65535\n");
+  for (size_t i = 0; i < 2 * size_t(size) * size_t(size); ++i) pgm.push_back(uint8_t(i * 7));
+  return pgm;
+}
+
+// 2 × 2 RGB images that stb_image decodes: BMP and TGA (run-length coded) by stb_image_write, GIF
+// and Photoshop written here.
+std::vector<unsigned char> bmp() {
+  std::vector<unsigned char> out;
+  stbi_write_bmp_to_func(append_bytes, &out, 2, 2, 3, kTexels.data());
+  return out;
+}
+std::vector<unsigned char> tga() {
+  std::vector<unsigned char> out;
+  stbi_write_tga_to_func(append_bytes, &out, 2, 2, 3, kTexels.data());
+  return out;
+}
+std::vector<unsigned char> gif() {  // 1 × 1, a two-colour table, LZW of one index
+  return {'G', 'I',  'F', '8', '9', 'a', 1, 0, 1, 0, 0x80, 0, 0, 255,  0, 0, 0,   0,
+          255, 0x2c, 0,   0,   0,   0,   1, 0, 1, 0, 0,    2, 2, 0x44, 1, 0, 0x3b};
+}
+std::vector<unsigned char> psd() {  // 1 × 1 RGB, raw
+  std::vector<unsigned char> out = bytes_of("8BPS");
+  out.insert(out.end(), {0, 1, 0, 0, 0, 0, 0, 0, 0, 3, 0, 0, 0, 1, 0, 0, 0, 1, 0, 8, 0, 3});
+  out.insert(out.end(), {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 10, 20, 30});
+  return out;
+}
+
+// `raw` compressed by zlib at its best ratio.
+std::vector<unsigned char> deflated(const std::vector<unsigned char>& raw) {
+  uLongf size = compressBound(uLong(raw.size()));
+  std::vector<unsigned char> out(size);
+  REQUIRE(compress2(out.data(), &size, raw.data(), uLong(raw.size()), 9) == Z_OK);
+  out.resize(size);
+  return out;
+}
+
+// Where the first chunk `type` of `png` starts (its length field).
+size_t chunk_at(const std::vector<unsigned char>& png, const char* type) {
+  for (size_t at = 8; at + 8 <= png.size();) {
+    if (std::memcmp(&png[at + 4], type, 4) == 0) return at;
+    at += 12 + (size_t(png[at]) << 24 | size_t(png[at + 1]) << 16 | size_t(png[at + 2]) << 8 |
+                png[at + 3]);
+  }
+  FAIL("no chunk " << type);
+  return 0;
+}
+
+// `png` with a chunk of `type` and `data` inserted before its first IDAT.
+std::vector<unsigned char> with_chunk(std::vector<unsigned char> png, const char* type,
+                                      const std::vector<unsigned char>& data) {
+  std::vector<unsigned char> chunk;
+  append_chunk(chunk, type, data);
+  png.insert(png.begin() + long(chunk_at(png, "IDAT")), chunk.begin(), chunk.end());
+  return png;
+}
+
+struct CliRun {
+  int code;
+  std::string err;
+};
+
+// The dacrt command line with `args`, killed after 60 s (exit code 124).
+CliRun cli(const TempDir& dir, const std::string& args) {
+  const std::string err = dir / "stderr.txt";
+  const std::string cmd =
+      "timeout 60 " + std::string(DACRT_CLI) + " " + args + " >/dev/null 2>" + err + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(err);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::filesystem::remove(err);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+}
+
+}  // namespace
+
+TEST_CASE("image formats: only PNG and JPEG are decoded; others are refused by their signature") {
+  const struct {
+    const char* name;
+    std::vector<unsigned char> bytes;
+    const char* says;
+  } cases[] = {
+      {"truncated Radiance HDR", truncated_hdr(), "is a Radiance HDR image, not PNG or JPEG"},
+      {"16-bit PGM, 16 x 16", pgm16(16), "is a Netpbm"},
+      {"16-bit PGM, 2048 x 2048", pgm16(2048), "is a Netpbm"},
+      {"BMP", bmp(), "is a BMP image"},
+      {"GIF", gif(), "is a GIF image"},
+      {"PSD", psd(), "is a Photoshop (PSD) image"},
+      // TGA has no signature: stb_image decodes whatever its header checks let through.
+      {"TGA", tga(), "its first bytes (00 00 0a 00 00 00 00 00) are not a PNG or JPEG signature"},
+      {"eight bytes", {1, 2, 3, 4, 5, 6, 7, 8}, "its first bytes (01 02 03 04 05 06 07 08)"},
+      {"two bytes", {0xff, 0xd8}, "is a damaged JPEG"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.name);
+    const std::string e = decode_error(c.bytes);
+    INFO(e);
+    CHECK(e.rfind("x.png cannot be decoded: ", 0) == 0);
+    CHECK(has(e, c.says));
+    CHECK(has(e, "(only PNG and JPEG are supported)"));
+    CHECK(!has(e, "\n"));
+    CHECK_THROWS_WITH_AS(decoded_size(c.bytes.data(), c.bytes.size(), "x.png"), e.c_str(), Error);
+  }
+}
+
+TEST_CASE("image formats: the truncated HDR labelled image/png fails at once, loader and CLI") {
+  TempDir dir("hdr-as-png");
+  GltfWriter w = quad_file({{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}});
+  add_texture(w, truncated_hdr(), kNearest, Embed::buffer_view);  // mimeType image/png
+  const std::string glb = w.write_glb(dir / "hdr.glb");
+  GltfWriter uri = quad_file({{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}});
+  add_texture(uri, truncated_hdr());  // data:image/png;base64,...
+  const std::string gltf = uri.write_gltf(dir / "hdr.gltf");
+  // Through the command line first: with stb_image both hang (and are killed after 60 s).
+  for (const std::string& path : {glb, gltf})
+    for (const std::string& command :
+         {"info " + path, "render " + path + " -o " + (dir / "out.exr") + " --spp 1"}) {
+      INFO(command);
+      const CliRun r = cli(dir, command);
+      INFO(r.err);
+      CHECK(r.code == 1);
+      CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+      CHECK(has(r.err, path + ": image 0 cannot be decoded: it is a Radiance HDR image"));
+      CHECK(!std::filesystem::exists(dir / "out.exr"));
+    }
+  check_error(glb, {"image 0 cannot be decoded", "Radiance HDR", "only PNG and JPEG"});
+  check_error(gltf, {"image 0 cannot be decoded", "Radiance HDR", "only PNG and JPEG"});
+}
+
+TEST_CASE("PNG: data cut short, bad CRCs, CgBI and huge headers are refused") {
+  std::vector<uint16_t> samples;
+  for (int i = 0; i < 4 * 4 * 4; ++i) samples.push_back(uint16_t(i * 3));
+  const std::vector<unsigned char> good = png_file(4, 4, 8, 6, samples);
+  REQUIRE(decode_error(png8(2, 2, 4, kTexels)) == "no error");
+  REQUIRE(decode_image(good.data(), good.size(), "x").rgba8.size() == 64);
+
+  const size_t idat = chunk_at(good, "IDAT");
+  std::vector<unsigned char> cut(good.begin(), good.begin() + long(idat + 8 + 30));
+  CHECK(has(decode_error(cut), "invalid PNG data: the data ends before the image does"));
+  // The image data whole but no IEND: the file is cut short all the same.
+  std::vector<unsigned char> no_end(good.begin(), good.end() - 12);
+  CHECK(has(decode_error(no_end), "the data ends before the image does"));
+
+  // The IDAT intact, its CRC wrong.
+  std::vector<unsigned char> crc = good;
+  crc[chunk_at(good, "IEND") - 1] ^= 1;
+  CHECK(has(decode_error(crc), "invalid PNG data: IDAT: CRC error"));
+
+  // The zlib stream's Adler-32 wrong, the chunk's CRC right: found when the stream ends.
+  std::vector<unsigned char> adler = good;
+  const size_t idat_end = chunk_at(good, "IEND") - 4;  // the IDAT's CRC
+  adler[idat_end - 1] ^= 1;
+  const uint32_t fixed = png_crc(&adler[idat + 4], idat_end - idat - 4);
+  for (size_t i = 0; i < 4; ++i) adler[idat_end + i] = uint8_t(fixed >> (24 - 8 * i));
+  CHECK(has(decode_error(adler), "invalid PNG data: IDAT: incorrect data check"));
+
+  std::vector<unsigned char> cgbi = good;
+  std::vector<unsigned char> chunk;
+  append_chunk(chunk, "CgBI", {0x50, 0, 0x20, 2});
+  cgbi.insert(cgbi.begin() + 8, chunk.begin(), chunk.end());
+  CHECK(has(decode_error(cgbi), "is an Apple CgBI PNG"));
+
+  // 10^10 texels: refused from the header, before any buffer for them exists.
+  const std::vector<unsigned char> huge = png_resized(good, 100000, 100000);
+  {
+    AllocationWatch watch;
+    const std::string e = decode_error(huge);
+    CHECK(has(e, "100000 x 100000 texels is more than 2^27"));
+    CHECK(watch.peak() < (1u << 20));
+  }
+  CHECK(
+      has(decode_error(png_resized(good, 1u << 28, 1)), "268435456 x 1 texels is more than 2^27"));
+  CHECK(has(decode_error(png_resized(good, 0, 4)), "invalid PNG data"));
+}
+
+TEST_CASE("PNG: zlib bombs are bounded: in a text chunk, past the image, a big image of zeros") {
+  const std::vector<uint16_t> texel = {10, 20, 30, 40};
+  const std::vector<unsigned char> small = png_file(1, 1, 8, 6, texel);
+  const std::vector<uint8_t> expected = {10, 20, 30, 40};
+  // A zTXt comment of 64 MiB (64 KiB compressed): skipped, never inflated.
+  {
+    std::vector<unsigned char> ztxt = bytes_of("Comment");
+    ztxt.insert(ztxt.end(), {0, 0});  // keyword's end, deflate
+    const std::vector<unsigned char> text = deflated(std::vector<unsigned char>(64 << 20, 'a'));
+    ztxt.insert(ztxt.end(), text.begin(), text.end());
+    const std::vector<unsigned char> png = with_chunk(small, "zTXt", ztxt);
+    AllocationWatch watch;
+    CHECK(decode_image(png.data(), png.size(), "x").rgba8 == expected);
+    CHECK(watch.peak() < (1u << 20));
+  }
+  // A 1 × 1 image whose IDAT inflates to 64 MiB: one row is read, the rest is not inflated.
+  {
+    std::vector<unsigned char> raw = {0, 10, 20, 30, 40};
+    raw.resize(raw.size() + (64 << 20));
+    std::vector<unsigned char> png = small;
+    const size_t idat = chunk_at(png, "IDAT");
+    png.erase(png.begin() + long(idat), png.begin() + long(chunk_at(png, "IEND")));
+    std::vector<unsigned char> chunk;
+    append_chunk(chunk, "IDAT", deflated(raw));
+    png.insert(png.begin() + long(idat), chunk.begin(), chunk.end());
+    AllocationWatch watch;
+    CHECK(decode_image(png.data(), png.size(), "x").rgba8 == expected);
+    CHECK(watch.peak() < (1u << 20));
+  }
+  // 4096 × 4096 grey zeros, 16 KiB compressed: allowed, and decoded in its own size (64 MiB).
+  {
+    std::vector<unsigned char> png = png_file(1, 1, 8, 0, {0});
+    png = png_resized(png, 4096, 4096);
+    const size_t idat = chunk_at(png, "IDAT");
+    png.erase(png.begin() + long(idat), png.begin() + long(chunk_at(png, "IEND")));
+    std::vector<unsigned char> chunk;
+    append_chunk(chunk, "IDAT", deflated(std::vector<unsigned char>(4097 * 4096, 0)));
+    png.insert(png.begin() + long(idat), chunk.begin(), chunk.end());
+    CHECK(png.size() < 100000);
+    AllocationWatch watch;
+    const TextureImage image = decode_image(png.data(), png.size(), "x");
+    CHECK(watch.peak() < (64u << 20) + (1u << 20));
+    REQUIRE(image.rgba8.size() == size_t(64) << 20);
+    CHECK(image.texel(4095, 4095, false) == glm::vec4(0, 0, 0, 1));
+  }
+}
+
+TEST_CASE("PNG: palette, grey, grey + alpha, tRNS, 1 and 2 bits, 16 bits, Adam7: exact RGBA") {
+  auto rgba8 = [](const std::vector<unsigned char>& png) {
+    const TextureImage image = decode_image(png.data(), png.size(), "x");
+    CHECK(image.rgba16.empty());
+    return image.rgba8;
+  };
+  auto rgba16 = [](const std::vector<unsigned char>& png) {
+    const TextureImage image = decode_image(png.data(), png.size(), "x");
+    CHECK(image.rgba8.empty());
+    return image.rgba16;
+  };
+  const PngChunk palette = {"PLTE", {10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120}};
+  const PngChunk transparency = {"tRNS", {255, 0}};  // entries 2 and 3: opaque
+  CHECK(rgba8(png_file(3, 1, 8, 3, {2, 0, 1}, {palette, transparency})) ==
+        std::vector<uint8_t>{70, 80, 90, 255, 10, 20, 30, 255, 40, 50, 60, 0});
+  CHECK(rgba8(png_file(5, 1, 2, 3, {3, 2, 1, 0, 3}, {palette})) ==
+        std::vector<uint8_t>{100, 110, 120, 255, 70, 80,  90,  255, 40,  50,
+                             60,  255, 10,  20,  30, 255, 100, 110, 120, 255});
+  // 1 bit: 0 and 1 are black and white; 10 texels a row, padded to 2 bytes.
+  const std::vector<uint16_t> bits = {1, 0, 0, 1, 1, 1, 0, 1, 0, 1, 0, 1, 1, 0, 0, 0, 0, 0, 1, 1};
+  std::vector<uint8_t> expected;
+  for (uint16_t b : bits)
+    expected.insert(expected.end(), {uint8_t(255 * b), uint8_t(255 * b), uint8_t(255 * b), 255});
+  CHECK(rgba8(png_file(10, 2, 1, 0, bits)) == expected);
+  CHECK(rgba8(png_file(2, 1, 8, 4, {100, 200, 7, 0})) ==
+        std::vector<uint8_t>{100, 100, 100, 200, 7, 7, 7, 0});
+  CHECK(rgba8(png_file(2, 1, 8, 0, {7, 8}, {{"tRNS", {0, 7}}})) ==
+        std::vector<uint8_t>{7, 7, 7, 0, 8, 8, 8, 255});
+  CHECK(rgba8(png_file(2, 1, 8, 2, {1, 2, 3, 4, 5, 6}, {{"tRNS", {0, 4, 0, 5, 0, 6}}})) ==
+        std::vector<uint8_t>{1, 2, 3, 255, 4, 5, 6, 0});
+
+  // 16 bits: every sample exact, high and low bytes not swapped.
+  CHECK(rgba16(png_file(2, 1, 16, 6, {0x0102, 0xfffe, 0, 0x8001, 1, 0x7fff, 0xff00, 0x00ff})) ==
+        std::vector<uint16_t>{0x0102, 0xfffe, 0, 0x8001, 1, 0x7fff, 0xff00, 0x00ff});
+  CHECK(rgba16(png_file(1, 2, 16, 0, {0x1234, 0xabcd})) ==
+        std::vector<uint16_t>{0x1234, 0x1234, 0x1234, 0xffff, 0xabcd, 0xabcd, 0xabcd, 0xffff});
+  CHECK(rgba16(png_file(1, 1, 16, 4, {0x0203, 0x0405})) ==
+        std::vector<uint16_t>{0x0203, 0x0203, 0x0203, 0x0405});
+
+  // Adam7: an 11 × 9 RGBA image (every pass non-empty, ragged edges) texel for texel.
+  std::vector<uint16_t> samples;
+  for (int i = 0; i < 11 * 9 * 4; ++i) samples.push_back(uint16_t((i * 37 + i / 4) % 256));
+  const std::vector<uint8_t> flat(samples.begin(), samples.end());
+  CHECK(rgba8(png_file(11, 9, 8, 6, samples)) == flat);
+  CHECK(rgba8(png_file(11, 9, 8, 6, samples, {}, true)) == flat);
+  std::vector<uint16_t> wide;
+  for (int i = 0; i < 11 * 9 * 4; ++i) wide.push_back(uint16_t(i * 611));
+  CHECK(rgba16(png_file(11, 9, 16, 6, wide, {}, true)) == wide);
+}
+
+TEST_CASE("JPEG: grey, progressive and Adobe CMYK decode to RGBA; data cut short is refused") {
+  auto texel = [](const TextureImage& image, int x, int y) {
+    return glm::ivec4(image.texel(x, y, false) * 255.f + 0.5f);
+  };
+  auto close = [](glm::ivec4 a, glm::ivec4 b, int within) {
+    INFO(a.r << " " << a.g << " " << a.b << " " << a.a << " vs " << b.r << " " << b.g << " " << b.b
+             << " " << b.a);
+    CHECK(glm::all(glm::lessThanEqual(glm::abs(a - b), glm::ivec4(within))));
+  };
+  // 16 × 16 in four 8 × 8 blocks (one JPEG block each): grey, RGB.
+  auto quadrants = [](int channels, const std::vector<std::vector<uint8_t>>& colors) {
+    std::vector<uint8_t> t;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) {
+        const std::vector<uint8_t>& c = colors[size_t(y / 8 * 2 + x / 8)];
+        t.insert(t.end(), c.begin(), c.begin() + channels);
+      }
+    return t;
+  };
+  const std::vector<unsigned char> grey =
+      jpeg_lib(16, 16, 1, quadrants(1, {{30}, {90}, {160}, {220}}));
+  const TextureImage g = decode_image(grey.data(), grey.size(), "x");
+  REQUIRE(g.rgba8.size() == 4 * 256);
+  close(texel(g, 3, 3), {30, 30, 30, 255}, 2);
+  close(texel(g, 12, 4), {90, 90, 90, 255}, 2);
+  close(texel(g, 4, 12), {160, 160, 160, 255}, 2);
+  close(texel(g, 12, 12), {220, 220, 220, 255}, 2);
+
+  const std::vector<std::vector<uint8_t>> colors = {
+      {200, 40, 40}, {40, 200, 40}, {40, 40, 200}, {220, 220, 50}};
+  const std::vector<unsigned char> progressive =
+      jpeg_lib(16, 16, 3, quadrants(3, colors), true, 100);
+  CHECK(find_bytes(progressive, {0xff, 0xc2}) < progressive.size());  // SOF2: progressive
+  const TextureImage p = decode_image(progressive.data(), progressive.size(), "x");
+  REQUIRE(p.width == 16);
+  close(texel(p, 3, 3), {200, 40, 40, 255}, 6);
+  close(texel(p, 12, 3), {40, 200, 40, 255}, 6);
+  close(texel(p, 3, 12), {40, 40, 200, 255}, 6);
+  close(texel(p, 12, 12), {220, 220, 50, 255}, 6);
+
+  // CMYK with an Adobe marker stores 255 − ink: no cyan, half magenta, full yellow, no black is
+  // (255, 127, 0, 255) in the file, and RGB (255, 127, 0).
+  const std::vector<uint8_t> cmyk = [] {
+    std::vector<uint8_t> t;
+    for (int i = 0; i < 256; ++i) t.insert(t.end(), {255, 127, 0, 255});
+    return t;
+  }();
+  const std::vector<unsigned char> adobe = jpeg_lib(16, 16, 4, cmyk, false, 100);
+  CHECK(find_bytes(adobe, {'A', 'd', 'o', 'b', 'e'}) < adobe.size());
+  const TextureImage k = decode_image(adobe.data(), adobe.size(), "x");
+  REQUIRE(k.rgba8.size() == 4 * 256);
+  close(texel(k, 5, 9), {255, 127, 0, 255}, 3);
+
+  // Cut in the middle of the scan: libjpeg would pad the rest with grey.
+  std::vector<uint8_t> noise;
+  for (int i = 0; i < 64 * 64 * 3; ++i) noise.push_back(uint8_t(i * 7919 % 251));
+  const std::vector<unsigned char> whole = jpeg_lib(64, 64, 3, noise);
+  REQUIRE(decode_error(whole) == "no error");
+  const std::vector<unsigned char> cut(whole.begin(), whole.begin() + long(whole.size() * 2 / 3));
+  CHECK(has(decode_error(cut), "invalid JPEG data: Premature end of JPEG file"));
+  const std::vector<unsigned char> header_only(whole.begin(), whole.begin() + 100);
+  CHECK(has(decode_error(header_only), "invalid JPEG data"));
+
+  // A frame header claiming 65000 × 65000 texels: refused before decoding.
+  std::vector<unsigned char> huge = whole;
+  const size_t sof = find_bytes(huge, {0xff, 0xc0});
+  REQUIRE(sof < huge.size());
+  for (size_t i : {5, 7}) huge[sof + i] = 0xfd, huge[sof + i + 1] = 0xe8;  // height, width: 65000
+  CHECK(has(decode_error(huge), "65000 x 65000 texels is more than 2^27"));
 }
 
 TEST_CASE("textures: baseColor × factor × vertex colour, sRGB-decoded, with alpha") {
@@ -449,8 +842,8 @@ TEST_CASE("texture errors: the decoded size of all images is bounded before deco
   GltfWriter w = quad_file({{"emissiveFactor", {1, 1, 1}}});
   // Five different 16-bit PNGs whose headers claim 11000 × 11000 texels: 968 MB each decoded.
   for (int k = 0; k < 5; ++k) {
-    std::vector<unsigned char> png = png16_rgb(1, 1, {uint16_t(k), 2, 3});
-    for (int at : {16, 20}) png[size_t(at) + 2] = 0x2a, png[size_t(at) + 3] = 0xf8;  // 11000
+    const std::vector<unsigned char> png =
+        png_resized(png16_rgb(1, 1, {uint16_t(k), 2, 3}), 11000, 11000);
     add_texture(w, png);
     w.add_material({{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", k}}}});
     json primitive = w.doc["meshes"][0]["primitives"][0];

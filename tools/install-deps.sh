@@ -5,7 +5,8 @@ set -euo pipefail
 [ "${DACRT_NO_INSTALL:-0}" = 1 ] && exit 0
 
 packages=(cmake g++ make pkg-config libtinygltf-dev nlohmann-json3-dev libstb-dev libopenexr-dev
-          libglm-dev libopencolorio-dev doctest-dev libtbb-dev libembree-dev)
+          libglm-dev libopencolorio-dev doctest-dev libtbb-dev libembree-dev libpng-dev
+          libjpeg62-turbo-dev)
 packages+=("$@")  # extra packages a target needs (make fuzz: clang and its runtime)
 
 missing=()
