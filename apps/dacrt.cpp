@@ -262,6 +262,8 @@ int render(const std::vector<std::string>& args) {
   Scene scene = load_gltf(r.scene, r.gltf);
   double load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+  for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
+  check_outputs(outputs, inputs);
 
   RenderSettings& s = r.settings;
   if (s.camera >= int(scene.cameras.size()))

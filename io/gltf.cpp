@@ -44,6 +44,7 @@
 #include "io/gltf_file.h"
 #include "io/texture_decode.h"
 #include "util/error.h"
+#include "util/memory.h"
 
 namespace dacrt {
 namespace {
@@ -55,6 +56,10 @@ using Bytes = std::vector<unsigned char>;
 // Accessors without a bufferView (all zeros, maybe sparse-patched) are materialised; their size is
 // not bounded by any buffer, so bound it here.
 constexpr size_t kMaxSynthesisedBytes = size_t(1) << 30;
+// What a triangle takes at least once loaded and traced: its corners and material (40 bytes),
+// shading normals (36), the loader's corner indices while it is built (12), the kernel's triangle
+// record (20).
+constexpr uint64_t kBytesPerTriangle = 40 + 36 + 12 + 20;
 // Hits report the triangle as a uint32_t with ~0u meaning "miss".
 constexpr size_t kMaxTriangles = std::numeric_limits<uint32_t>::max() - 1;
 
@@ -1071,6 +1076,13 @@ class Loader {
                                                              : 0;
     if (triangles > kMaxTriangles - scene_.geometry.size())
       fail("has more than " + str(kMaxTriangles) + " triangles");
+    // A small file can instance a large mesh many times: the triangles are bounded by memory as
+    // they are added, before they are.
+    const uint64_t total = uint64_t(scene_.geometry.size() + triangles);
+    if (total * kBytesPerTriangle > available_memory_)
+      fail(where + " brings the scene to " + str(total) + " triangles, which need about " +
+           format_bytes(total * kBytesPerTriangle) + ", more than the " +
+           format_bytes(available_memory_) + " of memory available");
 
     // The triangles' corners (vertex indices), in the order the front face winds.
     std::vector<std::array<uint32_t, 3>> corners;
@@ -1223,6 +1235,7 @@ class Loader {
   const std::string& path_;
   const tinygltf::Model& model_;
   Scene scene_;
+  const uint64_t available_memory_ = available_memory();
   std::vector<glm::vec3> normals_;  // per corner; kept once any primitive has NORMAL
   bool keep_normals_ = false;
   CornerStream<glm::vec2> texcoords_[2];
@@ -1241,8 +1254,11 @@ namespace {
 template <typename Read>
 Scene load(const std::string& path, const GltfOptions& options, Read read) {
   try {
-    tinygltf::Model model = read();
-    return Loader(path, model).run(options.scene);
+    std::vector<std::string> files;
+    tinygltf::Model model = read(files);
+    Scene scene = Loader(path, model).run(options.scene);
+    scene.files = std::move(files);
+    return scene;
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
@@ -1255,12 +1271,15 @@ Scene load(const std::string& path, const GltfOptions& options, Read read) {
 }  // namespace
 
 Scene load_gltf(const std::string& path, const GltfOptions& options) {
-  return load(path, options, [&] { return read_gltf_model(path); });
+  return load(path, options,
+              [&](std::vector<std::string>& files) { return read_gltf_model(path, &files); });
 }
 
 Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
                        const GltfOptions& options) {
-  return load(path, options, [&] { return parse_gltf_model(path, data, size); });
+  return load(path, options, [&](std::vector<std::string>& files) {
+    return parse_gltf_model(path, data, size, &files);
+  });
 }
 
 }  // namespace dacrt

@@ -136,7 +136,15 @@ bool regular_file_exists(const std::string& path, void*) {
   throw Error(path + ": is not valid glTF: " + why);
 }
 
-tinygltf::Model parse(const std::string& path, const Bytes& data) {
+// tinygltf's file reader, noting each file it reads (external buffers and images) in the
+// std::vector<std::string> at `files`.
+bool read_and_note(std::vector<unsigned char>* out, std::string* err, const std::string& file,
+                   void* files) {
+  static_cast<std::vector<std::string>*>(files)->push_back(file);
+  return tinygltf::ReadWholeFile(out, err, file, nullptr);
+}
+
+tinygltf::Model parse(const std::string& path, const Bytes& data, std::vector<std::string>* files) {
   bool binary = data.size() >= 4 && std::memcmp(data.data(), "glTF", 4) == 0;
   std::string ext = std::filesystem::path(path).extension().string();
   if (!binary && (ext == ".glb" || ext == ".GLB"))
@@ -159,8 +167,9 @@ tinygltf::Model parse(const std::string& path, const Bytes& data) {
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&keep_encoded_image, nullptr);
-  loader.SetFsCallbacks({&regular_file_exists, &tinygltf::ExpandFilePath, &tinygltf::ReadWholeFile,
-                         &tinygltf::WriteWholeFile, nullptr});
+  std::vector<std::string> read;
+  loader.SetFsCallbacks({&regular_file_exists, &tinygltf::ExpandFilePath, &read_and_note,
+                         &tinygltf::WriteWholeFile, &read});
   tinygltf::Model model;
   std::string err, warn;  // warnings only concern images, which the loader checks itself
   std::string base_dir = std::filesystem::path(path).parent_path().string();
@@ -170,18 +179,20 @@ tinygltf::Model parse(const std::string& path, const Bytes& data) {
              : loader.LoadASCIIFromString(
                    &model, &err, &warn, reinterpret_cast<const char*>(data.data()), size, base_dir);
   if (!ok) parse_failed(path, model, err, warn);
+  if (files) *files = std::move(read);
   return model;
 }
 
 }  // namespace
 
-tinygltf::Model read_gltf_model(const std::string& path) {
+tinygltf::Model read_gltf_model(const std::string& path, std::vector<std::string>* files) {
   Bytes data = read_file(path);
-  return parse(path, data);  // a GLB's BIN chunk is copied into model.buffers
+  return parse(path, data, files);  // a GLB's BIN chunk is copied into model.buffers
 }
 
-tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size) {
-  return parse(path, Bytes(data, data + size));
+tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size,
+                                 std::vector<std::string>* files) {
+  return parse(path, Bytes(data, data + size), files);
 }
 
 }  // namespace dacrt

@@ -7,12 +7,15 @@
 #include <tiny_gltf.h>
 
 #include <string>
+#include <vector>
 
 namespace dacrt {
 
-tinygltf::Model read_gltf_model(const std::string& path);
+// `files`, when given, receives the paths of the external files read (buffers, images).
+tinygltf::Model read_gltf_model(const std::string& path, std::vector<std::string>* files = nullptr);
 // The same from bytes already in memory; `path` names them in messages, and external buffers are
 // looked up beside it.
-tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size);
+tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size,
+                                 std::vector<std::string>* files = nullptr);
 
 }  // namespace dacrt

@@ -102,7 +102,9 @@ struct PunctualLight {
 };
 
 struct Scene {
-  std::string path;   // the file it came from, for messages
+  std::string path;  // the file it came from, for messages
+  // The other files it was read from (external buffers and images), which no output may replace.
+  std::vector<std::string> files;
   Geometry geometry;  // world space; geometry.material indexes `materials`
   // Per-corner shading normals, 3 per triangle (corner-major: tri*3 + corner), world space and
   // normalised. Empty when no primitive had NORMAL; primitives without it get geometric normals.

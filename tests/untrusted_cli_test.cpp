@@ -88,6 +88,24 @@ TEST_CASE("untrusted cli: outputs that name the same file, or an input, are refu
   CHECK(ok.code == 0);
 }
 
+TEST_CASE("untrusted cli: no output may replace a file the scene reads") {
+  TempDir dir("collide-external");
+  GltfWriter w;
+  w.add_triangles({{-1, -1, -3}, {1, -1, -3}, {0, 1, -3}});
+  const std::string scene = dir / "ext.gltf", buffer = dir / "ext.bin";
+  w.write_gltf(scene, false);  // the buffer in ext.bin beside it
+  const std::string bytes = slurp(buffer);
+  const std::string render = "render " + scene + " --spp 1 --quiet --width 4 --height 4 ";
+  check_refused(run(dir, render + "-o " + buffer), 1,
+                {"-o", "ext.bin", "the scene's external file"});
+  check_refused(run(dir, render + "-o " + (dir / "o.exr") + " --stats " + (dir / "./ext.bin")), 1,
+                {"--stats", "external file"});
+  CHECK(slurp(buffer) == bytes);
+  for (const auto& e : fs::directory_iterator(dir.path()))
+    CHECK_MESSAGE((e.path().filename() == "ext.gltf" || e.path().filename() == "ext.bin"),
+                  "left behind: " << e.path());
+}
+
 TEST_CASE("untrusted cli: the environment map as output, and outputs through links") {
   TempDir dir("collide-env");
   const std::string scene = small_scene(dir);
@@ -193,6 +211,37 @@ TEST_CASE("untrusted cli: a render that cannot fit in memory is refused before i
           "timeout 120");
   check_refused(r, 1, {"s.gltf", "32768 x 32768", "needs about", "GiB", "available"});
   check_no_outputs(dir);
+}
+
+TEST_CASE("untrusted cli: a small file that instances a mesh into more triangles than fit") {
+#if defined(__SANITIZE_ADDRESS__)
+  MESSAGE("skipped: AddressSanitizer cannot run under an address-space limit");
+#else
+  TempDir dir("instances");
+  // 400 KB of file: a mesh of 100 000 triangles (u8 indices) under 100 nodes, 10 M triangles.
+  GltfWriter w;
+  std::vector<uint8_t> indices;
+  for (int t = 0; t < 100000; ++t) indices.insert(indices.end(), {0, 1, 2});
+  const int mesh = w.add_mesh(GltfWriter::primitive(w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}),
+                                                    {{"indices", w.add_indices(indices)}}));
+  std::vector<int> nodes;
+  for (int n = 0; n < 100; ++n)
+    nodes.push_back(w.add_node({{"mesh", mesh}, {"translation", {n, 0, 0}}}));
+  w.set_scene(nodes);
+  const std::string scene = w.write_gltf(dir / "many.gltf");
+  // Under a 1 GB address space (ulimit -v counts KiB), 10 M triangles cannot be held: refused with
+  // what is too big, where they used to end in "out of memory while loading" (or the OOM killer).
+  for (const std::string& command :
+       {"info " + scene, "render " + scene + " --spp 1 --quiet -o " + (dir / "o.exr")})
+    check_refused(run(dir, command, "ulimit -v 1000000;"), 1,
+                  {"many.gltf", "mesh 0 primitive 0 brings the scene to", "triangles",
+                   "of memory available"});
+  check_no_outputs(dir);
+  // Without the limit it loads.
+  Run info = run(dir, "info " + scene);
+  CHECK(info.code == 0);
+  CHECK(info.out.find("triangles  10000000") != std::string::npos);
+#endif
 }
 
 TEST_CASE("untrusted cli: a file-size limit is one error line and leaves no temporary file") {
