@@ -518,6 +518,21 @@ TEST_CASE("gltf errors: files that cannot be read or parsed") {
   check_error(path, {"buffer 0", "side.bin"});
   w.doc["asset"].erase("version");
   check_error(w.write_gltf(dir / "noversion.gltf"), {"asset"});
+
+  // An external image that is a FIFO is refused too, and the loader does not wait on it.
+  GltfWriter textured;
+  const std::vector<glm::vec2> uv = {{0, 0}, {1, 0}, {0, 1}};
+  const int uv_accessor =
+      textured.add_accessor(textured.add_view(uv.data(), sizeof(glm::vec2) * uv.size()),
+                            dacrt::test::kFloat, uv.size(), "VEC2");
+  const int material =
+      textured.add_material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+  textured.add_triangles(kTriangle, {{"material", material}});
+  textured.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uv_accessor;
+  textured.doc["textures"] = {{{"source", 0}}};
+  textured.doc["images"] = {{{"uri", "fifo.png"}}};
+  REQUIRE(mkfifo((dir / "fifo.png").c_str(), 0600) == 0);
+  check_error(textured.write_gltf(dir / "fifo-image.gltf"), {"image 0", "fifo.png"});
 }
 
 TEST_CASE("gltf errors: damaged GLB containers") {
