@@ -64,6 +64,11 @@ Image
   --width W, --height H      resolution (default 512 × 512, or the camera's aspect ratio)
   --spp N                    samples per pixel (default 64)
   --camera INDEX             which of the scene's cameras (default 0; without one, the scene is framed)
+  --look-from X,Y,Z          the camera's position (overrides the chosen camera; without --look-at
+                             it looks at the scene's centre); `dacrt info` prints each camera so
+  --look-at X,Y,Z            a point it looks at (default: along the chosen camera's view)
+  --up X,Y,Z                 its up direction (default: the chosen camera's, +Y when framed)
+  --fov DEGREES              its vertical field of view (default: the chosen camera's)
   --scene INDEX              which of the file's scenes (default: the file's default scene)
 Light transport
   --integrator NAME          path (default)
@@ -101,6 +106,7 @@ struct RenderArgs {
   int threads = 0;
   bool quiet = false, help = false;
   RenderSettings settings;
+  CameraOverride camera;
 };
 
 long parse_int(const std::string& flag, const std::string& text, long lo, long hi) {
@@ -111,6 +117,23 @@ long parse_int(const std::string& flag, const std::string& text, long lo, long h
     throw UsageError(flag + " wants an integer in [" + std::to_string(lo) + ", " +
                      std::to_string(hi) + "], got '" + text + "'");
   return v;
+}
+
+glm::vec3 parse_point(const std::string& flag, const std::string& text) {
+  glm::vec3 p;
+  std::string rest = text;
+  for (int k = 0; k < 3; ++k) {
+    const size_t comma = rest.find(',');
+    const std::string part = rest.substr(0, comma);
+    char* end = nullptr;
+    const float v = std::strtof(part.c_str(), &end);
+    if (part.empty() || *end != '\0' || !std::isfinite(v) ||
+        (k < 2) != (comma != std::string::npos))
+      throw UsageError(flag + " wants X,Y,Z with three finite numbers, got '" + text + "'");
+    p[k] = v;
+    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+  }
+  return p;
 }
 
 glm::vec3 parse_rgb(const std::string& flag, const std::string& text) {
@@ -156,7 +179,20 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
       r.height = int(parse_int(a, value(), 1, max_image_side));
     else if (a == "--camera")
       r.settings.camera = int(parse_int(a, value(), 0, 1 << 20));
-    else if (a == "--scene")
+    else if (a == "--look-from")
+      r.camera.from = parse_point(a, value());
+    else if (a == "--look-at")
+      r.camera.at = parse_point(a, value());
+    else if (a == "--up")
+      r.camera.up = parse_point(a, value());
+    else if (a == "--fov") {
+      const std::string v = value();
+      char* end = nullptr;
+      const float degrees = std::strtof(v.c_str(), &end);
+      if (v.empty() || *end != '\0' || !(degrees > 0.f && degrees < 180.f))
+        throw UsageError("--fov wants degrees in (0, 180), got '" + v + "'");
+      r.camera.fov_degrees = degrees;
+    } else if (a == "--scene")
       r.gltf.scene = int(parse_int(a, value(), 0, 1 << 20));
     else if (a == "--backend")
       r.backend = value();
@@ -269,6 +305,15 @@ int render(const std::vector<std::string>& args) {
   if (s.camera >= int(scene.cameras.size()))
     throw Error(r.scene + ": camera " + std::to_string(s.camera) +
                 " does not exist (the scene has " + std::to_string(scene.cameras_from_file) + ")");
+  if (r.camera.any()) {
+    try {
+      scene.cameras[s.camera] =
+          override_camera(scene.cameras[s.camera], r.camera,
+                          scene.bounds().empty() ? glm::vec3(0.f) : scene.bounds().center());
+    } catch (const Error& e) {
+      throw UsageError(e.what());
+    }
+  }
   const glm::ivec2 size =
       image_size(scene.cameras[s.camera].aspect, r.width.value_or(0), r.height.value_or(0), 512,
                  r.scene + ": camera " + std::to_string(s.camera));
@@ -409,6 +454,14 @@ int info(const std::vector<std::string>& args) {
     std::printf("  camera %zu %s: position (%g, %g, %g), %s, aspect %s\n", c,
                 cam.name.empty() ? "(unnamed)" : cam.name.c_str(), p.x, p.y, p.z, view.c_str(),
                 cam.aspect > 0 ? std::to_string(cam.aspect).c_str() : "from image");
+    // The same view as render flags, ready to copy (an orthographic camera's view is perspective
+    // with them, as --fov makes it).
+    const glm::vec3 at = look_at_point(cam, b.empty() ? glm::vec3(0.f) : b.center()) + 0.f;
+    const glm::vec3 up = glm::vec3(cam.to_world[1]) + 0.f;  // + 0: no "-0" printed
+    std::printf("    --look-from %.7g,%.7g,%.7g --look-at %.7g,%.7g,%.7g --up %.7g,%.7g,%.7g", p.x,
+                p.y, p.z, at.x, at.y, at.z, up.x, up.y, up.z);
+    if (!cam.orthographic) std::printf(" --fov %.7g", cam.yfov * 180.0 / M_PI);
+    std::printf("\n");
   }
   if (b.empty())
     std::printf("bounds     empty\n");

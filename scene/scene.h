@@ -5,6 +5,7 @@
 #include <array>
 #include <glm/glm.hpp>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -150,5 +151,22 @@ struct Scene {
 // A camera that looks at the whole box from the +Z side (glTF's front), slightly above, with the
 // given vertical field of view; used when a file has no camera.
 Camera frame_bounds(const Box& bounds, float aspect, float yfov = 0.7f);
+
+// A camera given on the command line as pbrt's LookAt (F3D's --camera-* options are alike): any
+// of its parts overrides `base`, the camera it starts from.
+struct CameraOverride {
+  std::optional<glm::vec3> from, at, up;  // eye, a point it looks at, the up direction
+  std::optional<float> fov_degrees;       // vertical field of view (makes it perspective)
+  bool any() const { return from || at || up || fov_degrees; }
+};
+
+// `base` with the override applied. Unset parts keep base's: its position, its direction (when
+// only `from` is new, the camera looks at `target`, the scene's centre), its up, its yfov.
+// Throws Error (naming the flags) when from and at coincide or up is parallel to the view.
+Camera override_camera(const Camera& base, const CameraOverride& o, const glm::vec3& target);
+
+// A point the camera looks at, for printing it as a LookAt: on its viewing axis, as far as
+// `target` is from it (1 when that is 0).
+glm::vec3 look_at_point(const Camera& camera, const glm::vec3& target);
 
 }  // namespace dacrt
