@@ -119,7 +119,8 @@ long parse_int(const std::string& flag, const std::string& text, long lo, long h
   return v;
 }
 
-glm::vec3 parse_point(const std::string& flag, const std::string& text) {
+// Three comma-separated finite numbers ("1,2.5,-3"), or nothing.
+std::optional<glm::vec3> parse_three(const std::string& text) {
   glm::vec3 p;
   std::string rest = text;
   for (int k = 0; k < 3; ++k) {
@@ -129,29 +130,23 @@ glm::vec3 parse_point(const std::string& flag, const std::string& text) {
     const float v = std::strtof(part.c_str(), &end);
     if (part.empty() || *end != '\0' || !std::isfinite(v) ||
         (k < 2) != (comma != std::string::npos))
-      throw UsageError(flag + " wants X,Y,Z with three finite numbers, got '" + text + "'");
+      return std::nullopt;
     p[k] = v;
     rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
   }
   return p;
 }
 
+glm::vec3 parse_point(const std::string& flag, const std::string& text) {
+  if (const auto p = parse_three(text)) return *p;
+  throw UsageError(flag + " wants X,Y,Z with three finite numbers, got '" + text + "'");
+}
+
 glm::vec3 parse_rgb(const std::string& flag, const std::string& text) {
-  glm::vec3 c;
-  std::string rest = text;
-  for (int k = 0; k < 3; ++k) {
-    size_t comma = rest.find(',');
-    std::string part = rest.substr(0, comma);
-    char* end = nullptr;
-    float v = std::strtof(part.c_str(), &end);
-    if (part.empty() || *end != '\0' || !std::isfinite(v) || v < 0.f ||
-        (k < 2) != (comma != std::string::npos))
-      throw UsageError(flag + " wants R,G,B with three finite non-negative numbers, got '" + text +
-                       "'");
-    c[k] = v;
-    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
-  }
-  return c;
+  const auto c = parse_three(text);
+  if (c && c->x >= 0.f && c->y >= 0.f && c->z >= 0.f) return *c;
+  throw UsageError(flag + " wants R,G,B with three finite non-negative numbers, got '" + text +
+                   "'");
 }
 
 RenderArgs parse_render(const std::vector<std::string>& args) {

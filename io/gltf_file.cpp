@@ -12,6 +12,7 @@
 
 #include "io/gltf_schema.h"
 #include "util/error.h"
+#include "util/paths.h"
 
 namespace dacrt {
 
@@ -40,10 +41,7 @@ using Bytes = std::vector<unsigned char>;
 constexpr int kMaxJsonDepth = 512;
 
 Bytes read_file(const std::string& path) {
-  std::error_code ec;
-  auto status = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(status)) throw Error(path + ": file does not exist");
-  if (!std::filesystem::is_regular_file(status)) throw Error(path + ": is not a regular file");
+  check_input_file(path, "file");
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw Error(path + ": file cannot be opened: " + std::strerror(errno));
   std::streamoff size = in.tellg();

@@ -8,10 +8,10 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "cli.h"
 #include "gltf_writer.h"
+#include "util/memory.h"
 
 using namespace dacrt::test;
 namespace fs = std::filesystem;
@@ -37,15 +37,6 @@ void check_refused(const Run& r, int code, std::initializer_list<std::string> wo
   CHECK(r.code == code);
   CHECK(lines(r.err) == 1);
   for (const std::string& w : words) CHECK_MESSAGE(r.err.find(w) != std::string::npos, w);
-}
-
-uint64_t mem_available() {
-  std::ifstream in("/proc/meminfo");
-  std::string key;
-  uint64_t kib = 0;
-  while (in >> key >> kib)
-    if (key == "MemAvailable:") return kib * 1024;
-  return 0;
 }
 
 }  // namespace
@@ -201,7 +192,7 @@ TEST_CASE("untrusted cli: a render that cannot fit in memory is refused before i
   TempDir dir("memory");
   const std::string scene = small_scene(dir);
   // 32768² pixels: a film of 36 GiB before anything else.
-  if (mem_available() > (uint64_t(64) << 30)) {
+  if (dacrt::available_memory() > (uint64_t(64) << 30)) {
     MESSAGE("skipped: this machine has over 64 GiB available, a 32768² render could start");
     return;
   }
