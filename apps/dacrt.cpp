@@ -28,9 +28,11 @@
 #include "io/color.h"
 #include "io/exr.h"
 #include "io/gltf.h"
+#include "render/render_job.h"
 #include "tracer/backend.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/interrupt.h"
 #include "util/memory.h"
 #include "util/paths.h"
 #include "util/progress.h"
@@ -60,6 +62,15 @@ Output
   -o, --output OUT.exr       the image: float RGB, scene-linear Rec.709 (default: SCENE's name .exr)
   --preview OUT.png          also an sRGB display preview through OpenColorIO ($OCIO if set)
   --stats OUT.json           render statistics: time and rays/s per ray type and bounce
+  --aov LIST                 more layers in the EXR, comma-separated: albedo (albedo.R/G/B), normal
+                             (N.X/Y/Z), depth (Z, along the view axis), position (P.X/Y/Z), variance
+                             (variance.R/G/B: of each pixel's mean), samples (the per-pixel count)
+Progress
+  --pass-spp N               samples per pixel in each pass (default: 8 wavefronts' worth)
+  --time-limit SECONDS       stop after the pass that crosses it (the header says the spp done)
+  --checkpoint SECONDS       rewrite the outputs after passes, at most this often
+                             SIGINT or SIGTERM: stop at the next wavefront, finish the paths in
+                             flight and write the outputs (exit 130 or 143); a second one ends at once
 Image
   --width W, --height H      resolution (default 512 × 512, or the camera's aspect ratio)
   --spp N                    samples per pixel (default 64)
@@ -71,7 +82,10 @@ Image
   --fov DEGREES              its vertical field of view (default: the chosen camera's)
   --scene INDEX              which of the file's scenes (default: the file's default scene)
 Light transport
-  --integrator NAME          path (default)
+  --integrator NAME          path (default: path tracing), direct (direct lighting, NEE + MIS,
+                             one scattering event), ao (ambient occlusion), albedo, normal, depth
+                             (the first hit's values as the image)
+  --ao-distance D            ao: how far occluders count (default: the scene's diagonal)
   --max-depth D              scattering events per path (default 64; Russian roulette after 3)
   --environment R,G,B        uniform environment radiance (default 0, or 1 when the scene has no emitters)
   --environment FILE.exr     an equirectangular environment map (+Y up, image centre towards -Z),
@@ -98,15 +112,13 @@ Other
 struct RenderArgs {
   std::string scene, output, preview, stats;
   GltfOptions gltf;
-  std::optional<int> width, height;
-  std::optional<glm::vec3> environment;
-  std::string environment_file;  // an equirectangular .exr instead
   std::string backend = "dacrt", integrator = "path";
   Options backend_options;
   int threads = 0;
   bool quiet = false, help = false;
   RenderSettings settings;
-  CameraOverride camera;
+  RenderSetup setup;
+  PassOptions passes;
 };
 
 long parse_int(const std::string& flag, const std::string& text, long lo, long hi) {
@@ -149,6 +161,15 @@ glm::vec3 parse_rgb(const std::string& flag, const std::string& text) {
                    "'");
 }
 
+// A positive finite number of seconds (or scene units, for --ao-distance).
+double parse_seconds(const std::string& flag, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(v > 0.0 && v < 1e30))
+    throw UsageError(flag + " wants a positive number, got '" + text + "'");
+  return v;
+}
+
 RenderArgs parse_render(const std::vector<std::string>& args) {
   RenderArgs r;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -169,24 +190,38 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
     else if (a == "--spp")
       r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
     else if (a == "--width")
-      r.width = int(parse_int(a, value(), 1, max_image_side));
+      r.setup.width = int(parse_int(a, value(), 1, max_image_side));
     else if (a == "--height")
-      r.height = int(parse_int(a, value(), 1, max_image_side));
+      r.setup.height = int(parse_int(a, value(), 1, max_image_side));
     else if (a == "--camera")
-      r.settings.camera = int(parse_int(a, value(), 0, 1 << 20));
+      r.setup.camera = int(parse_int(a, value(), 0, 1 << 20));
     else if (a == "--look-from")
-      r.camera.from = parse_point(a, value());
+      r.setup.camera_override.from = parse_point(a, value());
     else if (a == "--look-at")
-      r.camera.at = parse_point(a, value());
+      r.setup.camera_override.at = parse_point(a, value());
     else if (a == "--up")
-      r.camera.up = parse_point(a, value());
+      r.setup.camera_override.up = parse_point(a, value());
+    else if (a == "--aov") {
+      try {
+        r.settings.aovs = AovSet::parse(value());
+      } catch (const Error& e) {
+        throw UsageError(std::string("--aov: ") + e.what());
+      }
+    } else if (a == "--pass-spp")
+      r.passes.spp_per_pass = uint32_t(parse_int(a, value(), 1, 1 << 20));
+    else if (a == "--time-limit")
+      r.passes.time_limit = parse_seconds(a, value());
+    else if (a == "--checkpoint")
+      r.passes.checkpoint = parse_seconds(a, value());
+    else if (a == "--ao-distance")
+      r.settings.ao_distance = float(parse_seconds(a, value()));
     else if (a == "--fov") {
       const std::string v = value();
       char* end = nullptr;
       const float degrees = std::strtof(v.c_str(), &end);
       if (v.empty() || *end != '\0' || !(degrees > 0.f && degrees < 180.f))
         throw UsageError("--fov wants degrees in (0, 180), got '" + v + "'");
-      r.camera.fov_degrees = degrees;
+      r.setup.camera_override.fov_degrees = degrees;
     } else if (a == "--scene")
       r.gltf.scene = int(parse_int(a, value(), 0, 1 << 20));
     else if (a == "--backend")
@@ -204,9 +239,9 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
       const bool exr = v.size() > 4 && (v.compare(v.size() - 4, 4, ".exr") == 0 ||
                                         v.compare(v.size() - 4, 4, ".EXR") == 0);
       if (exr)
-        r.environment_file = v, r.environment.reset();
+        r.setup.environment_file = v, r.setup.environment.reset();
       else
-        r.environment = parse_rgb(a, v), r.environment_file.clear();
+        r.setup.environment = parse_rgb(a, v), r.setup.environment_file.clear();
     } else if (a == "--max-depth")
       r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
     else if (a == "--seed")
@@ -229,21 +264,19 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
   return r;
 }
 
-bool has_emitters(const Scene& scene) {
-  if (!scene.lights.empty()) return true;
-  for (uint32_t m : scene.geometry.material)
-    if (scene.materials[m].emissive()) return true;
-  return false;
-}
-
 // The render's largest allocations, estimated before any is made: the film, the resolved image
 // (and its preview), the path state. Throws Error naming the file and what is too big when they
 // exceed the memory this process may still take.
 void check_memory(const RenderArgs& r, const RenderSettings& s) {
   const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
-  const uint64_t film =
-      Film::bytes(s.width, s.height) + pixels * (12 + (r.preview.empty() ? 0 : 15));
-  const uint64_t paths = resolve_wavefront(s, pixels * uint64_t(s.spp)) * path_state_bytes;
+  // The resolved channels (4 bytes each) and the preview's 8-bit RGB with its float copy.
+  const uint64_t channels = 3 + 3 * s.aovs.has(Aov::albedo) + 3 * s.aovs.has(Aov::normal) +
+                            s.aovs.has(Aov::depth) + 3 * s.aovs.has(Aov::position) +
+                            3 * s.aovs.has(Aov::variance) + 1;
+  const uint64_t film = Film::bytes(s.width, s.height, s.aovs) +
+                        pixels * (4 * channels + (r.preview.empty() ? 0 : 15));
+  const uint64_t bytes = path_state_bytes + (s.aovs.first_hit() ? sizeof(FirstHit) : 0);
+  const uint64_t paths = resolve_wavefront(s, pixels * uint64_t(s.spp)) * bytes;
   const uint64_t available = available_memory();
   if (film + paths <= available) return;
   throw Error(r.scene + ": a " + std::to_string(s.width) + " x " + std::to_string(s.height) +
@@ -252,13 +285,56 @@ void check_memory(const RenderArgs& r, const RenderSettings& s) {
               format_bytes(available) + " of memory available");
 }
 
+// The EXR (every channel asked, and the per-pixel counts when they differ) and the preview of a
+// film, with the header saying what it holds.
+void write_outputs(const RenderArgs& r, const Scene& scene, const BackendRun& run, const Film& film,
+                   const RenderOutcome& outcome, const RenderSettings& s) {
+  std::vector<Channel> channels = film.channels();
+  if (!outcome.uniform() && !film.aovs().has(Aov::samples)) {
+    Channel samples{"samples", std::vector<float>(film.pixels())};
+    for (size_t p = 0; p < film.pixels(); ++p) samples.values[p] = float(film.count(p));
+    channels.push_back(std::move(samples));
+  }
+  ExrMetadata meta;
+  meta.spp = int(outcome.spp());
+  meta.backend = run.backend;
+  meta.integrator = r.integrator;
+  meta.render_seconds = outcome.seconds;
+  const Camera& camera = scene.cameras[s.camera];
+  const Box b = scene.bounds();
+  meta.extra = {
+      {"scene", r.scene},
+      {"camera", std::to_string(s.camera) + (camera.name.empty() ? "" : " (" + camera.name + ")") +
+                     ": " + camera_flags(camera, b.empty() ? glm::vec3(0.f) : b.center())},
+      {"sampler", "independent"},
+      {"seed", std::to_string(s.seed)},
+      {"sppRequested", std::to_string(s.spp)},
+      {"samplesPerPixel", outcome.uniform() ? "every pixel " + std::to_string(outcome.spp())
+                                            : "from " + std::to_string(outcome.spp()) + " to " +
+                                                  std::to_string(outcome.most - outcome.first) +
+                                                  " (the samples channel)"},
+      {"software", std::string("dacrt ") + version()},
+      {"dacrtVersion", version()}};
+  if (!run.stopped.empty()) meta.extra.push_back({"stoppedBy", run.stopped});
+  write_exr(run.output, s.width, s.height, channels, meta);
+  if (!run.preview.empty()) write_preview_png(run.preview, film.resolve());
+}
+
 int render(const std::vector<std::string>& args) {
   RenderArgs r = parse_render(args);
   if (r.help) return std::fputs(render_help, stdout), 0;
-  // Everything an output needs, checked before the scene is loaded: the backends, writable and
-  // distinct output files that are not inputs, the display transform of a preview.
+  // Everything an output needs, checked before the scene is loaded: the backends, the integrator,
+  // writable and distinct output files that are not inputs, the display transform of a preview.
   const std::vector<std::string> backends = split_list(r.backend);
   if (backends.empty()) throw UsageError("--backend needs at least one backend name");
+  {
+    const std::vector<std::string> integrators = Integrator::names();
+    if (std::find(integrators.begin(), integrators.end(), r.integrator) == integrators.end()) {
+      std::string names;
+      for (const std::string& n : integrators) names += (names.empty() ? "" : ", ") + n;
+      throw UsageError("unknown integrator '" + r.integrator + "' (known: " + names + ")");
+    }
+  }
   std::vector<BackendRun> runs;
   const std::vector<std::string> known = Backend::names();
   for (const std::string& name : backends) {
@@ -273,9 +349,9 @@ int render(const std::vector<std::string>& args) {
     runs.push_back(std::move(run));
   }
   std::vector<NamedFile> inputs = {{"the scene", r.scene}}, outputs;
-  if (!r.environment_file.empty()) {
-    check_input_file(r.environment_file, "environment map");
-    inputs.push_back({"the environment map", r.environment_file});
+  if (!r.setup.environment_file.empty()) {
+    check_input_file(r.setup.environment_file, "environment map");
+    inputs.push_back({"the environment map", r.setup.environment_file});
   }
   for (const BackendRun& run : runs)
     outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
@@ -297,63 +373,44 @@ int render(const std::vector<std::string>& args) {
   check_outputs(outputs, inputs);
 
   RenderSettings& s = r.settings;
-  if (s.camera >= int(scene.cameras.size()))
-    throw Error(r.scene + ": camera " + std::to_string(s.camera) +
-                " does not exist (the scene has " + std::to_string(scene.cameras_from_file) + ")");
-  if (r.camera.any()) {
-    try {
-      scene.cameras[s.camera] =
-          override_camera(scene.cameras[s.camera], r.camera,
-                          scene.bounds().empty() ? glm::vec3(0.f) : scene.bounds().center());
-    } catch (const Error& e) {
+  try {
+    override_scene_camera(scene, r.setup);
+  } catch (const Error& e) {
+    if (r.setup.camera_override.any() && size_t(r.setup.camera) < scene.cameras.size())
       throw UsageError(e.what());
-    }
+    throw;
   }
-  const glm::ivec2 size =
-      image_size(scene.cameras[s.camera].aspect, r.width.value_or(0), r.height.value_or(0), 512,
-                 r.scene + ": camera " + std::to_string(s.camera));
-  s.width = size.x, s.height = size.y;
+  r.setup.camera_override = {};  // applied
+  const std::vector<std::string> notes = prepare_render(scene, s, r.setup);
   check_memory(r, s);
-  if (!r.environment_file.empty()) {
-    s.environment_map =
-        std::make_shared<const EnvironmentMap>(read_exr(r.environment_file), r.environment_file);
-  } else if (r.environment) {
-    s.environment = *r.environment;
-  } else if (!has_emitters(scene)) {
-    s.environment = glm::vec3(1.f);
-    if (!r.quiet)
-      std::fprintf(stderr,
-                   "%s: the scene has no emitters and no lights: lighting it with a uniform "
-                   "environment of 1\n",
-                   r.scene.c_str());
-  }
-  if (!r.quiet && scene.cameras_from_file == 0)
-    std::fprintf(stderr, "%s: no camera in the file: framing the scene's bounds\n",
-                 r.scene.c_str());
+  if (!r.quiet)
+    for (const std::string& note : notes) std::fprintf(stderr, "%s\n", note.c_str());
 
+  // From here on SIGINT and SIGTERM stop the render and write what it has.
+  StopOnSignals signals;
+  r.passes.stop = &signals.token();
   r.backend_options.threads = r.threads;
   for (BackendRun& run : runs) {
     const auto t0 = std::chrono::steady_clock::now();
     auto backend =
         Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
-    auto integrator = Integrator::create(r.integrator, scene, *backend, s);
-    Film film(s.width, s.height);
+    RenderJob job(scene, *backend, s, r.integrator);
+    Film film = job.film();
     Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
                       uint64_t(s.width) * s.height * s.spp, !r.quiet);
-    integrator->render(film, progress);
-    run.stats = integrator->stats();
+    const RenderOutcome outcome = job.run(film, 0, uint32_t(s.spp), progress, r.passes,
+                                          [&](const Film& so_far, const RenderOutcome& o) {
+                                            write_outputs(r, scene, run, so_far, o, s);
+                                          });
+    run.stats = job.stats();
     run.backend_stats = backend->stats();
     run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    Image image = film.resolve();
-    ExrMetadata meta;
-    meta.spp = s.spp;
-    meta.backend = run.backend;
-    meta.integrator = r.integrator;
-    meta.render_seconds = run.stats.seconds;
-    meta.extra = {{"scene", r.scene}, {"software", "dacrt"}};
-    write_exr(run.output, image, meta);
-    if (!run.preview.empty()) write_preview_png(run.preview, image);
+    run.spp = outcome.spp();
+    if (outcome.stopped) run.stopped = signals.signal() == SIGTERM ? "SIGTERM" : "SIGINT";
+    if (outcome.timed_out) run.stopped = "the time limit";
+    write_outputs(r, scene, run, film, outcome, s);
     if (!r.quiet) print_summary(run, s, r.integrator);
+    if (outcome.stopped) break;  // the backends after it are not rendered
   }
 
   if (!r.stats.empty()) {
@@ -362,10 +419,12 @@ int render(const std::vector<std::string>& args) {
                           {"triangles", scene.geometry.size()},
                           {"width", s.width},
                           {"height", s.height},
-                          {"spp", s.spp},
+                          {"spp", run.spp},
+                          {"spp_requested", s.spp},
                           {"integrator", r.integrator},
                           {"threads", tbb::this_task_arena::max_concurrency()},
                           {"load_seconds", load_seconds}};
+      if (!run.stopped.empty()) j["stopped_by"] = run.stopped;
       j.update(to_json(run));
       return j;
     };
@@ -374,10 +433,12 @@ int render(const std::vector<std::string>& args) {
       j = describe(runs[0]);
     } else {
       j = {{"backends", nlohmann::json::array()}};
-      for (const BackendRun& run : runs) j["backends"].push_back(describe(run));
+      for (const BackendRun& run : runs)
+        if (run.spp > 0 || run.stopped.empty()) j["backends"].push_back(describe(run));
     }
     write_atomically(r.stats, "statistics", [&](std::ofstream& out) { out << j.dump(2) << "\n"; });
   }
+  if (signals.signal()) return 128 + signals.signal();
   if (runs.size() > 1) print_comparison(stdout, runs);
   return 0;
 }
@@ -451,11 +512,7 @@ int info(const std::vector<std::string>& args) {
                 cam.aspect > 0 ? std::to_string(cam.aspect).c_str() : "from image");
     // The same view as render flags, ready to copy (an orthographic camera's view is perspective
     // with them, as --fov makes it).
-    const glm::vec3 at = look_at_point(cam, b.empty() ? glm::vec3(0.f) : b.center()) + 0.f;
-    const glm::vec3 up = glm::vec3(cam.to_world[1]) + 0.f;  // + 0: no "-0" printed
-    std::printf("    --look-from %.7g,%.7g,%.7g --look-at %.7g,%.7g,%.7g --up %.7g,%.7g,%.7g", p.x,
-                p.y, p.z, at.x, at.y, at.z, up.x, up.y, up.z);
-    if (!cam.orthographic) std::printf(" --fov %.7g", cam.yfov * 180.0 / M_PI);
+    std::printf("    %s", camera_flags(cam, b.empty() ? glm::vec3(0.f) : b.center()).c_str());
     std::printf("\n");
   }
   if (b.empty())

@@ -74,8 +74,12 @@ nlohmann::json to_json(const BackendRun& run) {
 
 void print_summary(const BackendRun& run, const RenderSettings& s, const std::string& integrator) {
   const RenderStats& stats = run.stats;
-  std::fprintf(stderr, "%s: %d×%d, %d spp, %s/%s, %.2f s\n", run.output.c_str(), s.width, s.height,
-               s.spp, run.backend.c_str(), integrator.c_str(), stats.seconds);
+  std::fprintf(stderr, "%s: %d×%d, %u spp%s, %s/%s, %.2f s\n", run.output.c_str(), s.width,
+               s.height, run.spp,
+               run.stopped.empty()
+                   ? ""
+                   : (" of " + std::to_string(s.spp) + ", stopped by " + run.stopped).c_str(),
+               run.backend.c_str(), integrator.c_str(), stats.seconds);
   for (int t = 0; t < ray_type_count; ++t) {
     const RayTypeStats& rt = stats.by_type[t];
     if (rt.rays)

@@ -17,6 +17,8 @@ struct BackendRun {
   RenderStats stats;
   Stats backend_stats;
   double seconds = 0.0;  // whole render, the backend's build included
+  uint32_t spp = 0;      // samples every pixel has (fewer than asked when stopped early)
+  std::string stopped;   // why the render stopped early ("SIGINT", "the time limit"), or empty
 };
 
 // "a,b,c" → {a, b, c}; empty parts are dropped.

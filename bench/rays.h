@@ -27,7 +27,7 @@
 #include <string_view>
 #include <vector>
 
-#include "integrators/integrator.h"
+#include "scene/camera.h"
 #include "integrators/lights.h"
 #include "materials/sampling.h"
 #include "scene/scene.h"

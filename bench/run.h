@@ -18,7 +18,7 @@
 
 #include "bench/args.h"
 #include "bench/rays.h"
-#include "integrators/integrator.h"
+#include "scene/camera.h"
 #include "integrators/lights.h"
 #include "scene/scene.h"
 #include "tracer/backend.h"

@@ -1,9 +1,11 @@
 // Integrator: turns a scene, traced through a Backend, into radiance on a Film. Integrators
-// register themselves by name (one static Integrator::Registration line) and are created by name.
-// Names: path (wavefront path tracer).
+// register themselves by name (one static Integrator::Registration line) and are created by name:
+// path (the default), direct, ao, albedo, normal, depth; each file's first comment is its user
+// documentation (`dacrt render --help` lists them).
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <glm/glm.hpp>
@@ -12,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
-#include "integrators/environment.h"
-#include "integrators/film.h"
+#include "render/film.h"
+#include "scene/environment.h"
 #include "scene/scene.h"
 #include "tracer/backend.h"
 #include "tracer/ray_batch.h"
@@ -30,9 +32,8 @@ struct RenderSettings {
   int max_depth = 64;      // scattering events per path; Russian roulette ends most earlier
   int roulette_depth = 3;  // Russian roulette from this many bounces on
   uint64_t seed = 0;
-  glm::vec3 environment{0.f};  // uniform radiance of everything the rays escape to
-  // An equirectangular map instead (importance-sampled in next-event estimation); null: uniform.
-  std::shared_ptr<const EnvironmentMap> environment_map;
+  float ao_distance = 0.f;  // ao: how far occluders count (0: the scene's bounding-box diagonal)
+  AovSet aovs;              // the first-hit values and statistics the film keeps
   // Live paths at most (stream regeneration keeps this many while samples remain). 0: as many
   // as wavefront_budget bytes of path state hold (path_state_bytes each), up to the frame's.
   size_t wavefront = 0;
@@ -44,16 +45,6 @@ struct RenderSettings {
 // hits (16), the stages' scratch (two ray records of 40, a contribution of 12, flags and indices:
 // 109), and the dacrt backend's ray record (36).
 inline constexpr uint64_t path_state_bytes = 40 + 4 * 36 + 16 + 109 + 36;
-
-// The largest image side, whether given (--width, --height) or derived from a camera's aspect.
-inline constexpr int max_image_side = 1 << 15;
-
-// The image size for a camera of this aspect ratio (width / height; <= 0: none) and the sides
-// given (0: not given). Both given are kept; one given keeps the camera's aspect (or makes a
-// square); none gives `longer` pixels on the longer side. Throws Error("<camera>'s aspectRatio
-// 1e-07 with --width 8 gives a height of 79999999 pixels, more than 32768 …") when the derived side
-// is over max_image_side.
-glm::ivec2 image_size(float aspect, int width, int height, int longer, const std::string& camera);
 
 // The live paths a render of `paths` samples keeps with these settings.
 size_t resolve_wavefront(const RenderSettings& settings, uint64_t paths);
@@ -90,7 +81,14 @@ class Integrator {
                                             Backend& backend, const RenderSettings& settings);
   static std::vector<std::string> names();
 
-  virtual void render(Film& film, Progress& progress) = 0;
+  // Adds samples [first, last) of every pixel to the film (sample indices, so that renders of
+  // [0, a) and [a, b) merge into the image of [0, b)). When *stop becomes true no new sample
+  // starts; the paths in flight finish, so every sample begun reaches the film. Progress counts
+  // the samples finished over all calls.
+  // Returns the samples taken: (last − first) × pixels unless stopped, else the first that many
+  // in pixel order within each sample index (sample first for every pixel, then first + 1…).
+  virtual uint64_t render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
+                          Progress& progress) = 0;
   virtual const RenderStats& stats() const = 0;
 
   using Factory =
@@ -99,11 +97,5 @@ class Integrator {
     Registration(std::string name, Factory factory);
   };
 };
-
-// The camera ray through image point (x, y) (pixels, from the top-left corner) of a width ×
-// height image, unit direction. Returns where along it the camera's near plane (znear) lies: the
-// ray's tmin, so nothing nearer than znear is seen.
-float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
-                 glm::vec3& direction);
 
 }  // namespace dacrt

@@ -8,10 +8,10 @@
 #include <glm/glm.hpp>
 
 #include "integrators/dimensions.h"
-#include "integrators/environment.h"
 #include "integrators/lights.h"
 #include "materials/gltf_brdf.h"
 #include "materials/sampling.h"
+#include "scene/environment.h"
 #include "scene/scene.h"
 
 namespace dacrt {

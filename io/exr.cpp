@@ -40,10 +40,19 @@ Error write_error(const std::string& path, const std::string& reason) {
   return Error("cannot write EXR '" + path + "': " + reason);
 }
 
-Imf::Header make_header(const std::string& path, const Image& image, const ExrMetadata& metadata) {
-  Imf::Header header(image.width, image.height, 1.f, Imath::V2f(0, 0), 1.f, Imf::INCREASING_Y,
+Imf::Header make_header(const std::string& path, int width, int height,
+                        const std::vector<Channel>& channels, const ExrMetadata& metadata) {
+  Imf::Header header(width, height, 1.f, Imath::V2f(0, 0), 1.f, Imf::INCREASING_Y,
                      Imf::ZIP_COMPRESSION);
-  for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+  for (const Channel& c : channels) {
+    if (c.name.empty() || header.channels().findChannel(c.name))
+      throw write_error(path, "channel name '" + c.name + "' is empty or repeated");
+    if (c.values.size() != size_t(width) * size_t(height))
+      throw write_error(path, "channel " + c.name + " has " + std::to_string(c.values.size()) +
+                                  " values for " + std::to_string(width) + "x" +
+                                  std::to_string(height) + " pixels");
+    header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
+  }
   Imf::addChromaticities(header, Imf::Chromaticities());  // the default is Rec.709 with D65 white
   header.insert("spp", Imf::IntAttribute(metadata.spp));
   header.insert("backend", Imf::StringAttribute(metadata.backend));
@@ -59,33 +68,42 @@ Imf::Header make_header(const std::string& path, const Image& image, const ExrMe
 }
 
 void write_scanlines(std::ofstream& stream, const std::string& tmp, const Imf::Header& header,
-                     const Image& image) {
+                     int width, const std::vector<Channel>& channels) {
   Imf::StdOFStream exr_stream(stream, tmp.c_str());
   Imf::OutputFile file(exr_stream, header);
   Imf::FrameBuffer frame;
-  const size_t x_stride = 3 * sizeof(float);
-  const size_t y_stride = x_stride * size_t(image.width);
-  const char* names[3] = {"R", "G", "B"};
-  for (int c = 0; c < 3; ++c)
-    frame.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.rgb.data() + c, header.dataWindow(),
-                                            x_stride, y_stride));
+  for (const Channel& c : channels)
+    frame.insert(c.name, Imf::Slice::Make(Imf::FLOAT, c.values.data(), header.dataWindow(),
+                                          sizeof(float), sizeof(float) * size_t(width)));
   file.setFrameBuffer(frame);
-  file.writePixels(image.height);
+  file.writePixels(header.dataWindow().max.y + 1);
 }
 
 }  // namespace
 
 void write_exr(const std::string& path, const Image& image, const ExrMetadata& metadata) {
-  if (image.width <= 0 || image.height <= 0) throw write_error(path, "the image is empty");
-  if (image.rgb.size() != size_t(3) * size_t(image.width) * size_t(image.height))
+  if (image.rgb.size() !=
+      size_t(3) * size_t(std::max(0, image.width)) * size_t(std::max(0, image.height)))
     throw write_error(path, "the image has " + std::to_string(image.rgb.size()) + " values for " +
                                 std::to_string(image.width) + "x" + std::to_string(image.height) +
                                 " pixels");
+  std::vector<Channel> channels = {{"R", {}}, {"G", {}}, {"B", {}}};
+  const size_t n = image.rgb.size() / 3;
+  for (int c = 0; c < 3; ++c) {
+    channels[c].values.resize(n);
+    for (size_t p = 0; p < n; ++p) channels[c].values[p] = image.rgb[3 * p + c];
+  }
+  write_exr(path, image.width, image.height, channels, metadata);
+}
 
-  const Imf::Header header = make_header(path, image, metadata);
+void write_exr(const std::string& path, int width, int height, const std::vector<Channel>& channels,
+               const ExrMetadata& metadata) {
+  if (width <= 0 || height <= 0) throw write_error(path, "the image is empty");
+  const Imf::Header header = make_header(path, width, height, channels, metadata);
   // OutputFile's destructor writes the line offsets; the stream is checked after that.
-  write_atomically(path, "EXR",
-                   [&](std::ofstream& stream) { write_scanlines(stream, path, header, image); });
+  write_atomically(path, "EXR", [&](std::ofstream& stream) {
+    write_scanlines(stream, path, header, width, channels);
+  });
 }
 
 Image read_exr(const std::string& path) {
@@ -117,6 +135,54 @@ Image read_exr(const std::string& path) {
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
     return image;
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error("cannot read EXR '" + path + "': " + one_line(e.what()));
+  }
+}
+
+const Channel* ExrFile::find(const std::string& name) const {
+  for (const Channel& c : channels)
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+ExrFile read_exr_file(const std::string& path) {
+  check_input_file(path, "EXR image");
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imf::Header& header = file.header();
+    const Imath::Box2i window = header.dataWindow();
+    const int64_t width = int64_t(window.max.x) - window.min.x + 1,
+                  height = int64_t(window.max.y) - window.min.y + 1;
+    int64_t count = 0;
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) ++count;
+    if (width < 1 || height < 1 || width * height * std::max<int64_t>(count, 1) > kMaxExrPixels)
+      throw Error("cannot read EXR '" + path + "': " + std::to_string(width) + " x " +
+                  std::to_string(height) + " pixels in " + std::to_string(count) +
+                  " channels is empty or more than the 2^27 values accepted");
+    ExrFile out;
+    out.width = int(width), out.height = int(height);
+    Imf::FrameBuffer frame;
+    out.channels.reserve(size_t(count));
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+      out.channels.push_back({it.name(), std::vector<float>(size_t(width * height))});
+      frame.insert(it.name(), Imf::Slice::Make(Imf::FLOAT, out.channels.back().values.data(),
+                                               window, sizeof(float), sizeof(float) * width));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    for (auto it = header.begin(); it != header.end(); ++it) {
+      const Imf::Attribute& a = it.attribute();
+      if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&a))
+        out.attributes[it.name()] = s->value();
+      else if (const auto* n = dynamic_cast<const Imf::IntAttribute*>(&a))
+        out.attributes[it.name()] = std::to_string(n->value());
+      else if (const auto* d = dynamic_cast<const Imf::DoubleAttribute*>(&a))
+        out.attributes[it.name()] = std::to_string(d->value());
+    }
+    return out;
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {

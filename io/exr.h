@@ -1,7 +1,9 @@
-// OpenEXR output: float RGB, scene-linear Rec.709 primaries, with render metadata in the header.
-// Written to a temporary name beside the target and renamed, so no half-written file is left.
+// OpenEXR output: float channels (R, G, B in scene-linear Rec.709 primaries, then any named
+// layers: albedo.R, N.X, Z…), with render metadata in the header. Written to a temporary name
+// beside the target and renamed, so no half-written file is left.
 #pragma once
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -11,7 +13,7 @@
 namespace dacrt {
 
 struct ExrMetadata {
-  int spp = 0;
+  int spp = 0;  // samples every pixel has
   std::string backend;
   std::string integrator;
   double render_seconds = 0.0;
@@ -19,6 +21,20 @@ struct ExrMetadata {
 };
 
 void write_exr(const std::string& path, const Image& image, const ExrMetadata& metadata);
+// Any channels of width × height pixels (each `values` of that size, names distinct).
+void write_exr(const std::string& path, int width, int height, const std::vector<Channel>& channels,
+               const ExrMetadata& metadata);
+
 Image read_exr(const std::string& path);  // RGB channels as float (tests, comparisons)
+
+// Everything in a file, for tests and comparisons: every channel as float, and the header's
+// string, int and double attributes as text.
+struct ExrFile {
+  int width = 0, height = 0;
+  std::vector<Channel> channels;
+  std::map<std::string, std::string> attributes;
+  const Channel* find(const std::string& name) const;
+};
+ExrFile read_exr_file(const std::string& path);
 
 }  // namespace dacrt

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace dacrt {
@@ -16,6 +17,13 @@ struct Image {
   Image(int w, int h) : width(w), height(h), rgb(size_t(3) * w * h, 0.f) {}
   float* pixel(int x, int y) { return &rgb[3 * (size_t(y) * width + x)]; }
   const float* pixel(int x, int y) const { return &rgb[3 * (size_t(y) * width + x)]; }
+};
+
+// One named channel of a raster ("R", "albedo.R", "N.X", "Z"…), one float per pixel, row-major
+// from the top-left pixel: what multi-layer EXR files are made of.
+struct Channel {
+  std::string name;
+  std::vector<float> values;
 };
 
 }  // namespace dacrt

@@ -5,11 +5,13 @@
 #include <array>
 #include <glm/glm.hpp>
 #include <limits>
-#include <optional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "materials/gltf_brdf.h"
+#include "scene/camera.h"
+#include "scene/environment.h"
 #include "materials/texture.h"
 #include "tracer/geometry.h"
 
@@ -70,20 +72,6 @@ struct Material {
   }
 };
 
-// A camera in glTF's convention: it looks down its local -Z with +Y up. Perspective (a pinhole)
-// or orthographic.
-struct Camera {
-  std::string name;
-  glm::mat4 to_world{1.f};  // camera-to-world, rigid (scale removed)
-  float yfov = 0.7f;        // perspective: vertical field of view, radians
-  float aspect = 0.f;       // width / height; 0 when the file does not say
-  float znear = 0.f;
-  bool orthographic = false;
-  float ymag = 1.f;  // orthographic: half the view's height (its width follows the aspect)
-
-  glm::vec3 position() const { return glm::vec3(to_world[3]); }
-};
-
 // A KHR_lights_punctual light, placed by its node. Intensities are taken as renderer units, like
 // emissive factors: `intensity` (colour × intensity) is radiant intensity for point and spot lights
 // (irradiance I / d² at distance d) and irradiance for directional lights.
@@ -125,6 +113,12 @@ struct Scene {
   std::vector<PunctualLight> lights;  // KHR_lights_punctual, one per node that has one
   size_t cameras_from_file = 0;       // if 0, cameras[0] was made to frame the scene's bounds
 
+  // What rays that leave the scene see: a uniform radiance, or an equirectangular map (which
+  // next-event estimation samples) instead when environment_map is set. Not in glTF: the loader
+  // leaves it black, the renderer's setup (render/render_job.h) sets it.
+  glm::vec3 environment{0.f};
+  std::shared_ptr<const EnvironmentMap> environment_map;
+
   // What the file uses that this version does not render as specified (the loader warns once):
   // materials with KHR_materials_specular textures (factors only), and KHR_materials_volume
   // materials with a thickness (rendered thin-walled, without refraction or attenuation). Counted
@@ -147,26 +141,5 @@ struct Scene {
   // the integrator's call (an environment map needs them too).
   std::vector<std::string> unused_work() const;
 };
-
-// A camera that looks at the whole box from the +Z side (glTF's front), slightly above, with the
-// given vertical field of view; used when a file has no camera.
-Camera frame_bounds(const Box& bounds, float aspect, float yfov = 0.7f);
-
-// A camera given on the command line as pbrt's LookAt (F3D's --camera-* options are alike): any
-// of its parts overrides `base`, the camera it starts from.
-struct CameraOverride {
-  std::optional<glm::vec3> from, at, up;  // eye, a point it looks at, the up direction
-  std::optional<float> fov_degrees;       // vertical field of view (makes it perspective)
-  bool any() const { return from || at || up || fov_degrees; }
-};
-
-// `base` with the override applied. Unset parts keep base's: its position, its direction (when
-// only `from` is new, the camera looks at `target`, the scene's centre), its up, its yfov.
-// Throws Error (naming the flags) when from and at coincide or up is parallel to the view.
-Camera override_camera(const Camera& base, const CameraOverride& o, const glm::vec3& target);
-
-// A point the camera looks at, for printing it as a LookAt: on its viewing axis, as far as
-// `target` is from it (1 when that is 0).
-glm::vec3 look_at_point(const Camera& camera, const glm::vec3& target);
 
 }  // namespace dacrt

@@ -1,6 +1,6 @@
 // The equirectangular environment map: its axes, its importance sampling (χ² against its pdf),
 // and that what it samples integrates to what it holds.
-#include "integrators/environment.h"
+#include "scene/environment.h"
 
 #include <doctest/doctest.h>
 

@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "render/render_job.h"
 #include "test_geometry.h"
 
 using namespace dacrt;
@@ -41,13 +42,14 @@ struct Result {
   RenderStats stats;
 };
 
-Result render(const Scene& scene, RenderSettings s, const char* backend = "dacrt") {
+Result render(const Scene& scene, RenderSettings s, const char* backend = "dacrt",
+              const char* integrator = "path") {
   auto b = Backend::create(backend, scene.geometry);
-  auto integrator = Integrator::create("path", scene, *b, s);
-  Film film(s.width, s.height);
+  RenderJob job(scene, *b, s, integrator);
+  Film film = job.film();
   Progress quiet("test", 1, false);
-  integrator->render(film, quiet);
-  return {std::move(film), integrator->stats()};
+  job.run(film, 0, uint32_t(s.spp), quiet);
+  return {std::move(film), job.stats()};
 }
 
 // Every pixel within z standard errors of `expected` (z = 5: a false alarm over a few thousand
@@ -99,7 +101,7 @@ TEST_CASE("furnace: a white diffuse sphere under a uniform environment of 1 rend
   scene.materials = {Material::lambert(glm::vec3(1.f))};
   scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
   RenderSettings s;
-  s.width = 32, s.height = 32, s.spp = 16, s.environment = glm::vec3(1.f);
+  s.width = 32, s.height = 32, s.spp = 16, scene.environment = glm::vec3(1.f);
   Result r = render(scene, s);
   check_renders(r.film, 1.0);
   // Nothing emits: no shadow rays at all, and the render says so.
@@ -129,7 +131,7 @@ TEST_CASE("furnace: a smooth white metal sphere under a uniform environment of 1
   scene.materials = {mirror};
   scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
   RenderSettings s;
-  s.width = 32, s.height = 32, s.spp = 8, s.environment = glm::vec3(1.f);
+  s.width = 32, s.height = 32, s.spp = 8, scene.environment = glm::vec3(1.f);
   Result r = render(scene, s);
   size_t far_off = 0;
   for (size_t p = 0; p < r.film.pixels(); ++p)
@@ -331,7 +333,7 @@ TEST_CASE("furnace: under an environment map of 1, a white diffuse sphere render
   std::fill(one.rgb.begin(), one.rgb.end(), 1.f);
   RenderSettings s;
   s.width = 24, s.height = 24, s.spp = 32;
-  s.environment_map = std::make_shared<const EnvironmentMap>(one, "one");
+  scene.environment_map = std::make_shared<const EnvironmentMap>(one, "one");
   Result r = render(scene, s);
   check_renders(r.film, 1.0);
   CHECK(r.stats.by_type[size_t(RayType::shadow)].rays > 0);
@@ -352,7 +354,7 @@ TEST_CASE("furnace: under an environment map of 1, a white diffuse sphere render
   for (int y = 5; y < 7; ++y)
     for (int x = 20; x < 22; ++x)
       patch.pixel(x, y)[0] = patch.pixel(x, y)[1] = patch.pixel(x, y)[2] = 50.f;
-  s.environment_map = std::make_shared<const EnvironmentMap>(patch, "patch");
+  scene.environment_map = std::make_shared<const EnvironmentMap>(patch, "patch");
   scene.lights.clear();
   Result sampled = render(scene, s);
   double sum = 0.0, var = 0.0;
@@ -575,7 +577,7 @@ TEST_CASE("transmission: a smooth white thin sheet under a uniform sky of 1 rend
   Scene scene = sheet_scene(glm::vec3(1.f), 0.f, 1.f);
   scene.cameras = {looking_at(glm::vec3(0.5f, 0.2f, 2.f), glm::vec3(0.5f, 0.5f, 0.f), 0.8f)};
   RenderSettings s;
-  s.width = s.height = 16, s.spp = 32, s.environment = glm::vec3(1.f);
+  s.width = s.height = 16, s.spp = 32, scene.environment = glm::vec3(1.f);
   Result r = render(scene, s);
   check_renders(r.film, 1.0);
   // (Without the rays that cross to the far side the sheet would show only its Fresnel
@@ -654,11 +656,11 @@ TEST_CASE("transmission: next-event estimation through a rough sheet agrees with
   scene.cameras = {looking_at(glm::vec3(0.5f, -0.3f, 1.5f), glm::vec3(0.5f, 0.5f, 0.f), 0.9f)};
   RenderSettings s;
   s.width = s.height = 12, s.spp = 256;
-  s.environment = glm::vec3(1.f);
+  scene.environment = glm::vec3(1.f);
   Result uniform = render(scene, s);
   Image one(4, 2);
   std::fill(one.rgb.begin(), one.rgb.end(), 1.f);
-  s.environment_map = std::make_shared<const EnvironmentMap>(one, "one");
+  scene.environment_map = std::make_shared<const EnvironmentMap>(one, "one");
   Result mapped = render(scene, s);
   size_t outliers = 0;
   double sum_a = 0.0, sum_b = 0.0, var = 0.0;
@@ -687,7 +689,7 @@ TEST_CASE("what the render skips follows the materials the triangles use, not th
   scene.materials = {Material::lambert(glm::vec3(0.5f)), unused};  // triangles use material 0
   scene.cameras = {looking_at(glm::vec3(0.5f, 0.5f, 2.f), glm::vec3(0.5f, 0.5f, 0.f), 0.9f)};
   RenderSettings s;
-  s.width = s.height = 4, s.spp = 1, s.environment = glm::vec3(1.f);
+  s.width = s.height = 4, s.spp = 1, scene.environment = glm::vec3(1.f);
   const auto skipped = render(scene, s).stats.skipped;
   auto has = [&](const char* what) {
     return std::any_of(skipped.begin(), skipped.end(),

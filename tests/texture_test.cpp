@@ -22,6 +22,7 @@
 
 #include "integrators/integrator.h"
 #include "io/texture_decode.h"
+#include "render/render_job.h"
 #include "scene/surface.h"
 #include "tests/allocations.h"
 #include "tests/gltf_check.h"
@@ -933,10 +934,10 @@ TEST_CASE("an emissive texture renders texel for texel (uv, barycentrics and sRG
   s.spp = 4;
   s.max_depth = 0;
   auto backend = Backend::create("dacrt", scene.geometry);
-  auto integrator = Integrator::create("path", scene, *backend, s);
-  Film film(8, 8);
+  RenderJob job(scene, *backend, s);
+  Film film = job.film();
   Progress quiet("test", 1, false);
-  integrator->render(film, quiet);
+  job.run(film, 0, uint32_t(s.spp), quiet);
   const glm::vec3 expected[2][2] = {{{1, 0, 0}, {0, 1, 0}}, {{0, 0, 1}, glm::vec3(kGrey)}};
   const Image image = film.resolve();
   for (int y = 0; y < 8; ++y)

@@ -20,19 +20,29 @@ namespace {
 
 // The temporary file being written, for the signal handler: an interrupted run removes it, so
 // Ctrl-C leaves neither a half-written output nor a stray temporary. The handler is installed
-// only while a file is written and hands the signal on to whatever handler was there before. The
-// signals are those whose default action ends the process and that can be caught. (The CLI
-// ignores SIGXFSZ, so that a file-size limit is a write error it reports rather than a kill.)
+// only while a file is written and hands the signal on to whatever handler was there before. A
+// handler that returns (util/interrupt.h's, which asks a render to stop and write what it has) is
+// called without removing the file, which is then finished. The signals are those whose default
+// action ends the process and that can be caught. (The CLI ignores SIGXFSZ, so that a file-size
+// limit is a write error it reports rather than a kill.)
 constexpr int handled[] = {SIGHUP,  SIGINT,  SIGQUIT, SIGTERM, SIGPIPE,   SIGALRM,
                            SIGUSR1, SIGUSR2, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF,
                            SIGABRT, SIGBUS,  SIGFPE,  SIGILL,  SIGSEGV,   SIGSYS};
 char pending[4096];
+volatile std::sig_atomic_t pending_active = 0;
 struct sigaction previous[std::size(handled)];
 
 extern "C" void remove_pending_and_pass_on(int sig) {
-  ::unlink(pending);
-  for (size_t k = 0; k < std::size(handled); ++k)
-    if (handled[k] == sig) sigaction(sig, &previous[k], nullptr);
+  for (size_t k = 0; k < std::size(handled); ++k) {
+    if (handled[k] != sig) continue;
+    const auto handler = previous[k].sa_handler;
+    if (!(previous[k].sa_flags & SA_SIGINFO) && handler != SIG_DFL && handler != SIG_IGN) {
+      handler(sig);
+      return;
+    }
+    remove_pending_file();
+    sigaction(sig, &previous[k], nullptr);
+  }
   std::raise(sig);
 }
 
@@ -49,14 +59,20 @@ struct PendingFile {
       if (previous[k].sa_handler != SIG_IGN) sigaction(handled[k], &action, nullptr);
     }
     active = true;
+    pending_active = 1;
   }
   ~PendingFile() {
     if (!active) return;
+    pending_active = 0;
     for (size_t k = 0; k < std::size(handled); ++k) sigaction(handled[k], &previous[k], nullptr);
   }
 };
 
 }  // namespace
+
+void remove_pending_file() noexcept {
+  if (pending_active) ::unlink(pending);
+}
 
 void write_atomically(const std::string& path, const std::string& what,
                       const std::function<void(std::ofstream&)>& write) {

@@ -15,6 +15,10 @@ namespace dacrt {
 void write_atomically(const std::string& path, const std::string& what,
                       const std::function<void(std::ofstream&)>& write);
 
+// Removes the temporary file being written, if any (async-signal-safe): for a signal handler that
+// ends the process while write_atomically may be running.
+void remove_pending_file() noexcept;
+
 // Throws Error if `path` could not be written later (no such directory, not writable, or a
 // directory itself): lets a command fail before hours of work rather than after.
 void check_writable(const std::string& path);

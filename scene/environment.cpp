@@ -1,4 +1,4 @@
-#include "integrators/environment.h"
+#include "scene/environment.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,168 @@
+// path (the default integrator): unidirectional path tracing. Every surface a path meets
+// reflects (or, thin-walled, transmits) by the glTF metallic-roughness BRDF around the shading
+// normal (materials/gltf_brdf.h); paths end by Russian roulette from --max-depth's roulette depth
+// (3) on, or at --max-depth scattering events (default 64). At each vertex next-event estimation
+// samples emissive triangles and punctual lights by power, or the environment map, and is
+// combined with BSDF sampling by multiple importance sampling (integrators/light_sampling.h).
+// Scenes without emitters trace no shadow rays. Runs on the wavefront loop (integrators/
+// wavefront.h): the stages below are its shading stage.
+//   escaped → emitted → roulette → materials (NEE pushes shadow rays, BSDF sampling bounce rays)
+#include "integrators/path.h"
+
+#include <tbb/parallel_for.h>
+
+#include "materials/sampling.h"
+#include "scene/surface.h"
+#include "tracer/ray.h"
+
+namespace dacrt {
+
+PathTracer::PathTracer(const Scene& scene, Backend& backend, const RenderSettings& settings)
+    : Wavefront(scene, backend, settings),
+      map_(scene.environment_map && !scene.environment_map->black() ? scene.environment_map.get()
+                                                                    : nullptr),
+      lights_(scene, map_) {
+  if (lights_.empty())
+    stats_.skipped.insert(
+        stats_.skipped.begin(),
+        "shadow rays (the scene has no emitters and no lights, and no environment map)");
+  for (const Material& m : scene.materials) emitters_ |= m.emissive();
+}
+
+// Stages 3–6 on one traced batch: escaped, emitted, roulette, materials. Paths that end are
+// flagged for the film; shadow and bounce rays are appended to their queues.
+void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
+  const size_t n = rays.size();
+  select_rays(hits, n, false);
+  escaped(rays, queue_);
+  select_rays(hits, n, true);
+  if (emitters_) emitted(rays, hits, queue_);
+  roulette(rays, queue_);
+  materials(rays, hits, queue_);
+}
+
+// Stage 3: rays that left the scene see the environment; their paths end.
+void PathTracer::escaped(const RayBatch& rays, const Array<uint32_t>& queue) {
+  tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
+    const uint32_t i = queue[q], path = rays.path[i];
+    ended_[path] = 1;
+    if (!scene_.environment_map) {
+      paths_.radiance[path] += paths_.throughput[path] * scene_.environment;
+    } else if (map_) {
+      // Also reachable by next-event estimation, after the first bounce: MIS.
+      const glm::vec3 d = rays.direction(i);
+      const float weight =
+          paths_.depth[path] > 0 ? lights_.environment_weight(paths_.bsdf_pdf[path], d) : 1.f;
+      paths_.radiance[path] += paths_.throughput[path] * map_->radiance(d) * weight;
+    }
+  });
+}
+
+// Stage 4: emitters hit add their emission (weighed against next-event estimation after the
+// camera ray).
+void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, const Array<uint32_t>& queue) {
+  const Geometry& g = scene_.geometry;
+  tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
+    const uint32_t i = queue[q], path = rays.path[i], tri = hits.prim[i];
+    const Material& m = scene_.materials[g.material[tri]];
+    if (!m.emissive()) return;
+    const glm::vec3 d = rays.direction(i);
+    glm::vec3 ng = g.normal(tri);
+    const float area2 = glm::length(ng);
+    const float cos = glm::dot(ng, d) / area2;
+    if (!(cos < 0.f || m.double_sided)) return;
+    float weight = 1.f;
+    if (paths_.depth[path] > 0)
+      weight = lights_.emitter_weight(paths_.bsdf_pdf[path], tri, hits.t[i], std::abs(cos),
+                                      0.5f * area2);
+    paths_.radiance[path] +=
+        paths_.throughput[path] * emission_at(scene_, tri, hits.u[i], hits.v[i]) * weight;
+  });
+}
+
+// Stage 5: paths at the depth limit end, and from roulette_depth on Russian roulette ends
+// paths of low throughput (the survivors' throughput grows to compensate). `queue` keeps the
+// survivors.
+void PathTracer::roulette(const RayBatch& rays, Array<uint32_t>& queue) {
+  Array<uint8_t>& keep = flags_;
+  keep.resize(queue.size());
+  tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
+    const uint32_t path = rays.path[queue[q]];
+    const int depth = int(paths_.depth[path]);
+    keep[q] = depth < s_.max_depth;
+    if (keep[q] && depth >= s_.roulette_depth) {
+      glm::vec3& beta = paths_.throughput[path];
+      const float p = std::min(1.f, std::max({beta.x, beta.y, beta.z}));
+      keep[q] = random(path, Dimension::roulette) < p;
+      if (keep[q]) beta /= p;
+    }
+    if (!keep[q]) ended_[path] = 1;
+  });
+  // Out of place: blocks compacting in parallel would overwrite each other's input.
+  select(
+      queue.size(), [&](size_t q) { return keep[q] != 0; }, survivors_);
+  tbb::parallel_for(size_t(0), survivors_.size(),
+                    [&](size_t k) { survivors_[k] = queue[survivors_[k]]; });
+  queue.swap(survivors_);
+}
+
+// Stage 6: the material at each surviving hit; next-event estimation writes a shadow ray, BSDF
+// sampling a bounce ray, each in the hit's slot of scratch queues, compacted after.
+void PathTracer::materials(const RayBatch& rays, const HitBatch& hits,
+                           const Array<uint32_t>& queue) {
+  const size_t n = queue.size();
+  scratch_rays(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](auto range) {
+    for (size_t q = range.begin(); q != range.end(); ++q) material(rays, hits, queue[q], q);
+  });
+  push_rays(rays, queue);
+}
+
+void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q) {
+  const uint32_t path = rays.path[i];
+  const glm::vec3 d = rays.direction(i);
+  const Hit h = hit_at(rays, hits, i);
+  const glm::vec3 &p = h.p, &ng = h.ng, &ns = h.ns;
+  const SurfacePoint& surface = h.surface;
+  const bool transmits = surface.brdf.transmission > 0.f && surface.brdf.metallic < 1.f;
+  const Frame frame(ns);
+  const ShadingPoint x{ng,
+                       frame,
+                       GltfBrdf(surface.brdf),
+                       frame.to_local(-d),
+                       offset_ray_origin(p, ng),
+                       transmits ? offset_ray_origin(p, -ng) : p,
+                       transmits};
+  glm::vec3& beta = paths_.throughput[path];
+  auto numbers = [&](Dimension dim) { return random(path, dim); };
+  if (!lights_.empty()) {
+    ShadowRay& shadow = scratch_shadow_[q];
+    if (lights_.sample(p, x, numbers, shadow)) {
+      shadow.contribution *= beta;
+      has_shadow_[q] = carries_light(shadow.contribution);
+    }
+  }
+
+  // BSDF sampling: reflection keeps to the arrival side, transmission crosses to the other.
+  ended_[path] = 1;  // unless it bounces
+  const auto s =
+      x.brdf.sample(x.wo, random(path, bsdf_lobe), random(path, bsdf_u), random(path, bsdf_v));
+  if (!s) return;
+  const glm::vec3 wi = x.frame.to_world(s->wi);
+  const glm::vec3* origin = x.origin_towards(wi, s->wi);
+  if (!origin) return;
+  beta *= s->weight;
+  if (!carries_light(beta)) return;
+  paths_.bsdf_pdf[path] = s->pdf;
+  scratch_next_[q].origin = *origin;
+  scratch_next_[q].direction = wi;
+  has_next_[q] = 1;
+  ended_[path] = 0;
+}
+
+const Integrator::Registration registration{
+    "path", [](const Scene& scene, Backend& backend, const RenderSettings& settings) {
+      return std::make_unique<PathTracer>(scene, backend, settings);
+    }};
+
+}  // namespace dacrt

@@ -1,0 +1,28 @@
+// The path tracer's shading stages, shared by `path` and `direct` (integrators/path.cpp,
+// integrators/direct.cpp): the same estimator, `direct` with one scattering event.
+#pragma once
+
+#include "integrators/wavefront.h"
+
+namespace dacrt {
+
+class PathTracer final : public Wavefront {
+ public:
+  PathTracer(const Scene& scene, Backend& backend, const RenderSettings& settings);
+
+ private:
+  void shade(const RayBatch& rays, const HitBatch& hits) override;
+  void escaped(const RayBatch& rays, const Array<uint32_t>& queue);
+  void emitted(const RayBatch& rays, const HitBatch& hits, const Array<uint32_t>& queue);
+  void roulette(const RayBatch& rays, Array<uint32_t>& queue);
+  void materials(const RayBatch& rays, const HitBatch& hits, const Array<uint32_t>& queue);
+  void material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q);
+
+  const EnvironmentMap* map_;  // null: uniform (or black) environment, reached by BSDF sampling
+  const LightSampling lights_;
+  bool emitters_ = false;  // any emissive material: the emitted stage runs
+  Array<uint32_t> survivors_;
+  Array<uint8_t> flags_;
+};
+
+}  // namespace dacrt

@@ -1,0 +1,108 @@
+// Wavefront: the loop every integrator runs, with stream regeneration. Up to
+// RenderSettings::wavefront paths are alive at once; whenever paths end, new camera samples take
+// their slots, so every iteration hands the backend full batches until the samples asked drain.
+// Each iteration runs pbrt-v4's wavefront stages, each over whole queues:
+//   camera rays (free slots) → intersect → first hits (AOVs) → the integrator's shading (which
+//   ends paths, pushes shadow rays and bounce rays) → shadow rays → film.
+// An integrator is the shading stage: it derives from Wavefront and implements shade().
+//
+// The image depends only on (seed, pixel, sample, dimension): it is the same bit for bit for any
+// thread count and for every exact backend, and the same up to the order of the film's sums for
+// any wavefront size.
+#pragma once
+
+#include <memory>
+
+#include "integrators/dimensions.h"
+#include "integrators/integrator.h"
+#include "integrators/light_sampling.h"
+#include "integrators/queues.h"
+#include "scene/surface.h"
+#include "tracer/ray_batch.h"
+#include "util/random.h"
+
+namespace dacrt {
+
+class Wavefront : public Integrator {
+ public:
+  Wavefront(const Scene& scene, Backend& backend, const RenderSettings& settings);
+  ~Wavefront() override;
+
+  const RenderStats& stats() const override { return stats_; }
+  uint64_t render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
+                  Progress& progress) override;
+
+ protected:
+  // The shading stage on one traced batch. It flags the paths that end in ended_ (their
+  // radiance goes to the film), and adds shadow rays (with push_rays) and bounce rays.
+  virtual void shade(const RayBatch& rays, const HitBatch& hits) = 0;
+
+  // The live paths, by slot (RayBatch::path).
+  struct Paths {
+    Array<glm::vec3> throughput, radiance;
+    Array<uint32_t> pixel, sample;
+    Array<float> bsdf_pdf;  // solid-angle pdf of the direction the path's last ray took
+    Array<uint32_t> depth;  // scattering events so far: the depth of the vertex it is at
+    Array<FirstHit> first;  // what its camera ray saw (only when first_hits_)
+    void resize(size_t n, bool first_hits);
+  };
+
+  float random(uint32_t path, Dimension dim) const {
+    return uniform_float(s_.seed, paths_.pixel[path], paths_.sample[path],
+                         uint64_t(paths_.depth[path]), uint64_t(dim));
+  }
+
+  // A hit as shading sees it: the point, the normals on the side the ray arrived from (the
+  // shading normal falls back to the geometric one where it faces away from the viewer), the
+  // material there.
+  struct Hit {
+    glm::vec3 p, ng, ns;
+    SurfacePoint surface;
+  };
+  Hit hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const;
+  // What ray i saw (depth: along the camera's view axis).
+  FirstHit first_hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const;
+
+  // The indices of `rays` that missed (hit false) or hit (true), into queue_.
+  void select_rays(const HitBatch& hits, size_t n, bool hit);
+
+  // Shadow and bounce rays of the n queued rays: each shading task writes its ray (if any) into
+  // scratch_shadow_[q] / scratch_next_[q] and sets has_shadow_[q] / has_next_[q]; push_rays then
+  // appends them, in queue order, to shadow_ (with shadow_contribution_) and next_.
+  void scratch_rays(size_t n);
+  void push_rays(const RayBatch& rays, const Array<uint32_t>& queue, float shadow_tmin = 0.f);
+
+  const Scene& scene_;
+  Backend& backend_;
+  const RenderSettings s_;
+  RenderStats stats_;
+  bool first_hits_;  // capture first-hit values: the film or the integrator needs them
+
+  Paths paths_;
+  Array<uint8_t> ended_;  // by slot: the path ended in this iteration
+  RayBatch next_, shadow_;
+  Array<uint32_t> queue_;  // the stage's ray indices
+  Array<ShadowRay> scratch_shadow_, scratch_next_;
+  Array<glm::vec3> shadow_contribution_;
+  Array<uint8_t> has_shadow_, has_next_;
+
+ private:
+  class AlphaFilter;
+
+  size_t camera_rays(uint64_t first_id, uint64_t end_id);
+  void intersect_and_shade();
+  void append(RayBatch& to, const RayBatch& from);
+  void trace(const RayBatch& rays, HitBatch& hits, size_t camera);
+  void first_hits(const RayBatch& rays, const HitBatch& hits);
+  void shadow_rays();
+  uint64_t to_film(Film& film);
+
+  std::unique_ptr<AlphaFilter> alpha_;  // null when every material is opaque
+  Array<uint32_t> free_;                // slots without a path
+  RayBatch camera_, bounce_;
+  HitBatch hits_;
+  std::vector<uint8_t> occluded_;  // a span for Backend::occluded
+  glm::vec3 forward_;              // the camera's view axis, for depth
+};
+
+}  // namespace dacrt

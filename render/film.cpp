@@ -1,0 +1,143 @@
+#include "render/film.h"
+
+#include <limits>
+
+#include "util/error.h"
+
+namespace dacrt {
+
+namespace {
+constexpr const char* aov_names[aov_count] = {"albedo",   "normal",   "depth",
+                                              "position", "variance", "samples"};
+}
+
+const char* AovSet::name(Aov a) {
+  return aov_names[size_t(a)];
+}
+
+AovSet AovSet::parse(std::string_view list) {
+  AovSet set;
+  while (!list.empty()) {
+    const size_t comma = list.find(',');
+    const std::string_view item = list.substr(0, comma);
+    bool known = false;
+    for (int a = 0; a < aov_count; ++a)
+      if (item == aov_names[a]) set.add(Aov(a)), known = true;
+    if (!known) {
+      std::string names;
+      for (int a = 0; a < aov_count; ++a) names += (a ? ", " : "") + std::string(aov_names[a]);
+      throw Error("unknown AOV '" + std::string(item) + "' (known: " + names + ")");
+    }
+    list = comma == std::string_view::npos ? std::string_view() : list.substr(comma + 1);
+  }
+  return set;
+}
+
+Film::Film(int width, int height, AovSet aovs)
+    : width_(width),
+      height_(height),
+      aovs_(aovs),
+      sum_(size_t(3) * width * height, 0.0),
+      sum_sq_(size_t(3) * width * height, 0.0),
+      mean_sq_(size_t(width) * height, 0.0),
+      count_(size_t(width) * height, 0) {
+  if (aovs.first_hit()) {
+    first_.assign(first_stride * pixels(), 0.0);
+    hits_.assign(pixels(), 0);
+  }
+}
+
+uint64_t Film::bytes(int width, int height, AovSet aovs) {
+  const uint64_t per_pixel = 7 * sizeof(double) + sizeof(uint32_t) +
+                             (aovs.first_hit() ? first_stride * sizeof(double) + 4 : 0);
+  return uint64_t(width) * uint64_t(height) * per_pixel;
+}
+
+void Film::merge(const Film& other) {
+  if (other.width_ != width_ || other.height_ != height_ || other.first_.size() != first_.size())
+    throw Error("cannot merge a " + std::to_string(other.width_) + " x " +
+                std::to_string(other.height_) + " film into a " + std::to_string(width_) + " x " +
+                std::to_string(height_) + " one with other outputs");
+  auto add = [](auto& to, const auto& from) {
+    tbb::parallel_for(size_t(0), to.size(), [&](size_t i) { to[i] += from[i]; });
+  };
+  add(sum_, other.sum_);
+  add(sum_sq_, other.sum_sq_);
+  add(mean_sq_, other.mean_sq_);
+  add(count_, other.count_);
+  add(first_, other.first_);
+  add(hits_, other.hits_);
+  dropped_ += other.dropped_;
+}
+
+uint32_t Film::min_count() const {
+  return count_.empty() ? 0 : *std::min_element(count_.begin(), count_.end());
+}
+
+uint32_t Film::max_count() const {
+  return count_.empty() ? 0 : *std::max_element(count_.begin(), count_.end());
+}
+
+Image Film::resolve() const {
+  Image img(width_, height_);
+  tbb::parallel_for(size_t(0), pixels(), [&](size_t p) {
+    for (int c = 0; c < 3; ++c)
+      img.rgb[3 * p + c] = count_[p] ? float(sum_[3 * p + c] / count_[p]) : 0.f;
+  });
+  return img;
+}
+
+glm::dvec2 Film::mean_and_error(size_t pixel) const {
+  const double n = count_[pixel];
+  if (n < 1) return {0.0, 0.0};
+  const double mean = (sum_[3 * pixel] + sum_[3 * pixel + 1] + sum_[3 * pixel + 2]) / (3.0 * n);
+  const double var = n > 1 ? std::max(0.0, (mean_sq_[pixel] - n * mean * mean) / (n - 1)) : 0.0;
+  return {mean, std::sqrt(var / n)};
+}
+
+double Film::variance_of_mean(size_t pixel, int c) const {
+  const double n = count_[pixel];
+  if (n < 2) return 0.0;
+  const double sum = sum_[3 * pixel + c];
+  const double s2 = std::max(0.0, (sum_sq_[3 * pixel + c] - sum * sum / n) / (n - 1));
+  return s2 / n;
+}
+
+std::vector<Channel> Film::channels() const {
+  std::vector<Channel> out;
+  const size_t n = pixels();
+  // A channel whose value at pixel p is value(p).
+  auto channel = [&](std::string name, auto value) {
+    Channel ch{std::move(name), std::vector<float>(n)};
+    tbb::parallel_for(size_t(0), n, [&](size_t p) { ch.values[p] = float(value(p)); });
+    out.push_back(std::move(ch));
+  };
+  auto mean = [&](size_t p, double sum) { return count_[p] ? sum / count_[p] : 0.0; };
+  const char* rgb[3] = {"R", "G", "B"};
+  const char* xyz[3] = {"X", "Y", "Z"};
+  for (int c = 0; c < 3; ++c) channel(rgb[c], [&](size_t p) { return mean(p, sum_[3 * p + c]); });
+  auto first = [&](size_t p, int k) { return first_[first_stride * p + k]; };
+  auto over_hits = [&](size_t p, int k, double none) {
+    return hits_[p] ? first(p, k) / hits_[p] : none;
+  };
+  if (aovs_.has(Aov::albedo))
+    for (int c = 0; c < 3; ++c)
+      channel(std::string("albedo.") + rgb[c], [&](size_t p) { return mean(p, first(p, c)); });
+  if (aovs_.has(Aov::normal))
+    for (int c = 0; c < 3; ++c)
+      channel(std::string("N.") + xyz[c], [&](size_t p) { return mean(p, first(p, 3 + c)); });
+  if (aovs_.has(Aov::depth))
+    channel("Z", [&](size_t p) {
+      return over_hits(p, 6, double(std::numeric_limits<float>::infinity()));
+    });
+  if (aovs_.has(Aov::position))
+    for (int c = 0; c < 3; ++c)
+      channel(std::string("P.") + xyz[c], [&](size_t p) { return over_hits(p, 7 + c, 0.0); });
+  if (aovs_.has(Aov::variance))
+    for (int c = 0; c < 3; ++c)
+      channel(std::string("variance.") + rgb[c], [&](size_t p) { return variance_of_mean(p, c); });
+  if (aovs_.has(Aov::samples)) channel("samples", [&](size_t p) { return double(count_[p]); });
+  return out;
+}
+
+}  // namespace dacrt

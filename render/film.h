@@ -1,0 +1,169 @@
+// Film: per-pixel sums of a render's samples, in named channels. The colour (radiance) is always
+// kept, with its sums of squares for error and variance estimates; the first-hit values (AOVs:
+// albedo, normal, depth, position) only when asked. Samples that are not finite are dropped and
+// counted, never averaged in. Films of the same size and channels merge by adding their sums, so
+// samples [0, a) and [a, b) rendered apart (other processes, other machines) make [0, b).
+#pragma once
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/image.h"
+
+namespace dacrt {
+
+// The outputs a film can hold beyond the colour (`--aov`). Depth and position average the samples
+// that hit something; albedo and normal average all samples (a miss adds zero).
+enum class Aov : uint8_t { albedo, normal, depth, position, variance, samples };
+inline constexpr int aov_count = 6;
+
+class AovSet {
+ public:
+  AovSet() = default;
+  bool has(Aov a) const { return bits_ >> unsigned(a) & 1u; }
+  AovSet& add(Aov a) { return bits_ |= uint8_t(1u << unsigned(a)), *this; }
+  bool empty() const { return bits_ == 0; }
+  // Whether the integrator must capture first-hit values for these.
+  bool first_hit() const {
+    return has(Aov::albedo) || has(Aov::normal) || has(Aov::depth) || has(Aov::position);
+  }
+  // "albedo,normal,depth": throws Error naming an unknown entry and listing the names.
+  static AovSet parse(std::string_view list);
+  static const char* name(Aov a);
+
+ private:
+  uint8_t bits_ = 0;
+};
+
+// What a camera sample saw first: the material's base colour (× texture × vertex colour), the
+// shading normal on the side facing the camera (world space, unit), the distance along the
+// camera's view axis, and the world-space point. `hit` false: the ray left the scene.
+struct FirstHit {
+  glm::vec3 albedo{0.f}, normal{0.f}, position{0.f};
+  float depth = 0.f;
+  bool hit = false;
+};
+
+class Film {
+ public:
+  Film(int width, int height, AovSet aovs = {});
+
+  // The bytes a film of this size with these outputs holds.
+  static uint64_t bytes(int width, int height, AovSet aovs = {});
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  size_t pixels() const { return count_.size(); }
+  AovSet aovs() const { return aovs_; }
+
+  void add(size_t pixel, const glm::vec3& radiance, const FirstHit* first = nullptr) {
+    dropped_ += !accumulate(pixel, radiance, first);
+  }
+
+  // add(pixel_of(i), radiance_of(i), first_of(i)) for i in [0, n), in parallel, with every
+  // pixel's samples added in the order of i, so the sums are the same bit for bit for any number
+  // of threads. The samples are sorted into ranges of pixels (a counting sort, stable), one task
+  // per range. first_of returns a const FirstHit* (null when the film keeps no first-hit values).
+  template <class PixelOf, class RadianceOf, class FirstOf>
+  void add_in_order(size_t n, PixelOf pixel_of, RadianceOf radiance_of, FirstOf first_of) {
+    constexpr size_t block = 8192;
+    const size_t ranges = std::clamp<size_t>(pixels() / 64, 1, 1024);
+    const size_t blocks = (n + block - 1) / block;
+    auto range_of = [&](size_t i) { return size_t(uint64_t(pixel_of(i)) * ranges / pixels()); };
+    // start[r * blocks + b]: where block b's samples of range r go.
+    std::vector<uint32_t>& start = start_;
+    start.assign(ranges * blocks + 1, 0);
+    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+      for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i)
+        ++start[range_of(i) * blocks + b + 1];
+    });
+    for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    order_.resize(n);
+    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+      std::vector<uint32_t> next(ranges);
+      for (size_t r = 0; r < ranges; ++r) next[r] = start[r * blocks + b];
+      for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i)
+        order_[next[range_of(i)]++] = uint32_t(i);
+    });
+    std::atomic<uint64_t> dropped{0};
+    tbb::parallel_for(size_t(0), ranges, [&](size_t r) {
+      uint64_t own = 0;
+      for (uint32_t k = start[r * blocks], end = start[(r + 1) * blocks]; k < end; ++k) {
+        const size_t i = order_[k];
+        own += !accumulate(pixel_of(i), radiance_of(i), first_of(i));
+      }
+      dropped += own;
+    });
+    dropped_ += dropped;
+  }
+
+  // Adds another film's samples (same size and outputs, else Error).
+  void merge(const Film& other);
+
+  uint64_t dropped() const { return dropped_; }
+  uint32_t count(size_t pixel) const { return count_[pixel]; }
+  // The fewest and most samples any pixel has.
+  uint32_t min_count() const;
+  uint32_t max_count() const;
+
+  // The per-pixel mean colour.
+  Image resolve() const;
+
+  // Mean and standard error of the mean of a pixel's channel average (R+G+B)/3.
+  glm::dvec2 mean_and_error(size_t pixel) const;
+
+  // The unbiased estimate of the variance of the pixel's mean colour, channel c:
+  // s² / n with s² = (Σx² − (Σx)²/n) / (n − 1). Zero with fewer than two samples.
+  double variance_of_mean(size_t pixel, int c) const;
+
+  // Every output as named channels: R, G, B, then the AOVs asked (albedo.R/G/B, N.X/Y/Z, Z,
+  // P.X/Y/Z, variance.R/G/B, samples). Z is +inf and P zero where no sample hit anything.
+  std::vector<Channel> channels() const;
+
+ private:
+  // False (and nothing added) for a sample that is not finite.
+  bool accumulate(size_t pixel, const glm::vec3& radiance, const FirstHit* first) {
+    if (!std::isfinite(radiance.x) || !std::isfinite(radiance.y) || !std::isfinite(radiance.z))
+      return false;
+    for (int c = 0; c < 3; ++c) {
+      sum_[3 * pixel + c] += radiance[c];
+      sum_sq_[3 * pixel + c] += double(radiance[c]) * radiance[c];
+    }
+    const double m = (double(radiance.x) + radiance.y + radiance.z) / 3.0;
+    mean_sq_[pixel] += m * m;
+    ++count_[pixel];
+    if (first && !first_.empty()) {
+      double* f = &first_[first_stride * pixel];
+      for (int c = 0; c < 3; ++c) f[c] += first->albedo[c], f[3 + c] += first->normal[c];
+      if (first->hit) {
+        f[6] += first->depth;
+        for (int c = 0; c < 3; ++c) f[7 + c] += first->position[c];
+        ++hits_[pixel];
+      }
+    }
+    return true;
+  }
+
+  // Per pixel: albedo (3), normal (3), depth (1), position (3).
+  static constexpr size_t first_stride = 10;
+
+  int width_, height_;
+  AovSet aovs_;
+  std::vector<uint32_t> order_, start_;  // add_in_order's scratch
+  std::vector<double> sum_, sum_sq_;     // per colour channel
+  std::vector<double> mean_sq_;          // squares of the channel average
+  std::vector<uint32_t> count_;
+  std::vector<double> first_;   // first-hit sums, first_stride per pixel (empty: none kept)
+  std::vector<uint32_t> hits_;  // samples whose camera ray hit something (with first_)
+  uint64_t dropped_ = 0;
+};
+
+}  // namespace dacrt

@@ -1,0 +1,128 @@
+#include "render/render_job.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "io/exr.h"
+#include "util/error.h"
+
+#ifndef DACRT_VERSION
+#define DACRT_VERSION "unknown"
+#endif
+
+namespace dacrt {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+}  // namespace
+
+const char* version() {
+  return DACRT_VERSION;
+}
+
+bool has_emitters(const Scene& scene) {
+  if (!scene.lights.empty()) return true;
+  for (uint32_t m : scene.geometry.material)
+    if (scene.materials[m].emissive()) return true;
+  return false;
+}
+
+void override_scene_camera(Scene& scene, const RenderSetup& setup) {
+  if (setup.camera < 0 || size_t(setup.camera) >= scene.cameras.size())
+    throw Error(scene.path + ": camera " + std::to_string(setup.camera) +
+                " does not exist (the scene has " + std::to_string(scene.cameras_from_file) + ")");
+  if (!setup.camera_override.any()) return;
+  const Box b = scene.bounds();
+  scene.cameras[setup.camera] = override_camera(scene.cameras[setup.camera], setup.camera_override,
+                                                b.empty() ? glm::vec3(0.f) : b.center());
+}
+
+std::vector<std::string> prepare_render(Scene& scene, RenderSettings& s, const RenderSetup& setup) {
+  override_scene_camera(scene, setup);
+  std::vector<std::string> notes;
+  s.camera = setup.camera;
+  const glm::ivec2 size =
+      image_size(scene.cameras[s.camera].aspect, setup.width.value_or(0), setup.height.value_or(0),
+                 setup.longer_side, scene.path + ": camera " + std::to_string(s.camera));
+  s.width = size.x, s.height = size.y;
+  scene.environment_map.reset();
+  scene.environment = glm::vec3(0.f);
+  if (!setup.environment_file.empty()) {
+    scene.environment_map = std::make_shared<const EnvironmentMap>(read_exr(setup.environment_file),
+                                                                   setup.environment_file);
+  } else if (setup.environment) {
+    scene.environment = *setup.environment;
+  } else if (!has_emitters(scene)) {
+    scene.environment = glm::vec3(1.f);
+    notes.push_back(scene.path +
+                    ": the scene has no emitters and no lights: lighting it with a uniform "
+                    "environment of 1");
+  }
+  if (scene.cameras_from_file == 0)
+    notes.push_back(scene.path + ": no camera in the file: framing the scene's bounds");
+  return notes;
+}
+
+RenderJob::RenderJob(const Scene& scene, Backend& backend, RenderSettings settings,
+                     std::string integrator)
+    : scene_(scene),
+      settings_(std::move(settings)),
+      name_(std::move(integrator)),
+      integrator_(Integrator::create(name_, scene, backend, settings_)) {}
+
+RenderJob::~RenderJob() = default;
+
+const RenderStats& RenderJob::stats() const {
+  return integrator_->stats();
+}
+
+uint32_t RenderJob::pass_size(const PassOptions& options) const {
+  if (options.spp_per_pass > 0) return options.spp_per_pass;
+  const uint64_t pixels = uint64_t(settings_.width) * uint64_t(settings_.height);
+  const uint64_t wavefront = resolve_wavefront(settings_, UINT64_MAX);
+  return uint32_t(std::clamp<uint64_t>((8 * wavefront + pixels - 1) / pixels, 1, 1u << 20));
+}
+
+RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress& progress,
+                             const PassOptions& options, const Checkpoint& checkpoint) {
+  const auto start = Clock::now();
+  auto last_checkpoint = start;
+  const uint64_t pixels = uint64_t(settings_.width) * uint64_t(settings_.height);
+  const uint32_t pass = pass_size(options);
+  RenderOutcome out;
+  out.first = out.complete = out.most = first;
+  while (out.complete < last) {
+    const uint32_t end = uint32_t(std::min<uint64_t>(uint64_t(out.complete) + pass, last));
+    const uint64_t taken = integrator_->render(film, out.complete, end, options.stop, progress);
+    const uint32_t whole = uint32_t(taken / pixels);
+    out.most = out.complete + whole + (taken % pixels ? 1 : 0);
+    out.complete += whole;
+    out.seconds = seconds_since(start);
+    if (out.complete < end) {  // the stop token cut the pass short
+      out.stopped = true;
+      break;
+    }
+    ++out.passes;
+    if (options.stop && options.stop->load()) {
+      out.stopped = true;
+      break;
+    }
+    if (out.complete < last && options.time_limit > 0 && out.seconds >= options.time_limit) {
+      out.timed_out = true;
+      break;
+    }
+    if (checkpoint && out.complete < last && options.checkpoint > 0 &&
+        seconds_since(last_checkpoint) >= options.checkpoint) {
+      checkpoint(film, out);
+      last_checkpoint = Clock::now();
+    }
+  }
+  progress.finish();
+  out.seconds = seconds_since(start);
+  return out;
+}
+
+}  // namespace dacrt

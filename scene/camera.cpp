@@ -1,0 +1,117 @@
+#include "scene/camera.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
+#include <string>
+
+#include "util/error.h"
+
+namespace dacrt {
+
+Camera frame_bounds(const Box& bounds, float aspect, float yfov) {
+  Camera cam;
+  cam.name = "framed";
+  cam.yfov = yfov;
+  cam.aspect = aspect;
+  glm::vec3 center = bounds.empty() ? glm::vec3(0.f) : bounds.center();
+  float radius = bounds.empty() ? 1.f : 0.5f * glm::length(bounds.extent());
+  if (!(radius > 0.f)) radius = 1.f;
+  // Fit the bounding sphere in the narrower of the two fields of view.
+  float half = 0.5f * yfov;
+  if (aspect > 0.f && aspect < 1.f) half = std::atan(std::tan(half) * aspect);
+  float distance = radius / std::sin(half);
+  glm::vec3 dir = glm::normalize(glm::vec3(0.f, 0.25f, 1.f));
+  glm::vec3 eye = center + distance * dir;
+  cam.to_world = glm::inverse(glm::lookAt(eye, center, glm::vec3(0.f, 1.f, 0.f)));
+  cam.znear = 0.f;
+  return cam;
+}
+
+Camera override_camera(const Camera& base, const CameraOverride& o, const glm::vec3& target) {
+  const glm::vec3 position = base.position(), forward = -glm::vec3(base.to_world[2]);
+  const glm::vec3 from = o.from.value_or(position);
+  const glm::vec3 at = o.at ? *o.at : o.from ? target : position + forward;
+  const glm::vec3 up = o.up.value_or(glm::vec3(base.to_world[1]));
+  const glm::vec3 view = at - from;
+  if (!(glm::length(view) > 0.f))
+    throw Error("--look-at must differ from --look-from (the camera's position)");
+  if (!(glm::length(glm::cross(glm::normalize(view), up)) > 1e-6f))
+    throw Error("--up must not be parallel to the view direction (or zero)");
+  Camera cam = base;
+  if (o.any()) cam.name = "command line";
+  cam.to_world = glm::inverse(glm::lookAt(from, at, up));
+  if (o.fov_degrees) {
+    cam.orthographic = false;
+    cam.yfov = glm::radians(*o.fov_degrees);
+  }
+  return cam;
+}
+
+glm::vec3 look_at_point(const Camera& camera, const glm::vec3& target) {
+  const float d = glm::length(target - camera.position());
+  return camera.position() - glm::vec3(camera.to_world[2]) * (d > 0.f ? d : 1.f);
+}
+
+float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
+                 glm::vec3& direction) {
+  const float aspect = float(width) / float(height);
+  if (camera.orthographic) {
+    const glm::vec3 local((2.f * x / width - 1.f) * camera.ymag * aspect,
+                          (1.f - 2.f * y / height) * camera.ymag, 0.f);
+    origin = glm::vec3(camera.to_world * glm::vec4(local, 1.f));
+    direction = -glm::vec3(camera.to_world[2]);
+    return camera.znear;
+  }
+  const float tan_half = std::tan(0.5f * camera.yfov);
+  glm::vec3 local((2.f * x / width - 1.f) * tan_half * aspect, (1.f - 2.f * y / height) * tan_half,
+                  -1.f);
+  origin = camera.position();
+  direction = glm::normalize(glm::vec3(camera.to_world * glm::vec4(local, 0.f)));
+  // The near plane is at depth znear: `local` (depth 1) scaled by znear, |local| · znear away.
+  return camera.znear * glm::length(local);
+}
+
+std::string camera_flags(const Camera& cam, const glm::vec3& target) {
+  const glm::vec3 p = cam.position() + 0.f;  // + 0: no "-0" printed
+  const glm::vec3 at = look_at_point(cam, target) + 0.f;
+  const glm::vec3 up = glm::vec3(cam.to_world[1]) + 0.f;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "--look-from %.7g,%.7g,%.7g --look-at %.7g,%.7g,%.7g --up %.7g,%.7g,%.7g", p.x, p.y,
+                p.z, at.x, at.y, at.z, up.x, up.y, up.z);
+  std::string out = text;
+  if (!cam.orthographic) {
+    std::snprintf(text, sizeof text, " --fov %.7g", cam.yfov * 180.0 / M_PI);
+    out += text;
+  }
+  return out;
+}
+
+glm::ivec2 image_size(float aspect, int width, int height, int longer, const std::string& camera) {
+  if (width > 0 && height > 0) return {width, height};
+  if (!(aspect > 0.f)) {
+    const int side = width > 0 ? width : height > 0 ? height : longer;
+    return {side, side};
+  }
+  auto derived = [&](double size, const char* side, const char* flag, int given) {
+    if (!(size <= double(max_image_side))) {
+      char ratio[32];
+      std::snprintf(ratio, sizeof ratio, "%g", double(aspect));
+      throw Error(camera + "'s aspectRatio " + ratio + " with " + flag + " " +
+                  std::to_string(given) + " gives a " + side + " of " +
+                  (size < 1e15 ? std::to_string(std::llround(size)) : std::to_string(size)) +
+                  " pixels, more than " + std::to_string(max_image_side) +
+                  " (give --width and --height)");
+    }
+    return std::max(1, int(std::lround(size)));
+  };
+  if (width > 0) return {width, derived(width / double(aspect), "height", "--width", width)};
+  if (height > 0) return {derived(height * double(aspect), "width", "--height", height), height};
+  // The longer side is `longer`: the other cannot exceed it.
+  if (aspect >= 1.f) return {longer, std::max(1, int(std::lround(longer / double(aspect))))};
+  return {std::max(1, int(std::lround(longer * double(aspect)))), longer};
+}
+
+}  // namespace dacrt

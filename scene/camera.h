@@ -1,0 +1,69 @@
+// Camera: how the image plane maps to rays. glTF's cameras (perspective or orthographic), the
+// camera made when a file has none, and one given on the command line as a LookAt.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+
+#include "tracer/geometry.h"
+
+namespace dacrt {
+
+// A camera in glTF's convention: it looks down its local -Z with +Y up. Perspective (a pinhole)
+// or orthographic.
+struct Camera {
+  std::string name;
+  glm::mat4 to_world{1.f};  // camera-to-world, rigid (scale removed)
+  float yfov = 0.7f;        // perspective: vertical field of view, radians
+  float aspect = 0.f;       // width / height; 0 when the file does not say
+  float znear = 0.f;
+  bool orthographic = false;
+  float ymag = 1.f;  // orthographic: half the view's height (its width follows the aspect)
+
+  glm::vec3 position() const { return glm::vec3(to_world[3]); }
+};
+
+// A camera that looks at the whole box from the +Z side (glTF's front), slightly above, with the
+// given vertical field of view; used when a file has no camera.
+Camera frame_bounds(const Box& bounds, float aspect, float yfov = 0.7f);
+
+// A camera given on the command line as pbrt's LookAt (F3D's --camera-* options are alike): any
+// of its parts overrides `base`, the camera it starts from.
+struct CameraOverride {
+  std::optional<glm::vec3> from, at, up;  // eye, a point it looks at, the up direction
+  std::optional<float> fov_degrees;       // vertical field of view (makes it perspective)
+  bool any() const { return from || at || up || fov_degrees; }
+};
+
+// `base` with the override applied. Unset parts keep base's: its position, its direction (when
+// only `from` is new, the camera looks at `target`, the scene's centre), its up, its yfov.
+// Throws Error (naming the flags) when from and at coincide or up is parallel to the view.
+Camera override_camera(const Camera& base, const CameraOverride& o, const glm::vec3& target);
+
+// A point the camera looks at, for printing it as a LookAt: on its viewing axis, as far as
+// `target` is from it (1 when that is 0).
+glm::vec3 look_at_point(const Camera& camera, const glm::vec3& target);
+
+// The camera as render flags, ready to copy: "--look-from X,Y,Z --look-at X,Y,Z --up X,Y,Z
+// --fov DEGREES" (no --fov for an orthographic camera). The look-at point is on the view axis, as
+// far as `target` (the scene's centre).
+std::string camera_flags(const Camera& camera, const glm::vec3& target);
+
+// The largest image side, whether given (--width, --height) or derived from a camera's aspect.
+inline constexpr int max_image_side = 1 << 15;
+
+// The image size for a camera of this aspect ratio (width / height; <= 0: none) and the sides
+// given (0: not given). Both given are kept; one given keeps the camera's aspect (or makes a
+// square); none gives `longer` pixels on the longer side. Throws Error("<camera>'s aspectRatio
+// 1e-07 with --width 8 gives a height of 79999999 pixels, more than 32768 …") when the derived side
+// is over max_image_side.
+glm::ivec2 image_size(float aspect, int width, int height, int longer, const std::string& camera);
+
+// The camera ray through image point (x, y) (pixels, from the top-left corner) of a width ×
+// height image, unit direction. Returns where along it the camera's near plane (znear) lies: the
+// ray's tmin, so nothing nearer than znear is seen.
+float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
+                 glm::vec3& direction);
+
+}  // namespace dacrt
