@@ -1,8 +1,6 @@
-// Tests for io/gltf_schema: a valid file that uses every element the schema check looks at, broken
+// Tests for io/gltf/schema: a valid file that uses every element the schema check looks at, broken
 // one way at a time; each error must be one dacrt::Error line naming the file and the JSON pointer
 // of the element at fault. Valid content the loader does not support loads, with a warning.
-#include "io/gltf_schema.h"
-
 #include <doctest/doctest.h>
 
 #include <fstream>
@@ -13,6 +11,7 @@
 #include <vector>
 
 #include "io/gltf.h"
+#include "io/gltf/schema.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_writer.h"
 #include "util/error.h"

@@ -1,6 +1,6 @@
 // Reading a glTF file into tinygltf's model: .gltf or .glb (told apart by the GLB magic), with
 // the checks tinygltf lacks (GLB chunk lengths, JSON nesting depth, the glTF schema's types and
-// ranges (io/gltf_schema.h), FIFOs posing as buffers) and images ignored (a no-op loader: this
+// ranges (io/gltf/schema.h), FIFOs posing as buffers) and images ignored (a no-op loader: this
 // version renders no textures). Throws dacrt::Error with one line naming the file.
 #pragma once
 

@@ -1,4 +1,6 @@
-#include "io/gltf_file.h"
+// Reading a glTF file into tinygltf's model (io/gltf/file.h): the GLB container, the JSON checks
+// (nesting depth, then io/gltf/schema.h), external files, and tinygltf's messages made one line.
+#include "io/gltf/file.h"
 
 #include <bit>
 #include <cerrno>
@@ -10,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "io/gltf_schema.h"
+#include "io/gltf/schema.h"
 #include "util/error.h"
 #include "util/paths.h"
 
@@ -101,10 +103,11 @@ int json_depth(const unsigned char* s, size_t n) {
   return deepest;
 }
 
-// Images are decoded later, and only those a material uses (io/gltf.cpp): here the encoded bytes of
-// a data URI or an external file are kept in Image::image as they are. Images in a bufferView are
-// left alone: tinygltf passes them without checking the view against its buffer, and the loader
-// reads them through its own bounds checks. A missing external file leaves the image empty.
+// Images are decoded later, and only those a material uses (io/gltf/images.cpp): here the encoded
+// bytes of a data URI or an external file are kept in Image::image as they are. Images in a
+// bufferView are left alone: tinygltf passes them without checking the view against its buffer, and
+// the loader reads them through its own bounds checks. A missing external file leaves the image
+// empty.
 bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
                         const unsigned char* bytes, int size, void*) {
   if (image->bufferView == -1 && bytes && size > 0) image->image.assign(bytes, bytes + size);

@@ -19,7 +19,7 @@ namespace dacrt {
 // version does not read as the file means it.
 std::vector<std::string> check_gltf_schema(const std::string& path, const nlohmann::json& doc);
 
-// Whether io/gltf.cpp reads extension `name` (a file may require only those).
+// Whether the loader (io/gltf/) reads extension `name` (a file may require only those).
 bool gltf_extension_supported(std::string_view name);
 
 }  // namespace dacrt

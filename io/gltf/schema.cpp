@@ -1,4 +1,4 @@
-// The glTF 2.0 schema check (io/gltf_schema.h). Only known properties are descended into, so the
+// The glTF 2.0 schema check (io/gltf/schema.h). Only known properties are descended into, so the
 // recursion is as deep as the schema, whatever the file's nesting. Unknown properties pass (the
 // spec allows them), and so do extensions a file only uses; animations and the content of extras
 // (which the spec lets be any JSON value) are not looked at.
@@ -14,7 +14,7 @@
 //   defines any, so the loader could only guess. Image MIME types are the exception: extensions
 //   (EXT_texture_webp, KHR_texture_basisu) add some, with a PNG or JPEG fallback; they warn.
 // - Integers are bounded by what tinygltf stores them in (int, or 2^53 where it keeps size_t).
-#include "io/gltf_schema.h"
+#include "io/gltf/schema.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,7 +39,8 @@ constexpr int64_t kMaxSize = int64_t(1) << 53;
 // ... and indices, enums, texCoord sets and sparse counts and offsets as int.
 constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 
-// The extensions io/gltf.cpp reads (KHR_materials_volume only as thin-walled, with a warning).
+// The extensions the loader (io/gltf/) reads (KHR_materials_volume only as thin-walled, with a
+// warning).
 constexpr std::string_view kSupportedExtensions[] = {
     "EXT_mesh_gpu_instancing", "KHR_lights_punctual",    "KHR_materials_emissive_strength",
     "KHR_materials_ior",       "KHR_materials_specular", "KHR_materials_transmission",

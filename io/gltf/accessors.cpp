@@ -1,0 +1,279 @@
+// glTF accessors: every attribute, index and instance array is read through one validated strided
+// view (bufferView and buffer bounds, strides, sparse patches, accessors without a bufferView),
+// then converted to floats, vectors, quaternions or indices with the spec's normalisation.
+#include <bit>
+#include <cstring>
+#include <limits>
+
+#include "io/gltf/internal.h"
+
+namespace dacrt::gltf {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "glTF buffers are little-endian");
+
+using Bytes = std::vector<unsigned char>;
+
+// Accessors without a bufferView (all zeros, maybe sparse-patched) are materialised; their size is
+// not bounded by any buffer, so bound it here.
+constexpr size_t kMaxSynthesisedBytes = size_t(1) << 30;
+
+// a + b for messages, saturating instead of wrapping.
+size_t sat_add(size_t a, size_t b) {
+  return a > SIZE_MAX - b ? SIZE_MAX : a + b;
+}
+
+// A validated strided window onto an accessor's elements: element i is the `components` values of
+// `component_type` at data + i * stride. Accessors that are sparse or have no bufferView are
+// materialised into `owned` (which `data` then points into, so a View is move-only).
+struct View {
+  const unsigned char* data = nullptr;
+  size_t count = 0, stride = 0;
+  int component_type = 0, components = 0;
+  std::vector<unsigned char> owned;
+
+  View() = default;
+  View(View&&) = default;
+  View(const View&) = delete;
+};
+
+// Bytes per component; 0 for INT (5124) and DOUBLE, which glTF 2.0 accessors do not allow.
+size_t component_size(int type) {
+  static constexpr size_t sizes[] = {1, 1, 2, 2, 0, 4, 4};  // BYTE ... FLOAT = 5120 ... 5126
+  return type >= 5120 && type <= 5126 ? sizes[type - 5120] : 0;
+}
+
+bool unsigned_index_type(int type) {
+  return type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+         type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+         type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+}
+
+// An unsigned index of 1, 2 or 4 bytes (little-endian, like the host: the low bytes come first).
+uint32_t read_uint(const unsigned char* p, size_t size) {
+  uint32_t v = 0;
+  std::memcpy(&v, p, size);
+  return v;
+}
+
+// Component `c` of an element as a float: FLOAT as it is, integers normalised as glTF defines it
+// (unsigned c / max, signed max(c / max, -1)).
+float component_value(const unsigned char* element, int c, int type) {
+  const unsigned char* p = element + size_t(c) * component_size(type);
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float f;
+      std::memcpy(&f, p, 4);
+      return f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return float(*p) / 255.f;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return std::max(float(int8_t(*p)) / 127.f, -1.f);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t x;
+      std::memcpy(&x, p, 2);
+      return float(x) / 65535.f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t x;
+      std::memcpy(&x, p, 2);
+      return std::max(float(x) / 32767.f, -1.f);
+    }
+  }
+  return 0.f;
+}
+
+const char* type_name(int type) {
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return "FLOAT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return "UNSIGNED_BYTE";
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return "BYTE";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return "UNSIGNED_SHORT";
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return "SHORT";
+  }
+  return "an integer type";
+}
+
+// `bytes` tightly packed bytes at `offset` in bufferView `view` (sparse indices and values).
+const unsigned char* region(const Gltf& gltf, int view, int offset, size_t bytes,
+                            const std::string& what) {
+  Span span = buffer_view(gltf, view, what);
+  if (offset < 0) gltf.fail(what + " has a negative byteOffset");
+  if (size_t(offset) > span.size || bytes > span.size - size_t(offset))
+    gltf.fail(what + " overruns bufferView " + str(view) + " (needs " +
+              str(sat_add(size_t(offset), bytes)) + " bytes, has " + str(span.size) + ")");
+  return span.data + offset;
+}
+
+void apply_sparse(const Gltf& gltf, const tinygltf::Accessor& a, View& v, const std::string& what) {
+  const auto& s = a.sparse;
+  if (s.count < 0 || size_t(s.count) > v.count)
+    gltf.fail(what + " has sparse count " + str(s.count) + ", outside [0, " + str(v.count) + "]");
+  size_t element = component_size(v.component_type) * size_t(v.components);
+  if (a.bufferView != -1) {
+    // Patch a packed copy, never the file's buffer (other accessors may share it). The copy is no
+    // bigger than the bufferView, which was bounds-checked above.
+    Bytes dense(v.count * element);
+    for (size_t i = 0; i < v.count; ++i)
+      std::memcpy(&dense[i * element], v.data + i * v.stride, element);
+    v.owned = std::move(dense);
+    v.data = v.owned.data();
+    v.stride = element;
+  }
+  size_t index_size = component_size(s.indices.componentType);
+  if (!unsigned_index_type(s.indices.componentType))
+    gltf.fail(what + " has sparse indices of componentType " + str(s.indices.componentType) +
+              " (must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT)");
+  size_t n = size_t(s.count);
+  const unsigned char* indices = region(gltf, s.indices.bufferView, s.indices.byteOffset,
+                                        n * index_size, "the sparse index array of " + what);
+  const unsigned char* values = region(gltf, s.values.bufferView, s.values.byteOffset, n * element,
+                                       "the sparse value array of " + what);
+  for (size_t k = 0; k < n; ++k) {
+    uint32_t i = read_uint(indices + k * index_size, index_size);
+    if (i >= v.count)
+      gltf.fail(what + " has sparse index " + str(i) + ", past its count " + str(v.count));
+    std::memcpy(&v.owned[i * element], values + k * element, element);
+  }
+}
+
+View view(const Gltf& gltf, int index, const std::string& role) {
+  if (index < 0 || size_t(index) >= gltf.model.accessors.size())
+    gltf.fail(role + " refers to accessor " + str(index) + ", which does not exist");
+  const tinygltf::Accessor& a = gltf.model.accessors[size_t(index)];
+  std::string what = "accessor " + str(index) + " (" + role + ")";
+  View v;
+  v.count = a.count;
+  v.component_type = a.componentType;
+  v.components = a.type == TINYGLTF_TYPE_SCALAR ? 1 : (a.type >= 2 && a.type <= 4 ? a.type : 0);
+  size_t csize = component_size(a.componentType);
+  if (csize == 0)
+    gltf.fail(what + " has componentType " + str(a.componentType) +
+              ", which glTF 2.0 does not allow");
+  if (v.components == 0) gltf.fail(what + " has a matrix type, which no vertex attribute uses");
+  size_t element = csize * size_t(v.components);
+  v.stride = element;
+
+  if (a.bufferView != -1) {
+    Span span = buffer_view(gltf, a.bufferView, what);
+    if (span.stride != 0) {
+      if (span.stride < element)
+        gltf.fail(what + " has " + str(element) + "-byte elements but bufferView " +
+                  str(a.bufferView) + " has byteStride " + str(span.stride));
+      v.stride = span.stride;
+    }
+    // byteOffset + (count - 1) * stride + element, without wrapping: a huge count must fail
+    // here as an overrun, not allocate or read.
+    size_t needed = 0;
+    if (v.count > 0 && (__builtin_mul_overflow(v.count - 1, v.stride, &needed) ||
+                        __builtin_add_overflow(needed, element, &needed) ||
+                        __builtin_add_overflow(needed, a.byteOffset, &needed)))
+      needed = SIZE_MAX;
+    if (needed > span.size)
+      gltf.fail(what + " overruns bufferView " + str(a.bufferView) + " (needs " + str(needed) +
+                " bytes, has " + str(span.size) + ")");
+    v.data = span.data + (v.count > 0 ? a.byteOffset : 0);
+  } else {
+    // No bufferView: the spec says zeros (then patched by `sparse`). Nothing bounds the count.
+    size_t bytes = 0;
+    bool overflows = __builtin_mul_overflow(v.count, element, &bytes);
+    if (overflows || bytes > kMaxSynthesisedBytes)
+      gltf.fail(what + " has no bufferView and count " + str(v.count) + ": it would need " +
+                (overflows ? std::string("more than 2^64") : str(bytes)) + " bytes");
+    v.owned.assign(bytes, 0);
+    v.data = v.owned.data();
+  }
+  if (a.sparse.isSparse) apply_sparse(gltf, a, v, what);
+  return v;
+}
+
+}  // namespace
+
+Span buffer_view(const Gltf& gltf, int index, const std::string& user) {
+  if (index < 0 || size_t(index) >= gltf.model.bufferViews.size())
+    gltf.fail(user + " refers to bufferView " + str(index) + ", which does not exist");
+  const tinygltf::BufferView& bv = gltf.model.bufferViews[size_t(index)];
+  if (bv.buffer < 0 || size_t(bv.buffer) >= gltf.model.buffers.size())
+    gltf.fail("bufferView " + str(index) + " refers to buffer " + str(bv.buffer) +
+              ", which does not exist");
+  const Bytes& buffer = gltf.model.buffers[size_t(bv.buffer)].data;
+  if (bv.byteOffset > buffer.size() || bv.byteLength > buffer.size() - bv.byteOffset)
+    gltf.fail("bufferView " + str(index) + " (of " + user + ") overruns buffer " + str(bv.buffer) +
+              " (needs " + str(sat_add(bv.byteOffset, bv.byteLength)) + " bytes, has " +
+              str(buffer.size()) + ")");
+  return {buffer.data() + bv.byteOffset, bv.byteLength, bv.byteStride};
+}
+
+std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std::string& role) {
+  std::vector<glm::vec4> q =
+      read_floats(gltf, accessor, role, 4, 4,
+                  {TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT}, 1.f);
+  std::vector<glm::quat> out(q.size());
+  for (size_t i = 0; i < q.size(); ++i) {
+    const glm::quat rotation(q[i].w, q[i].x, q[i].y, q[i].z);  // glm: (w, x, y, z)
+    const float len = glm::length(rotation);
+    if (!(len > 0.f) || !std::isfinite(len))
+      gltf.fail("accessor " + str(accessor) + " (" + role + ") element " + str(i) +
+                " is not a rotation");
+    out[i] = rotation / len;
+  }
+  return out;
+}
+
+std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::string& role,
+                                   int min_components, int max_components,
+                                   std::initializer_list<int> integers, float fill) {
+  View v = view(gltf, accessor, role);
+  const int type = v.component_type;
+  const std::string what = "accessor " + str(accessor) + " (" + role + ")";
+  bool allowed = type == TINYGLTF_COMPONENT_TYPE_FLOAT;
+  std::string types = "FLOAT";
+  for (int t : integers) allowed |= type == t, types += std::string(", ") + type_name(t);
+  if (!allowed || v.components < min_components || v.components > max_components)
+    gltf.fail(what + " must be " + types + " with " + str(min_components) +
+              (max_components > min_components ? " to " + str(max_components) : std::string()) +
+              " components (it is " + type_name(type) + " with " + str(v.components) + ")");
+  if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !gltf.model.accessors[size_t(accessor)].normalized)
+    gltf.fail(what + " must be normalized (" + type_name(type) + ")");
+  std::vector<glm::vec4> out(v.count, glm::vec4(fill));
+  for (size_t i = 0; i < v.count; ++i)
+    for (int c = 0; c < v.components; ++c)
+      out[i][c] = component_value(v.data + i * v.stride, c, type);
+  return out;
+}
+
+std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role) {
+  View v = view(gltf, accessor, role);
+  if (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || v.components != 3)
+    gltf.fail("accessor " + str(accessor) + " (" + role + ") must be FLOAT VEC3 (componentType " +
+              str(v.component_type) + ", " + str(v.components) + " components)");
+  std::vector<glm::vec3> out(v.count);
+  for (size_t i = 0; i < v.count; ++i)
+    std::memcpy(&out[i], v.data + i * v.stride, sizeof(glm::vec3));
+  return out;
+}
+
+std::vector<uint32_t> read_indices(const Gltf& gltf, int accessor, const std::string& role,
+                                   size_t vertex_count) {
+  View v = view(gltf, accessor, role);
+  size_t size = component_size(v.component_type);
+  if (v.components != 1 || !unsigned_index_type(v.component_type))
+    gltf.fail("accessor " + str(accessor) + " (" + role +
+              ") must be an UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT SCALAR");
+  std::vector<uint32_t> indices(v.count);
+  for (size_t k = 0; k < v.count; ++k) {
+    indices[k] = read_uint(v.data + k * v.stride, size);
+    if (indices[k] >= vertex_count)
+      gltf.fail("accessor " + str(accessor) + " (" + role + ") element " + str(k) + " is index " +
+                str(indices[k]) + ", past the vertex count " + str(vertex_count));
+  }
+  return indices;
+}
+
+}  // namespace dacrt::gltf

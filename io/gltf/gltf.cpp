@@ -1,0 +1,118 @@
+// glTF 2.0 loading: tinygltf parses the file (Debian ships it compiled in libtinygltf.so, so no
+// TINYGLTF_IMPLEMENTATION here), then the chosen scene's node tree is flattened into world-space
+// triangles, a material table and cameras. Everything read from the file is validated first, so a
+// malformed file gives one dacrt::Error line and never a crash or an out-of-bounds read.
+//
+// Supported: .gltf (external .bin or data URIs) and .glb; TRS and matrix nodes; triangle lists,
+// indexed (u8/u16/u32) or not; sparse accessors and accessors without a bufferView (zeros);
+// NORMAL, TANGENT, TEXCOORD_0/1 and COLOR_0 (float or normalised integers); the metallic-roughness
+// factors with KHR_materials_ior and KHR_materials_specular, emissiveFactor ×
+// KHR_materials_emissive_strength, doubleSided; baseColor, metallic-roughness, normal and
+// emissive textures with KHR_texture_transform and samplers, from PNG or JPEG images (embedded,
+// in a bufferView, or external files); tangents generated where a normal map needs them and the
+// file has none; perspective and orthographic cameras.
+// Triangle lists, strips and fans. Skipped with one warning line each: point and line primitives,
+// primitives without POSITION (the spec says to skip them).
+// Ignored: occlusion textures (a path tracer computes occlusion), images no material uses (never
+// decoded), skins, morph targets, animations, and extensions that are only "used" (the spec says
+// the asset renders without them).
+// Rejected: files that *require* an extension not read here (compressed or quantised meshes...).
+// Normals that are NaN, infinite or zero are replaced by the triangle's geometric normal: they are
+// only shading hints. A non-finite position is an error, since the triangle has no place.
+//
+// This file is the entry point (io/gltf.h): it reads the model (file.cpp, with schema.cpp's
+// checks) and builds the scene in order: materials.cpp, then nodes.cpp (which places
+// primitives.cpp's meshes, cameras.cpp's cameras and lights.cpp's lights), then images.cpp for
+// the textures the placed meshes use. accessors.cpp and tangents.cpp serve them (internal.h).
+#include "io/gltf.h"
+
+#include <iostream>
+#include <new>
+
+#include "io/gltf/file.h"
+#include "io/gltf/internal.h"
+
+namespace dacrt {
+namespace gltf {
+namespace {
+
+Scene run(const Gltf& gltf, int scene) {
+  Scene out;
+  MeshLoader meshes(gltf, out);
+  out.path = gltf.path;
+  // Required extensions, types, ranges and indices were checked against the schema
+  // (io/gltf/schema.cpp) before tinygltf parsed the file.
+
+  bool by_default = scene == -1;
+  if (by_default) scene = gltf.model.defaultScene == -1 ? 0 : gltf.model.defaultScene;
+  size_t count = gltf.model.scenes.size();
+  // A file without scenes (a library of meshes) gives an empty scene, unless one was asked for.
+  if ((scene < 0 || size_t(scene) >= count) && !(count == 0 && by_default && scene == 0))
+    gltf.fail(std::string(by_default ? "default " : "") + "scene " + str(scene) +
+              " does not exist (" + str(count) + " scenes)");
+  out.materials = load_materials(gltf, out.ignored);
+  if (count > 0) load_nodes(gltf, scene, meshes, out);
+  load_textures(gltf, meshes.texture_used(), out);
+
+  meshes.finish();
+  if (out.materials.empty()) out.materials.push_back(default_material());
+  out.cameras_from_file = out.cameras.size();
+  if (out.cameras.empty()) out.cameras.push_back(frame_bounds(out.bounds(), 0.f));
+
+  auto warn = [&](size_t n, const char* what) {
+    if (n > 0) std::cerr << "warning: " << gltf.path << ": skipped " << n << " " << what << "\n";
+  };
+  warn(meshes.skipped_modes(), "point and line primitives");
+  warn(meshes.skipped_unpositioned(), "primitives without POSITION");
+  const Scene::Ignored& i = out.ignored;
+  if (i.any()) {
+    std::string what;
+    auto add = [&](size_t n, const char* name) {
+      if (n) what += (what.empty() ? "" : ", ") + str(n) + " " + name;
+    };
+    add(i.specular_textures, "KHR_materials_specular textures");
+    add(i.volumes, "KHR_materials_volume thicknesses (rendered thin-walled)");
+    std::cerr << "warning: " << gltf.path << ": not rendered as specified in this version: " << what
+              << "\n";
+  }
+  return out;
+}
+
+}  // namespace
+}  // namespace gltf
+
+namespace {
+
+// Runs `read` (which gives the model) and the loader, turning every failure into one Error line.
+template <typename Read>
+Scene load(const std::string& path, const GltfOptions& options, Read read) {
+  try {
+    std::vector<std::string> files;
+    tinygltf::Model model = read(files);
+    Scene scene = gltf::run({path, model}, options.scene);
+    scene.files = std::move(files);
+    return scene;
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw Error(path + ": out of memory while loading");
+  } catch (const std::exception& e) {
+    throw Error(path + ": cannot be loaded: " + one_line(e.what()));
+  }
+}
+
+}  // namespace
+
+Scene load_gltf(const std::string& path, const GltfOptions& options) {
+  return load(path, options,
+              [&](std::vector<std::string>& files) { return read_gltf_model(path, &files); });
+}
+
+Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
+                       const GltfOptions& options) {
+  return load(path, options, [&](std::vector<std::string>& files) {
+    return parse_gltf_model(path, data, size, &files);
+  });
+}
+
+}  // namespace dacrt

@@ -1,0 +1,152 @@
+// What the glTF loader's files share (io/gltf/*.cpp; io/gltf/gltf.cpp runs them): the file being
+// loaded, its accessors read through one validated strided view, and a loader for each element
+// kind. Each checks what it reads; a failure is one dacrt::Error line naming the file.
+#pragma once
+
+#include <tiny_gltf.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <glm/gtc/quaternion.hpp>
+#include <initializer_list>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+#include "util/error.h"
+
+namespace dacrt::gltf {
+
+// The file being loaded: its path (which starts every message) and tinygltf's model of it.
+struct Gltf {
+  const std::string& path;
+  const tinygltf::Model& model;
+
+  [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
+};
+
+template <class Number>
+std::string str(Number n) {
+  return std::to_string(n);
+}
+
+inline bool finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Normalised n, or `fallback` when n has no usable direction (zero, NaN, inf).
+inline glm::vec3 unit_or(const glm::vec3& n, const glm::vec3& fallback) {
+  float len = glm::length(n);
+  if (!(len > 0.f) || !std::isfinite(len)) return fallback;
+  glm::vec3 u = n / len;
+  return finite(u) ? u : fallback;
+}
+
+// Accessors (accessors.cpp).
+
+struct Span {
+  const unsigned char* data;
+  size_t size;
+  size_t stride;
+};
+
+// The bytes of bufferView `index`, checked against its buffer; `user` names who refers to it.
+Span buffer_view(const Gltf& gltf, int index, const std::string& user);
+// POSITION and NORMAL: FLOAT VEC3, copied out of their (possibly strided) view.
+std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role);
+// An attribute of `min_components`..`max_components` components, FLOAT or one of the normalised
+// integer types `integers` (the accessor must then say normalized), as floats; components the
+// accessor lacks are `fill`.
+std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::string& role,
+                                   int min_components, int max_components,
+                                   std::initializer_list<int> integers, float fill);
+// Unit quaternions (x, y, z, w): FLOAT, or normalised BYTE or SHORT as the spec allows.
+std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std::string& role);
+// A primitive's indices: an unsigned SCALAR accessor, each index below `vertex_count`.
+std::vector<uint32_t> read_indices(const Gltf& gltf, int accessor, const std::string& role,
+                                   size_t vertex_count);
+
+// Tangents (tangents.cpp): generated for a normal map where the file gives none, 3 per triangle
+// of `corners` from the corners' shading normals `normals` (3 per triangle).
+std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
+                                         const std::vector<glm::vec2>& uv,
+                                         const std::vector<std::array<uint32_t, 3>>& corners,
+                                         const std::vector<glm::vec3>& normals);
+
+// Materials (materials.cpp).
+
+// glTF's default material (a file's primitives without one use it).
+Material default_material();
+// The file's materials in order; what of them this version does not render as specified is
+// counted in `ignored`.
+std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored);
+
+// Images (images.cpp): samplers for every texture; images decoded (in parallel) for the textures
+// materials use (`texture_used`, one flag a texture). Fills the scene's textures and images.
+void load_textures(const Gltf& gltf, const std::vector<bool>& texture_used, Scene& scene);
+
+// Primitives (primitives.cpp).
+
+// A per-corner attribute (3 values per triangle) kept once some primitive has it; the triangles
+// added before then get `fill`.
+template <class T>
+struct CornerStream {
+  std::vector<T> data;
+  bool on = false;
+  void start(size_t triangles, const T& fill) {
+    if (!on) on = true, data.assign(3 * triangles, fill);
+  }
+};
+
+// Meshes flattened into the scene's world-space triangles, one instance at a time, with the
+// per-corner attributes some primitive has (normals, texture coordinates, colours, tangents) and
+// the materials' textures marked used.
+class MeshLoader {
+ public:
+  MeshLoader(const Gltf& gltf, Scene& scene);
+
+  // Mesh `mesh` (which node `node` refers to) placed by `world`.
+  void add_mesh(int mesh, const glm::mat4& world, int node);
+  // Moves the per-corner attributes into the scene, once every mesh is added.
+  void finish();
+
+  const std::vector<bool>& texture_used() const { return texture_used_; }
+  size_t skipped_modes() const { return skipped_modes_; }
+  size_t skipped_unpositioned() const { return skipped_unpositioned_; }
+
+ private:
+  struct Transform;
+
+  void start_normals();
+  void add_primitive(int mesh, int index, const Transform& xf, bool first_instance);
+  void use_textures(const Material& m);
+  uint32_t material_for(int index, const std::string& where);
+
+  const Gltf& gltf_;
+  Scene& scene_;
+  const uint64_t available_memory_;
+  std::vector<glm::vec3> normals_;  // per corner; kept once any primitive has NORMAL
+  bool keep_normals_ = false;
+  CornerStream<glm::vec2> texcoords_[2];
+  CornerStream<glm::vec4> colors_, tangents_;
+  std::vector<bool> texture_used_;  // by a material some primitive uses
+  int default_material_ = -1;
+  std::vector<bool> mesh_seen_;
+  size_t skipped_modes_ = 0, skipped_unpositioned_ = 0;
+};
+
+// Nodes (nodes.cpp): the node tree of scene `scene` walked from its roots, each node's meshes
+// given to `meshes`, its camera and light added to `out`.
+void load_nodes(const Gltf& gltf, int scene, MeshLoader& meshes, Scene& out);
+
+// Cameras (cameras.cpp): camera `index` as node `node` places it by `world`.
+Camera load_camera(const Gltf& gltf, int index, const glm::mat4& world, int node);
+
+// Lights (lights.cpp): the KHR_lights_punctual light of node `index` (placed by `world`), if it
+// has one.
+std::optional<PunctualLight> load_light(const Gltf& gltf, const tinygltf::Node& node,
+                                        const glm::mat4& world, int index);
+
+}  // namespace dacrt::gltf

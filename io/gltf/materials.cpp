@@ -1,0 +1,190 @@
+// glTF materials: the metallic-roughness factors and textures, alpha modes, and the material
+// extensions read here (KHR_materials_emissive_strength, _ior, _specular, _transmission, the
+// thickness of _volume) with KHR_texture_transform on every textureInfo.
+#include <algorithm>
+
+#include "io/gltf/internal.h"
+
+namespace dacrt::gltf {
+namespace {
+
+// True if the material has extension `extension` with member `member`.
+bool has_member(const tinygltf::Material& m, const char* extension, const char* member) {
+  auto e = m.extensions.find(extension);
+  return e != m.extensions.end() && e->second.IsObject() && e->second.Has(member);
+}
+
+// A textureInfo inside an extension (tinygltf leaves those as JSON values).
+tinygltf::TextureInfo extension_texture(const Gltf& gltf, const tinygltf::Value& v,
+                                        const std::string& what) {
+  tinygltf::TextureInfo info;
+  auto integer = [&](const char* name, int fallback) {
+    if (!v.Has(name)) return fallback;
+    const tinygltf::Value& n = v.Get(name);
+    if (!n.IsNumber() || !(n.GetNumberAsDouble() >= 0.0 && n.GetNumberAsDouble() < 1e9))
+      gltf.fail(what + ": " + name + " is not an index");
+    return int(n.GetNumberAsDouble());
+  };
+  if (!v.IsObject() || !v.Has("index")) gltf.fail(what + " has no texture index");
+  info.index = integer("index", -1);
+  info.texCoord = integer("texCoord", 0);
+  if (v.Has("extensions") && v.Get("extensions").IsObject())
+    for (const std::string& key : v.Get("extensions").Keys())
+      info.extensions[key] = v.Get("extensions").Get(key);
+  return info;
+}
+
+// A textureInfo (with KHR_texture_transform); marks the texture used and its TEXCOORD set needed.
+template <class Info>
+TextureRef texture_ref(const Gltf& gltf, const Info& info, const std::string& what) {
+  TextureRef ref;
+  if (info.index == -1) return ref;
+  if (info.index < 0 || size_t(info.index) >= gltf.model.textures.size())
+    gltf.fail(what + " refers to texture " + str(info.index) + ", which does not exist (" +
+              str(gltf.model.textures.size()) + " textures)");
+  ref.texture = info.index;
+  int set = info.texCoord;
+  if (auto ext = info.extensions.find("KHR_texture_transform"); ext != info.extensions.end()) {
+    const std::string where = what + " KHR_texture_transform";
+    const tinygltf::Value& t = ext->second;
+    if (!t.IsObject()) gltf.fail(where + " is not an object");
+    auto pair = [&](const char* name, glm::vec2 fallback) {
+      if (!t.Has(name)) return fallback;
+      const tinygltf::Value& a = t.Get(name);
+      if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber())
+        gltf.fail(where + ": " + name + " is not 2 numbers");
+      glm::vec2 out(a.Get(0).GetNumberAsDouble(), a.Get(1).GetNumberAsDouble());
+      if (!std::isfinite(out.x) || !std::isfinite(out.y))
+        gltf.fail(where + ": " + name + " is not finite");
+      return out;
+    };
+    const glm::vec2 offset = pair("offset", glm::vec2(0.f)), scale = pair("scale", glm::vec2(1.f));
+    float rotation = 0.f;
+    if (t.Has("rotation")) {
+      if (!t.Get("rotation").IsNumber() || !std::isfinite(t.Get("rotation").GetNumberAsDouble()))
+        gltf.fail(where + ": rotation is not a finite number");
+      rotation = float(t.Get("rotation").GetNumberAsDouble());
+    }
+    if (t.Has("texCoord")) {
+      if (!t.Get("texCoord").IsNumber()) gltf.fail(where + ": texCoord is not a number");
+      set = int(std::clamp(t.Get("texCoord").GetNumberAsDouble(), -1.0, 1e6));
+    }
+    // offset · rotation · scale: u' = cos·sx·u + sin·sy·v + ox, v' = −sin·sx·u + cos·sy·v + oy
+    // (the rotation turns the image clockwise on screen, as the Khronos TextureTransformTest
+    // model's markers check).
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    ref.transform = glm::mat3x2(glm::vec2(c * scale.x, -s * scale.x),
+                                glm::vec2(s * scale.y, c * scale.y), offset);
+  }
+  if (set < 0 || set > 1)
+    gltf.fail(what + ": texCoord " + str(set) +
+              " is not supported (TEXCOORD_0 and TEXCOORD_1 are)");
+  ref.texcoord = uint8_t(set);
+  return ref;
+}
+
+}  // namespace
+
+Material default_material() {
+  Material m;
+  m.name = "default";
+  return m;
+}
+
+std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored) {
+  std::vector<Material> materials;
+  for (size_t i = 0; i < gltf.model.materials.size(); ++i) {
+    const tinygltf::Material& src = gltf.model.materials[i];
+    std::string what = "material " + str(i);
+    Material m;
+    m.name = src.name;
+    m.double_sided = src.doubleSided;
+    ignored.specular_textures += has_member(src, "KHR_materials_specular", "specularTexture") ||
+                                 has_member(src, "KHR_materials_specular", "specularColorTexture");
+    if (src.alphaMode == "MASK")
+      m.alpha_mode = Material::AlphaMode::mask;
+    else if (src.alphaMode == "BLEND")
+      m.alpha_mode = Material::AlphaMode::blend;
+    else if (src.alphaMode != "OPAQUE" && !src.alphaMode.empty())
+      gltf.fail(what + ": alphaMode \"" + src.alphaMode + "\" is not OPAQUE, MASK or BLEND");
+    if (!(src.alphaCutoff >= 0.0) || !std::isfinite(src.alphaCutoff))
+      gltf.fail(what + ": alphaCutoff is not a finite number >= 0");
+    m.alpha_cutoff = float(src.alphaCutoff);
+    const auto& base = src.pbrMetallicRoughness.baseColorFactor;
+    const auto& emissive = src.emissiveFactor;
+    if (base.size() != 4)
+      gltf.fail(what + ": baseColorFactor has " + str(base.size()) + " numbers, not 4");
+    if (emissive.size() != 3)
+      gltf.fail(what + ": emissiveFactor has " + str(emissive.size()) + " numbers, not 3");
+    // The spec bounds the factors to [0, 1]; clamping keeps the albedo energy-conserving.
+    m.base_color = glm::clamp(glm::vec3(base[0], base[1], base[2]), 0.f, 1.f);
+    if (!std::isfinite(base[3])) gltf.fail(what + ": baseColorFactor is not finite");
+    m.alpha = std::clamp(float(base[3]), 0.f, 1.f);
+    glm::vec3 emission = glm::clamp(glm::vec3(emissive[0], emissive[1], emissive[2]), 0.f, 1.f);
+    // A number member of an extension object, or `fallback` when it is absent.
+    auto extension_number = [&](const char* extension, const char* member, double fallback) {
+      if (!has_member(src, extension, member)) return fallback;
+      const tinygltf::Value& value = src.extensions.at(extension).Get(member);
+      if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
+        gltf.fail(what + ": " + extension + "." + member + " is not a finite number");
+      return value.GetNumberAsDouble();
+    };
+    ignored.volumes += extension_number("KHR_materials_volume", "thicknessFactor", 0.0) > 0.0;
+    const double strength =
+        extension_number("KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+    if (!(strength >= 0.0) || !std::isfinite(float(strength)))
+      gltf.fail(what +
+                ": KHR_materials_emissive_strength.emissiveStrength is not a finite number >= 0");
+    m.emission = emission * float(strength);
+    if (!finite(m.base_color) || !finite(m.emission))
+      gltf.fail(what + ": a colour factor is not finite");
+    // Factors the spec bounds to [0, 1] are clamped; what is not a number is an error.
+    auto unit = [&](double value, const char* name) {
+      if (!std::isfinite(value)) gltf.fail(what + ": " + name + " is not a finite number");
+      return std::clamp(float(value), 0.f, 1.f);
+    };
+    m.metallic = unit(src.pbrMetallicRoughness.metallicFactor, "metallicFactor");
+    m.roughness = unit(src.pbrMetallicRoughness.roughnessFactor, "roughnessFactor");
+    // KHR_materials_ior: 1 or more, or exactly 0 (Fresnel 1, for converted spec-gloss files).
+    const double ior = extension_number("KHR_materials_ior", "ior", 1.5);
+    if (!(ior >= 1.0 || ior == 0.0))
+      gltf.fail(what + ": KHR_materials_ior.ior is " + std::to_string(ior) + ", not 0 or >= 1");
+    m.ior = float(std::min(ior, 1e6));  // beyond, F0 is 1 to float precision
+    m.specular = unit(extension_number("KHR_materials_specular", "specularFactor", 1.0),
+                      "KHR_materials_specular.specularFactor");
+    m.transmission = unit(extension_number("KHR_materials_transmission", "transmissionFactor", 0.0),
+                          "KHR_materials_transmission.transmissionFactor");
+    if (has_member(src, "KHR_materials_transmission", "transmissionTexture"))
+      m.transmission_texture = texture_ref(
+          gltf,
+          extension_texture(
+              gltf, src.extensions.at("KHR_materials_transmission").Get("transmissionTexture"),
+              what + " KHR_materials_transmission.transmissionTexture"),
+          what + " KHR_materials_transmission.transmissionTexture");
+    if (has_member(src, "KHR_materials_specular", "specularColorFactor")) {
+      const tinygltf::Value& c =
+          src.extensions.at("KHR_materials_specular").Get("specularColorFactor");
+      if (!c.IsArray() || c.ArrayLen() != 3)
+        gltf.fail(what + ": KHR_materials_specular.specularColorFactor is not 3 numbers");
+      for (int k = 0; k < 3; ++k) {
+        if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble()) ||
+            c.Get(k).GetNumberAsDouble() < 0.0)
+          gltf.fail(what + ": KHR_materials_specular.specularColorFactor is not 3 numbers >= 0");
+        m.specular_color[k] = float(c.Get(k).GetNumberAsDouble());
+      }
+    }
+    const auto& pbr = src.pbrMetallicRoughness;
+    m.base_color_texture = texture_ref(gltf, pbr.baseColorTexture, what + " baseColorTexture");
+    m.metallic_roughness_texture =
+        texture_ref(gltf, pbr.metallicRoughnessTexture, what + " metallicRoughnessTexture");
+    m.emissive_texture = texture_ref(gltf, src.emissiveTexture, what + " emissiveTexture");
+    m.normal_texture = texture_ref(gltf, src.normalTexture, what + " normalTexture");
+    if (!std::isfinite(src.normalTexture.scale))
+      gltf.fail(what + ": normalTexture.scale is not a finite number");
+    m.normal_scale = float(src.normalTexture.scale);
+    materials.push_back(m);
+  }
+  return materials;
+}
+
+}  // namespace dacrt::gltf

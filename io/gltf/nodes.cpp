@@ -1,0 +1,147 @@
+// glTF nodes: the chosen scene's node tree walked from its roots, each node's TRS or matrix
+// transform composed into a world transform, and what a node places there: its mesh (once per
+// EXT_mesh_gpu_instancing instance), its camera and its KHR_lights_punctual light.
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "io/gltf/internal.h"
+
+namespace dacrt::gltf {
+namespace {
+
+// EXT_mesh_gpu_instancing's per-instance TRANSLATION, ROTATION and SCALE as matrices (T R S);
+// nothing when the node does not use it (and an empty list for zero instances).
+std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
+                                                          const tinygltf::Node& node, int index) {
+  auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
+  if (ext == node.extensions.end()) return std::nullopt;
+  const std::string where = "node " + str(index) + " EXT_mesh_gpu_instancing";
+  if (!ext->second.IsObject() || !ext->second.Has("attributes") ||
+      !ext->second.Get("attributes").IsObject())
+    gltf.fail(where + " has no attributes");
+  const tinygltf::Value& attributes = ext->second.Get("attributes");
+  auto accessor = [&](const char* name) {
+    if (!attributes.Has(name)) return -1;
+    const tinygltf::Value& v = attributes.Get(name);
+    if (!v.IsNumber()) gltf.fail(where + ": " + name + " is not an accessor index");
+    return int(v.GetNumberAsDouble());
+  };
+  const int t = accessor("TRANSLATION"), r = accessor("ROTATION"), s = accessor("SCALE");
+  std::vector<glm::vec3> translation, scale;
+  std::vector<glm::quat> rotation;
+  size_t count = 0;
+  bool counted = false;
+  auto same_count = [&](size_t n, const char* name) {
+    if (counted && n != count)
+      gltf.fail(where + ": " + name + " has " + str(n) + " instances, not " + str(count));
+    count = n, counted = true;
+  };
+  if (t != -1)
+    translation = read_vec3(gltf, t, "TRANSLATION of " + where),
+    same_count(translation.size(), "TRANSLATION");
+  if (s != -1) scale = read_vec3(gltf, s, "SCALE of " + where), same_count(scale.size(), "SCALE");
+  if (r != -1)
+    rotation = read_rotations(gltf, r, "ROTATION of " + where),
+    same_count(rotation.size(), "ROTATION");
+  if (!counted) gltf.fail(where + " has none of TRANSLATION, ROTATION and SCALE");
+  std::vector<glm::mat4> out(count);
+  for (size_t i = 0; i < count; ++i) {
+    glm::mat4 m(1.f);
+    if (!translation.empty()) m = glm::translate(m, translation[i]);
+    if (!rotation.empty()) m *= glm::mat4_cast(rotation[i]);
+    if (!scale.empty()) m = glm::scale(m, scale[i]);
+    if (!finite(glm::vec3(m[0])) || !finite(glm::vec3(m[1])) || !finite(glm::vec3(m[2])) ||
+        !finite(glm::vec3(m[3])))
+      gltf.fail(where + ": instance " + str(i) + " has a non-finite transform");
+    out[i] = m;
+  }
+  return out;
+}
+
+glm::mat4 local_transform(const Gltf& gltf, int index) {
+  const tinygltf::Node& n = gltf.model.nodes[size_t(index)];
+  std::string what = "node " + str(index);
+  auto expect = [&](const std::vector<double>& v, size_t size, const char* name) {
+    if (!v.empty() && v.size() != size)
+      gltf.fail(what + ": " + name + " has " + str(v.size()) + " numbers, not " + str(size));
+    return !v.empty();
+  };
+  glm::mat4 m(1.f);
+  if (expect(n.matrix, 16, "matrix")) {
+    for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = float(n.matrix[size_t(i)]);  // both column-major
+    // glTF requires the bottom row to be 0 0 0 1; keep the transform affine whatever the file
+    // says.
+    m[0][3] = m[1][3] = m[2][3] = 0.f;
+    m[3][3] = 1.f;
+  } else {
+    glm::mat4 t(1.f), r(1.f), s(1.f);
+    if (expect(n.translation, 3, "translation"))
+      t[3] =
+          glm::vec4(float(n.translation[0]), float(n.translation[1]), float(n.translation[2]), 1.f);
+    if (expect(n.rotation, 4, "rotation")) {
+      glm::quat q(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]),
+                  float(n.rotation[2]));
+      float len = glm::length(q);
+      if (!(len > 0.f) || !std::isfinite(len))
+        gltf.fail(what + ": rotation is not a usable quaternion");
+      r = glm::mat4_cast(q / len);  // files round their unit quaternions; renormalise
+    }
+    if (expect(n.scale, 3, "scale"))
+      for (int axis = 0; axis < 3; ++axis) s[axis][axis] = float(n.scale[size_t(axis)]);
+    m = t * r * s;
+  }
+  for (int c = 0; c < 4; ++c)
+    if (!finite(glm::vec3(m[c]))) gltf.fail(what + ": transform is not finite");
+  return m;
+}
+
+}  // namespace
+
+// Depth-first, pre-order, with an explicit stack: deep trees cannot overflow the call stack, and
+// a node reached twice (a cycle, two parents, or listed twice) is caught before it is pushed
+// again.
+void load_nodes(const Gltf& gltf, int scene, MeshLoader& meshes, Scene& out) {
+  constexpr int kUnreached = -2, kRoot = -1;
+  std::vector<int> parent(gltf.model.nodes.size(), kUnreached);
+  struct Pending {
+    int node;
+    glm::mat4 parent_world;
+  };
+  std::vector<Pending> stack;
+  auto push = [&](int child, int from, const glm::mat4& parent_world) {
+    std::string by = from == kRoot ? "scene " + str(scene) : "node " + str(from);
+    if (child < 0 || size_t(child) >= gltf.model.nodes.size())
+      gltf.fail(by + " refers to node " + str(child) + ", which does not exist");
+    int& p = parent[size_t(child)];
+    if (p != kUnreached) {
+      for (int a = from; a >= 0; a = parent[size_t(a)])
+        if (a == child) gltf.fail("node " + str(child) + " is its own ancestor (cycle)");
+      std::string first = p == kRoot ? "scene " + str(scene) : "node " + str(p);
+      gltf.fail("node " + str(child) + " has two parents (" + first + " and " + by + ")");
+    }
+    p = from;
+    stack.push_back({child, parent_world});
+  };
+
+  const auto& roots = gltf.model.scenes[size_t(scene)].nodes;
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) push(*it, kRoot, glm::mat4(1.f));
+  while (!stack.empty()) {
+    Pending item = stack.back();
+    stack.pop_back();
+    const tinygltf::Node& node = gltf.model.nodes[size_t(item.node)];
+    ++out.node_count;
+    glm::mat4 world = item.parent_world * local_transform(gltf, item.node);
+    if (node.mesh != -1) {
+      // EXT_mesh_gpu_instancing: the mesh once per instance, never at the node itself.
+      if (auto instances = instance_transforms(gltf, node, item.node); !instances)
+        meshes.add_mesh(node.mesh, world, item.node);
+      else
+        for (const glm::mat4& m : *instances) meshes.add_mesh(node.mesh, world * m, item.node);
+    }
+    if (node.camera != -1) out.cameras.push_back(load_camera(gltf, node.camera, world, item.node));
+    if (auto light = load_light(gltf, node, world, item.node)) out.lights.push_back(*light);
+    for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
+      push(*it, item.node, world);
+  }
+}
+
+}  // namespace dacrt::gltf

@@ -1,0 +1,268 @@
+// glTF meshes and primitives: triangle lists, strips and fans flattened into world-space
+// triangles, each with its material and the per-corner shading normals, texture coordinates,
+// colours and tangents (from the file or generated) that some primitive of the scene has.
+#include <algorithm>
+#include <limits>
+
+#include "io/gltf/internal.h"
+#include "util/memory.h"
+
+namespace dacrt::gltf {
+namespace {
+
+// What a triangle takes at least once loaded and traced: its corners and material (40 bytes),
+// shading normals (36), the loader's corner indices while it is built (12), the kernel's triangle
+// record (20).
+constexpr uint64_t kBytesPerTriangle = 40 + 36 + 12 + 20;
+// Hits report the triangle as a uint32_t with ~0u meaning "miss".
+constexpr size_t kMaxTriangles = std::numeric_limits<uint32_t>::max() - 1;
+
+glm::vec3 geometric_normal(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  return unit_or(glm::cross(b - a, c - a), glm::vec3(0.f, 0.f, 1.f));
+}
+
+}  // namespace
+
+// The part of a node's world transform that positions, normals and winding need.
+struct MeshLoader::Transform {
+  glm::mat4 world;
+  glm::mat3 normal;  // inverse-transpose of world's 3x3, up to a positive factor
+  bool flips;        // negative determinant: mirrored, so the winding must be swapped back
+  int node;
+};
+
+MeshLoader::MeshLoader(const Gltf& gltf, Scene& scene)
+    : gltf_(gltf),
+      scene_(scene),
+      available_memory_(available_memory()),
+      texture_used_(gltf.model.textures.size(), false),
+      mesh_seen_(gltf.model.meshes.size(), false) {}
+
+void MeshLoader::add_mesh(int mesh, const glm::mat4& world, int node) {
+  if (mesh < 0 || size_t(mesh) >= gltf_.model.meshes.size())
+    gltf_.fail("node " + str(node) + " refers to mesh " + str(mesh) + ", which does not exist");
+  bool first_instance = !mesh_seen_[size_t(mesh)];
+  mesh_seen_[size_t(mesh)] = true;
+  scene_.mesh_count += first_instance;
+
+  Transform xf{world, glm::mat3(1.f), false, node};
+  glm::mat3 linear(world);
+  // The cofactor matrix is det × inverse-transpose: always finite, even for a zero scale.
+  xf.normal = glm::mat3(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
+                        glm::cross(linear[0], linear[1]));
+  xf.flips = glm::determinant(linear) < 0.f;
+  if (xf.flips) xf.normal = -xf.normal;
+  for (size_t p = 0; p < gltf_.model.meshes[size_t(mesh)].primitives.size(); ++p)
+    add_primitive(mesh, int(p), xf, first_instance);
+}
+
+void MeshLoader::finish() {
+  if (keep_normals_) scene_.normals = std::move(normals_);
+  for (int set = 0; set < 2; ++set) scene_.texcoords[set] = std::move(texcoords_[set].data);
+  scene_.colors = std::move(colors_.data);
+  scene_.tangents = std::move(tangents_.data);
+}
+
+// The material's textures are needed once a primitive uses it (only those are decoded).
+void MeshLoader::use_textures(const Material& m) {
+  for (const TextureRef* ref : m.sampled_textures())
+    if (ref && *ref) texture_used_[size_t(ref->texture)] = true;
+}
+
+uint32_t MeshLoader::material_for(int index, const std::string& where) {
+  if (index == -1) {  // the glTF default material, appended once, only if used
+    if (default_material_ < 0) {
+      default_material_ = int(scene_.materials.size());
+      scene_.materials.push_back(default_material());
+    }
+    return uint32_t(default_material_);
+  }
+  if (index < 0 || size_t(index) >= gltf_.model.materials.size())
+    gltf_.fail(where + " refers to material " + str(index) + ", which does not exist (" +
+               str(gltf_.model.materials.size()) + " materials)");
+  return uint32_t(index);
+}
+
+// Once one primitive has NORMAL, every triangle needs 3 normals: earlier ones get geometric
+// normals.
+void MeshLoader::start_normals() {
+  keep_normals_ = true;
+  const Geometry& g = scene_.geometry;
+  normals_.reserve(3 * g.size());
+  for (size_t t = 0; t < g.size(); ++t)
+    normals_.insert(normals_.end(), 3,
+                    geometric_normal(g.vertex(t, 0), g.vertex(t, 1), g.vertex(t, 2)));
+}
+
+void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool first_instance) {
+  const tinygltf::Primitive& prim = gltf_.model.meshes[size_t(mesh)].primitives[size_t(index)];
+  std::string where = "mesh " + str(mesh) + " primitive " + str(index);
+  const int mode = prim.mode;
+  if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+      mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+    skipped_modes_ += first_instance;  // points and lines
+    return;
+  }
+  auto position = prim.attributes.find("POSITION");
+  if (position == prim.attributes.end()) {
+    skipped_unpositioned_ += first_instance;
+    return;
+  }
+  uint32_t material = material_for(prim.material, where);
+  const Material& mat = scene_.materials[material];
+  use_textures(mat);
+
+  std::vector<glm::vec3> points = read_vec3(gltf_, position->second, "POSITION of " + where);
+  size_t vertex_count = points.size();
+  for (size_t i = 0; i < vertex_count; ++i) {
+    if (!finite(points[i]))
+      gltf_.fail("accessor " + str(position->second) + " (POSITION of " + where + ") vertex " +
+                 str(i) + " is not finite");
+    points[i] = glm::vec3(xf.world * glm::vec4(points[i], 1.f));
+    if (!finite(points[i]))
+      gltf_.fail("node " + str(xf.node) + " puts vertex " + str(i) + " of " + where +
+                 " at a non-finite position");
+  }
+
+  auto same_count = [&](int accessor, const std::string& role, size_t n) {
+    if (n != vertex_count)
+      gltf_.fail("accessor " + str(accessor) + " (" + role + ") has " + str(n) +
+                 " elements but POSITION has " + str(vertex_count));
+  };
+  std::vector<glm::vec3> normals;
+  if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
+    normals = read_vec3(gltf_, normal->second, "NORMAL of " + where);
+    same_count(normal->second, "NORMAL of " + where, normals.size());
+    for (glm::vec3& n : normals) n = xf.normal * n;  // normalised per corner below
+    if (!keep_normals_) start_normals();
+  }
+  const size_t before = scene_.geometry.size();
+  // Texture coordinates, only for the sets some material samples.
+  std::vector<glm::vec2> uv[2];
+  for (int set = 0; set < 2; ++set) {
+    const std::string name = set ? "TEXCOORD_1" : "TEXCOORD_0";
+    auto attribute = prim.attributes.find(name);
+    bool needed = false;  // does this primitive's material sample set `set`?
+    for (const TextureRef* ref : mat.sampled_textures())
+      needed |= ref && *ref && ref->texcoord == set;
+    if (!needed || attribute == prim.attributes.end()) continue;
+    const std::string role = name + " of " + where;
+    std::vector<glm::vec4> values = read_floats(
+        gltf_, attribute->second, role, 2, 2,
+        {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}, 0.f);
+    same_count(attribute->second, role, values.size());
+    uv[set].resize(values.size());
+    for (size_t i = 0; i < values.size(); ++i) uv[set][i] = glm::vec2(values[i]);
+    texcoords_[set].start(before, glm::vec2(0.f));
+  }
+  std::vector<glm::vec4> colors;
+  if (auto attribute = prim.attributes.find("COLOR_0"); attribute != prim.attributes.end()) {
+    const std::string role = "COLOR_0 of " + where;
+    colors = read_floats(
+        gltf_, attribute->second, role, 3, 4,
+        {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}, 1.f);
+    same_count(attribute->second, role, colors.size());
+    for (size_t i = 0; i < colors.size(); ++i) {
+      if (!finite(glm::vec3(colors[i])) || !std::isfinite(colors[i].w))
+        gltf_.fail("accessor " + str(attribute->second) + " (" + role + ") element " + str(i) +
+                   " is not finite");
+      colors[i] = glm::clamp(colors[i], 0.f, 1.f);
+    }
+    colors_.start(before, glm::vec4(1.f));
+  }
+  // Tangents, only for normal-mapped materials: from the file, else generated below. The spec
+  // says to ignore TANGENT when NORMAL is absent (the normals are then flat).
+  const TextureRef& normal_map = mat.normal_texture;
+  std::vector<glm::vec4> tangents;
+  if (auto attribute = prim.attributes.find("TANGENT");
+      normal_map && !normals.empty() && attribute != prim.attributes.end()) {
+    const std::string role = "TANGENT of " + where;
+    tangents = read_floats(gltf_, attribute->second, role, 4, 4, {}, 0.f);
+    same_count(attribute->second, role, tangents.size());
+    const glm::mat3 linear(xf.world);
+    for (glm::vec4& t : tangents) {
+      // A mirroring transform turns the bitangent cross(n, t) around: flip its sign back.
+      t = glm::vec4(linear * glm::vec3(t), (t.w < 0.f) != xf.flips ? -1.f : 1.f);
+      if (!finite(glm::vec3(t))) t = glm::vec4(0.f);
+    }
+  }
+
+  std::vector<uint32_t> indices;
+  size_t corner_count = vertex_count;
+  if (prim.indices != -1) {
+    indices = read_indices(gltf_, prim.indices, "indices of " + where, vertex_count);
+    corner_count = indices.size();
+  }
+  // Lists: a trailing incomplete triangle is ignored. Strips and fans: the spec's corner order
+  // (every strip triangle keeps the first one's winding); their degenerate triangles (repeated
+  // indices, used to join strips) are dropped.
+  const size_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? corner_count / 3
+                           : corner_count >= 3             ? corner_count - 2
+                                                           : 0;
+  if (triangles > kMaxTriangles - scene_.geometry.size())
+    gltf_.fail("has more than " + str(kMaxTriangles) + " triangles");
+  // A small file can instance a large mesh many times: the triangles are bounded by memory as
+  // they are added, before they are.
+  const uint64_t total = uint64_t(scene_.geometry.size() + triangles);
+  if (total * kBytesPerTriangle > available_memory_)
+    gltf_.fail(where + " brings the scene to " + str(total) + " triangles, which need about " +
+               format_bytes(total * kBytesPerTriangle) + ", more than the " +
+               format_bytes(available_memory_) + " of memory available");
+
+  // The triangles' corners (vertex indices), in the order the front face winds.
+  std::vector<std::array<uint32_t, 3>> corners;
+  corners.reserve(triangles);
+  for (size_t t = 0; t < triangles; ++t) {
+    size_t c[3] = {3 * t, 3 * t + 1, 3 * t + 2};
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+      c[0] = t, c[1] = t + 1 + t % 2, c[2] = t + 2 - t % 2;
+    else if (mode == TINYGLTF_MODE_TRIANGLE_FAN)
+      c[0] = t + 1, c[1] = t + 2, c[2] = 0;
+    if (!indices.empty())
+      for (size_t& k : c) k = indices[k];
+    if (mode != TINYGLTF_MODE_TRIANGLES && (c[0] == c[1] || c[1] == c[2] || c[0] == c[2])) continue;
+    // A mirrored instance turns counter-clockwise (front) into clockwise: swap back.
+    if (xf.flips) std::swap(c[1], c[2]);
+    corners.push_back({uint32_t(c[0]), uint32_t(c[1]), uint32_t(c[2])});
+  }
+  // Shading normals per corner, as stored: computed once, when they are kept or tangents are
+  // generated from them.
+  const bool generate = tangents.empty() && normal_map && !uv[normal_map.texcoord].empty();
+  std::vector<glm::vec3> corner_normals;  // 3 per triangle of `corners`
+  if (keep_normals_ || generate) {
+    corner_normals.reserve(3 * corners.size());
+    for (const auto& c : corners) {
+      const glm::vec3 g = geometric_normal(points[c[0]], points[c[1]], points[c[2]]);
+      for (uint32_t i : c) corner_normals.push_back(normals.empty() ? g : unit_or(normals[i], g));
+    }
+  }
+  std::vector<glm::vec4> corner_tangents;  // 3 per triangle of `corners`
+  if (!tangents.empty()) {
+    corner_tangents.reserve(3 * corners.size());
+    for (const auto& c : corners)
+      for (uint32_t i : c) corner_tangents.push_back(tangents[i]);
+  } else if (generate) {
+    corner_tangents = generate_tangents(points, uv[normal_map.texcoord], corners, corner_normals);
+  }
+  if (normal_map) tangents_.start(before, glm::vec4(0.f));
+
+  Geometry& geometry = scene_.geometry;
+  for (size_t t = 0; t < corners.size(); ++t) {
+    const std::array<uint32_t, 3>& c = corners[t];
+    geometry.add(points[c[0]], points[c[1]], points[c[2]], material);
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t i = c[size_t(k)];
+      if (keep_normals_) normals_.push_back(corner_normals[3 * t + size_t(k)]);
+      for (int set = 0; set < 2; ++set)
+        if (texcoords_[set].on)
+          texcoords_[set].data.push_back(uv[set].empty() ? glm::vec2(0.f) : uv[set][i]);
+      if (colors_.on) colors_.data.push_back(colors.empty() ? glm::vec4(1.f) : colors[i]);
+      if (tangents_.on)
+        tangents_.data.push_back(corner_tangents.empty() ? glm::vec4(0.f)
+                                                         : corner_tangents[3 * t + size_t(k)]);
+    }
+  }
+  scene_.primitive_count += first_instance;
+}
+
+}  // namespace dacrt::gltf
