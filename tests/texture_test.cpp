@@ -22,7 +22,7 @@
 
 #include "integrators/integrator.h"
 #include "io/texture_decode.h"
-#include "scene/surface.h"
+#include "materials/surface.h"
 #include "tests/allocations.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_writer.h"

@@ -22,7 +22,7 @@
 #include "integrators/light_sampling.h"
 #include "integrators/path/queues.h"
 #include "materials/sampling.h"
-#include "scene/surface.h"
+#include "materials/surface.h"
 #include "tracer/ray.h"
 #include "util/random.h"
 

@@ -1,4 +1,4 @@
-#include "scene/surface.h"
+#include "materials/surface.h"
 
 #include <cmath>
 
