@@ -2,7 +2,7 @@
 // and punctual lights as shadow rays.
 #include "integrators/light_sampling.h"
 
-#include "scene/surface.h"
+#include "materials/surface.h"
 #include "tracer/ray.h"
 
 namespace dacrt {

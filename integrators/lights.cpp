@@ -4,7 +4,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "materials/sampling.h"
-#include "scene/surface.h"
+#include "materials/surface.h"
 
 namespace dacrt {
 namespace {

@@ -12,7 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "materials/sampling.h"
-#include "scene/surface.h"
+#include "materials/surface.h"
 #include "tracer/ray.h"
 
 namespace dacrt {

@@ -17,7 +17,7 @@
 #include "integrators/integrator.h"
 #include "integrators/light_sampling.h"
 #include "integrators/queues.h"
-#include "scene/surface.h"
+#include "materials/surface.h"
 #include "tracer/ray_batch.h"
 #include "util/random.h"
 

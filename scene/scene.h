@@ -19,7 +19,7 @@ namespace dacrt {
 
 // The glTF material, as far as this version renders it: the metallic-roughness BRDF (with
 // KHR_materials_ior and KHR_materials_specular), its textures, and an emitter. Defaults are
-// glTF's. Textures multiply their factors (see scene/surface.h).
+// glTF's. Textures multiply their factors (see materials/surface.h).
 struct Material {
   std::string name;
   glm::vec3 base_color{1.f};      // baseColorFactor.rgb

@@ -78,7 +78,6 @@ Agreement agree(Backend& embree, const Geometry& g, const RayBatch& rays, const 
   REQUIRE(got.size() == rays.size());
   std::vector<uint8_t> occ(rays.size(), 7);
   embree.occluded(rays, occ, filter);
-  const float magnitude = g.bounds().magnitude();
   Agreement a;
   a.rays = rays.size();
   for (size_t i = 0; i < rays.size(); ++i) {
@@ -104,10 +103,9 @@ Agreement agree(Backend& embree, const Geometry& g, const RayBatch& rays, const 
     // A tie: our own test hits Embree's triangle at the reference's t too (shared edges, coplanar
     // overlaps, triangles through one point).
     TriangleHit h;
-    const bool tie =
-        intersect_triangle(Ray::prepare(rays, i, magnitude), g.vertex(p, 0), g.vertex(p, 1),
-                           g.vertex(p, 2), rays.tmin[i], rays.tmax[i], h) &&
-        same_t(rays, i, h.t, expected.t[i]);
+    const bool tie = intersect_triangle(Ray::shear(rays, i), g.vertex(p, 0), g.vertex(p, 1),
+                                        g.vertex(p, 2), rays.tmin[i], rays.tmax[i], h) &&
+                     same_t(rays, i, h.t, expected.t[i]);
     ++(tie ? a.ties : a.other_prim);
   }
   return a;

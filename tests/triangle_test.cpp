@@ -114,7 +114,7 @@ TEST_CASE("a ray spawned from a hit never hits its own triangle again") {
 }
 
 TEST_CASE("degenerate triangles never hit, and barycentrics and t are right") {
-  Ray r = Ray::prepare(glm::vec3(0.25f, 0.25f, 1.f), glm::vec3(0, 0, -1), 1.f);
+  Ray r = Ray::shear(glm::vec3(0.25f, 0.25f, 1.f), glm::vec3(0, 0, -1));
   TriangleHit h;
   glm::vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
   REQUIRE(intersect_triangle(r, a, b, c, 0.f, INFINITY, h));
@@ -254,7 +254,6 @@ TEST_CASE("the vector triangle filters (8 and 16 lanes) keep every lane the scal
       for (const bool wide : {false, true}) {
         if (wide && (width == 8 || !avx512_available())) continue;
         INFO(std::string(c.name) << ", blocks of " << width << (wide ? ", AVX-512" : ", AVX2"));
-        const float magnitude = c.g.bounds().magnitude();
         size_t accepted = 0, candidates = 0, dropped = 0, tested = 0;
         for (size_t j0 = 0; j0 < c.g.size(); j0 += width) {
           uint32_t ids[16];
@@ -263,7 +262,7 @@ TEST_CASE("the vector triangle filters (8 and 16 lanes) keep every lane the scal
           TriangleBlock block;
           block.load(c.g, ids, n);
           for (size_t i = 0; i < c.rays.size(); ++i) {
-            const Ray ray = Ray::prepare(c.rays, i, magnitude);
+            const Ray ray = Ray::shear(c.rays, i);
             const uint32_t mask =
                 wide ? block_candidates_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i])
                      : block_candidates(block, ray, c.rays.tmin[i], c.rays.tmax[i]);

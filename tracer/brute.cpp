@@ -12,8 +12,7 @@ namespace {
 
 class Brute final : public Backend {
  public:
-  Brute(const Geometry& g, const Options& options)
-      : geometry_(g), magnitude_(g.bounds().magnitude()) {
+  Brute(const Geometry& g, const Options& options) : geometry_(g) {
     options.check_known("backend brute", {});
     corners_.reserve(3 * g.size());
     for (size_t i = 0; i < g.size(); ++i)
@@ -28,7 +27,7 @@ class Brute final : public Backend {
         hits.t[i] = rays.tmax[i];
         hits.u[i] = hits.v[i] = 0.f;
         if (!Ray::valid(rays.origin(i), rays.direction(i), rays.tmin[i], rays.tmax[i])) continue;
-        Ray r = Ray::prepare(rays, i, magnitude_);
+        Ray r = Ray::shear(rays, i);
         for (uint32_t tri = 0; tri < geometry_.size(); ++tri) {
           TriangleHit h;
           if (!intersect_triangle(r, corners_[3 * tri], corners_[3 * tri + 1],
@@ -49,7 +48,7 @@ class Brute final : public Backend {
       for (size_t i = range.begin(); i != range.end(); ++i) {
         occluded[i] = 0;
         if (!Ray::valid(rays.origin(i), rays.direction(i), rays.tmin[i], rays.tmax[i])) continue;
-        Ray r = Ray::prepare(rays, i, magnitude_);
+        Ray r = Ray::shear(rays, i);
         for (uint32_t tri = 0; tri < geometry_.size() && !occluded[i]; ++tri) {
           TriangleHit h;
           occluded[i] = intersect_triangle(r, corners_[3 * tri], corners_[3 * tri + 1],
@@ -73,7 +72,6 @@ class Brute final : public Backend {
 
   const Geometry& geometry_;
   std::vector<glm::vec3> corners_;  // the triangles' corners, contiguous: 3 per triangle
-  float magnitude_;
   std::atomic<uint64_t> rays_{0};
 };
 

@@ -16,8 +16,6 @@ namespace dacrt {
 
 struct Ray {
   glm::vec3 o, d;
-  glm::vec3 inv_d;   // 1/d with zero components replaced by a tiny value of the same sign
-  float pad;         // how far the box test grows boxes, in world units (see prepare)
   int kx, ky, kz;    // axis permutation: kz is the largest |d| component
   float sx, sy, sz;  // shear constants
 
@@ -30,19 +28,6 @@ struct Ray {
            !std::isnan(tmin) && !std::isnan(tmax);
   }
 
-  // `magnitude` is the largest absolute coordinate of the geometry (Box::magnitude).
-  static Ray prepare(const glm::vec3& o, const glm::vec3& d, float magnitude) {
-    Ray r = shear(o, d);
-    r.inv_d = inverse(d);
-    // The triangle test rounds: it may report a hit for a point a few ulps of |o| + |p| outside
-    // the triangle, at a t a few ulps off. Its hit point is still within that distance of the
-    // triangle (the weights are a convex combination), so the box test grows every box by far more
-    // (2^-16 relative): a box is never culled while a triangle inside it could report a hit, and
-    // filtering never changes the answer.
-    r.pad = pad_for(o, magnitude);
-    return r;
-  }
-
   // 1/d, with components too small to invert replaced by ±1e-30 first (so never inf or NaN).
   static glm::vec3 inverse(const glm::vec3& d) {
     glm::vec3 inv;
@@ -53,12 +38,18 @@ struct Ray {
     return inv;
   }
 
+  // How far the box test grows boxes, in world units, for a ray from `o`; `magnitude` is the
+  // largest absolute coordinate of the geometry (Box::magnitude). The triangle test rounds: it may
+  // report a hit for a point a few ulps of |o| + |p| outside the triangle, at a t a few ulps off.
+  // Its hit point is still within that distance of the triangle (the weights are a convex
+  // combination), so the box test grows every box by far more (2^-16 relative): a box is never
+  // culled while a triangle inside it could report a hit, and filtering never changes the answer.
   static float pad_for(const glm::vec3& o, float magnitude) {
     float om = std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z)});
     return 0x1p-16f * (om + magnitude);
   }
 
-  // Only what the triangle test reads: o, d and the shear (inv_d and pad left unset).
+  // What the triangle test reads: o, d and the shear.
   static Ray shear(const glm::vec3& o, const glm::vec3& d) {
     Ray r;
     r.o = o;
@@ -74,14 +65,12 @@ struct Ray {
     return r;
   }
 
-  static Ray prepare(const RayBatch& b, size_t i, float magnitude) {
-    return prepare(b.origin(i), b.direction(i), magnitude);
-  }
+  static Ray shear(const RayBatch& b, size_t i) { return shear(b.origin(i), b.direction(i)); }
 
   // Conservative slab test: true if a ray may touch `box`, grown by `pad`, within [tmin, tmax].
-  // Writes the entry distance (clamped to tmin) for traversal-order decisions.
+  // `inv_d` is the direction's inverse (Ray::inverse), `pad` from Ray::pad_for.
   static bool box_hits(const glm::vec3& o, const glm::vec3& inv_d, float pad, const Box& box,
-                       float tmin, float tmax, float* entry = nullptr) {
+                       float tmin, float tmax) {
     float near = tmin, far = tmax;
     for (int k = 0; k < 3; ++k) {
       float a = (box.lo[k] - pad - o[k]) * inv_d[k];
@@ -89,7 +78,6 @@ struct Ray {
       near = std::max(near, std::min(a, b));
       far = std::min(far, std::max(a, b));
     }
-    if (entry) *entry = near;
     return near <= far;
   }
 };

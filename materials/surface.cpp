@@ -1,4 +1,4 @@
-#include "scene/surface.h"
+#include "materials/surface.h"
 
 #include <cmath>
 
@@ -41,23 +41,17 @@ glm::vec3 normal_mapped(const Scene& scene, const Material& m, uint32_t tri, flo
 
 SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, const glm::vec3& ng) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
-  SurfacePoint s{ng, m.brdf(), m.emission, m.alpha};
+  SurfacePoint s{ng, m.brdf(), m.emission};
   if (!scene.normals.empty()) {
     const glm::vec3 n = interpolate(&scene.normals[3 * size_t(tri)], u, v);
     const float len = glm::length(n);
     if (len > 0.f) s.normal = n / len;
   }
-  if (!scene.colors.empty()) {
-    const glm::vec4 c = interpolate(&scene.colors[3 * size_t(tri)], u, v);
-    s.brdf.base_color *= glm::vec3(c);
-    s.alpha *= c.a;
-  }
+  if (!scene.colors.empty())
+    s.brdf.base_color *= glm::vec3(interpolate(&scene.colors[3 * size_t(tri)], u, v));
   if (!m.textured()) return s;
-  if (m.base_color_texture) {
-    const glm::vec4 c = lookup(scene, m.base_color_texture, tri, u, v, true);
-    s.brdf.base_color *= glm::vec3(c);
-    s.alpha *= c.a;
-  }
+  if (m.base_color_texture)
+    s.brdf.base_color *= glm::vec3(lookup(scene, m.base_color_texture, tri, u, v, true));
   if (m.metallic_roughness_texture) {
     const glm::vec4 c = lookup(scene, m.metallic_roughness_texture, tri, u, v, false);
     s.brdf.roughness *= c.g;

@@ -16,7 +16,6 @@ struct SurfacePoint {
   glm::vec3 normal;
   BrdfParams brdf;
   glm::vec3 emission;  // radiance leaving the front (and, if double-sided, the back)
-  float alpha;         // coverage: baseColorFactor.a × texture × vertex colour
 };
 
 // At barycentrics (u, v) of triangle `tri` (the point (1 − u − v)·p0 + u·p1 + v·p2), whose unit
