@@ -1,6 +1,7 @@
-// dacrt: the command-line front end. `dacrt render` path-traces a glTF scene to OpenEXR (plus an
-// sRGB PNG preview), `dacrt info` describes a scene. Exit codes: 0 success, 1 error (one line on
-// stderr naming the file and what is wrong), 2 usage error.
+// dacrt: the command-line front end. `dacrt render` path-traces a glTF scene to OpenEXR (plus a
+// PNG preview), `dacrt info` describes a scene, `dacrt views` lists the preview's display views.
+// Exit codes: 0 success, 1 error (one line on stderr naming the file and what is wrong), 2 usage
+// error.
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 #include <unistd.h>
@@ -51,16 +52,23 @@ constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer 
 Usage:
   dacrt render SCENE [options]   render a glTF 2.0 scene (.gltf or .glb) to OpenEXR
   dacrt info SCENE [--scene N]   triangles, meshes, materials, lights, cameras, bounds
+  dacrt views                    the display views a preview can use (`render --view`), from
+                                 $OCIO when it is set
   dacrt bench SCENE [options]    every backend on the same rays of each type: build and trace
                                  time, Mrays/s, peak memory (`dacrt bench --help`)
   dacrt --help                   this text; `dacrt render --help` lists the render options
 )";
 
-constexpr const char* render_help = R"(Usage: dacrt render SCENE [options]
+constexpr const char* render_help = R"help(Usage: dacrt render SCENE [options]
 
 Output
   -o, --output OUT.exr       the image: float RGB, scene-linear Rec.709 (default: SCENE's name .exr)
-  --preview OUT.png          also an sRGB display preview through OpenColorIO ($OCIO if set)
+  --preview OUT.png          also an 8-bit display preview through OpenColorIO ($OCIO if set)
+  --view NAME                the preview's display view (default sRGB, or $OCIO's default view);
+                             `dacrt views` lists them, e.g. "ACES 1.0 SDR-video (sRGB)" (tone
+                             mapped), or with $OCIO "DISPLAY/VIEW". Needs --preview
+  --exposure STOPS           scales the preview's scene-linear values by 2^STOPS before the view
+                             (default 0; the EXR is not changed). Needs --preview
   --stats OUT.json           render statistics: time and rays/s per ray type and bounce
   --aov LIST                 more layers in the EXR, comma-separated: albedo (albedo.R/G/B), normal
                              (N.X/Y/Z), depth (Z, along the view axis), position (P.X/Y/Z), variance
@@ -107,10 +115,12 @@ Ray tracing
 Other
   --quiet                    no progress bar or summary on stderr
   -h, --help                 this text
-)";
+)help";
 
 struct RenderArgs {
   std::string scene, output, preview, stats;
+  DisplayOptions display;
+  std::string display_flag;  // --view or --exposure, when given: they need --preview
   GltfOptions gltf;
   std::string backend = "dacrt", integrator = "path";
   Options backend_options;
@@ -185,7 +195,18 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
       r.output = value();
     else if (a == "--preview")
       r.preview = value();
-    else if (a == "--stats")
+    else if (a == "--view") {
+      r.display.view = value();
+      if (r.display.view.empty()) throw UsageError("--view needs a name (see dacrt views)");
+      r.display_flag = a;
+    } else if (a == "--exposure") {
+      const std::string v = value();
+      char* end = nullptr;
+      r.display.exposure = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != '\0' || !std::isfinite(r.display.exposure))
+        throw UsageError("--exposure wants a finite number of stops, got '" + v + "'");
+      r.display_flag = a;
+    } else if (a == "--stats")
       r.stats = value();
     else if (a == "--spp")
       r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
@@ -260,6 +281,8 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
       throw UsageError("unexpected argument '" + a + "' (one scene at a time)");
   }
   if (r.scene.empty()) throw UsageError("render needs a SCENE");
+  if (!r.display_flag.empty() && r.preview.empty())
+    throw UsageError(r.display_flag + " needs --preview (it changes only the PNG preview)");
   if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
   return r;
 }
@@ -317,7 +340,7 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const BackendRun& ru
       {"dacrtVersion", version()}};
   if (!run.stopped.empty()) meta.extra.push_back({"stoppedBy", run.stopped});
   write_exr(run.output, s.width, s.height, channels, meta);
-  if (!run.preview.empty()) write_preview_png(run.preview, film.resolve());
+  if (!run.preview.empty()) write_preview_png(run.preview, film.resolve(), r.display);
 }
 
 int render(const std::vector<std::string>& args) {
@@ -358,7 +381,7 @@ int render(const std::vector<std::string>& args) {
   outputs.push_back({"--stats", r.stats});
   for (const NamedFile& out : outputs) check_writable(out.path);
   check_outputs(outputs, inputs);
-  if (!r.preview.empty()) check_display_transform();
+  if (!r.preview.empty()) check_display_transform(r.display);
 
   std::unique_ptr<tbb::global_control> threads;
   if (r.threads > 0)
@@ -531,6 +554,26 @@ int info(const std::vector<std::string>& args) {
   return 0;
 }
 
+constexpr const char* views_help = R"help(Usage: dacrt views
+
+Lists the display views `dacrt render --preview OUT.png --view NAME` can use, one a line, the
+default marked " (default)". With $OCIO set: every DISPLAY/VIEW of that config, from its
+scene_linear role (a view of its default display may also be named VIEW alone). Without it: views
+built from OpenColorIO's built-in transforms, for an sRGB and a Rec.1886 (gamma 2.4, HD video)
+display, each without tone mapping (sRGB, the default, and Rec.1886) and through the ACES 1.0
+output transform for SDR video (ACES 1.0 SDR-video (sRGB), ...).
+)help";
+
+int views(const std::vector<std::string>& args) {
+  if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help"))
+    return std::fputs(views_help, stdout), 0;
+  if (!args.empty()) throw UsageError("views takes no arguments");
+  const DisplayViews views = display_views();
+  for (const std::string& name : views.names)
+    std::printf("%s%s\n", name.c_str(), name == views.default_name ? " (default)" : "");
+  return 0;
+}
+
 }  // namespace
 
 // A command's exit code, once what it wrote to stdout has reached the file (a full disk, a closed
@@ -557,6 +600,7 @@ int run(std::vector<std::string> args) {
   }
   if (command == "render") return render(args);
   if (command == "info") return info(args);
+  if (command == "views") return views(args);
   if (command == "bench") return bench_main(args);
   throw UsageError("unknown command '" + command + "'");
 }

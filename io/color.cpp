@@ -1,7 +1,11 @@
 // Display previews through OpenColorIO. With $OCIO set, the config's scene_linear role goes through
-// its default display and view. Without it, OCIO 2.1 ships no config file, so the chain is built
-// from a raw config: linear Rec.709 → CIE XYZ (D65) by a matrix, then the built-in display
-// transform "DISPLAY - CIE-XYZ-D65_to_sRGB" (piecewise sRGB encoding).
+// one of its displays and views (its default one unless DisplayOptions::view names another).
+// Without it, OCIO 2.1 ships no config file, so each built-in view is a chain built in a raw
+// config: linear Rec.709 → CIE XYZ (D65) by a matrix, for the ACES views then → ACES2065-1 (the
+// inverse of the built-in "UTILITY - ACES-AP0_to_CIE-XYZ-D65_BFD", as the ACES studio config's
+// "Linear Rec.709 (sRGB)" does) → an ACES output transform (display-referred XYZ), then a built-in
+// display transform such as "DISPLAY - CIE-XYZ-D65_to_sRGB" (piecewise sRGB encoding). The ACES
+// chain is the ACES studio config's view "ACES 1.0 - SDR Video" of its display "sRGB - Display".
 #include "io/color.h"
 
 #include <OpenColorIO/OpenColorIO.h>
@@ -64,62 +68,168 @@ std::array<double, 16> rec709_to_xyz_d65() {
   return m;
 }
 
-OCIO::ConstProcessorRcPtr builtin_srgb_processor() {
-  auto to_xyz = OCIO::MatrixTransform::Create();
-  const std::array<double, 16> m = rec709_to_xyz_d65();
-  to_xyz->setMatrix(m.data());
-  auto to_display = OCIO::BuiltinTransform::Create();
-  to_display->setStyle("DISPLAY - CIE-XYZ-D65_to_sRGB");
-  auto group = OCIO::GroupTransform::Create();
-  group->appendTransform(to_xyz);
-  group->appendTransform(to_display);
-  return OCIO::Config::CreateRaw()->getProcessor(group);
-}
+// A view of the built-in ones: an optional ACES output transform, then a display's encoding.
+struct BuiltinView {
+  const char* name;
+  const char* aces_output;  // ACES2065-1 → display-referred XYZ (D65), or nullptr: no tone mapping
+  const char* display;      // CIE XYZ (D65) → the display's encoded values
+};
 
-OCIO::ConstProcessorRcPtr config_processor(const std::string& config_path) {
-  OCIO::ConstConfigRcPtr config = OCIO::Config::CreateFromEnv();
-  if (!config->hasRole(OCIO::ROLE_SCENE_LINEAR))
-    throw Error("OCIO config '" + config_path + "' has no scene_linear role");
-  const char* display = config->getDefaultDisplay();
-  if (!display || !*display) throw Error("OCIO config '" + config_path + "' defines no display");
-  const char* view = config->getDefaultView(display);
-  if (!view || !*view)
-    throw Error("OCIO config '" + config_path + "' defines no view for display '" + display + "'");
-  auto transform = OCIO::DisplayViewTransform::Create();
-  transform->setSrc(OCIO::ROLE_SCENE_LINEAR);
-  transform->setDisplay(display);
-  transform->setView(view);
-  return config->getProcessor(transform);
-}
+constexpr const char* kAcesSdrVideo = "ACES-OUTPUT - ACES2065-1_to_CIE-XYZ-D65 - SDR-VIDEO_1.0";
+constexpr const char* kSrgbDisplay = "DISPLAY - CIE-XYZ-D65_to_sRGB";
+constexpr const char* kRec1886Display = "DISPLAY - CIE-XYZ-D65_to_REC.1886-REC.709";
+// The first is the default.
+constexpr BuiltinView kBuiltinViews[] = {
+    {"sRGB", nullptr, kSrgbDisplay},
+    {"ACES 1.0 SDR-video (sRGB)", kAcesSdrVideo, kSrgbDisplay},
+    {"Rec.1886", nullptr, kRec1886Display},
+    {"ACES 1.0 SDR-video (Rec.1886)", kAcesSdrVideo, kRec1886Display},
+};
 
-// One processor per process, rebuilt when $OCIO changes (the value is the cache key).
-OCIO::ConstCPUProcessorRcPtr display_processor() {
-  static std::mutex mutex;
-  static std::string cached_key;
-  static OCIO::ConstCPUProcessorRcPtr cached;
-
+// $OCIO, or "" when it is unset (or empty).
+std::string config_path() {
   const char* env = std::getenv("OCIO");
-  const std::string config_path = env ? env : "";
-  const std::string key =
-      config_path.empty() ? std::string("builtin:sRGB") : "config:" + config_path;
+  return env ? env : "";
+}
 
-  std::lock_guard<std::mutex> lock(mutex);
-  if (cached && cached_key == key) return cached;
-  if (!config_path.empty()) check_input_file(config_path, "OCIO config ($OCIO)");
+// Runs `build`, turning OpenColorIO's exceptions into an Error naming the config in `path` (or
+// the built-in transforms when `path` is empty).
+template <class Build>
+auto with_ocio_errors(const std::string& path, Build build) {
   try {
-    OCIO::ConstProcessorRcPtr processor =
-        config_path.empty() ? builtin_srgb_processor() : config_processor(config_path);
-    cached = processor->getDefaultCPUProcessor();
-    cached_key = key;
-    return cached;
+    return build();
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    if (config_path.empty())
-      throw Error("cannot build OpenColorIO's built-in sRGB display transform: " +
-                  one_line(e.what()));
-    throw Error("cannot use OCIO config '" + config_path + "': " + one_line(e.what()));
+    if (path.empty())
+      throw Error("cannot build OpenColorIO's built-in display transforms: " + one_line(e.what()));
+    throw Error("cannot use OCIO config '" + path + "': " + one_line(e.what()));
   }
+}
+
+// "'a', 'b', 'c'": the valid names in an error.
+std::string quoted_list(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& name : names) list += (list.empty() ? "'" : ", '") + name + "'";
+  return list;
+}
+
+std::vector<std::string> builtin_view_names() {
+  std::vector<std::string> names;
+  for (const BuiltinView& v : kBuiltinViews) names.push_back(v.name);
+  return names;
+}
+
+OCIO::ConstProcessorRcPtr builtin_processor(const std::string& view) {
+  const std::string name = view.empty() ? kBuiltinViews[0].name : view;
+  const auto* found = std::find_if(std::begin(kBuiltinViews), std::end(kBuiltinViews),
+                                   [&](const BuiltinView& v) { return name == v.name; });
+  if (found == std::end(kBuiltinViews))
+    throw Error("no view '" + name + "' (without $OCIO the views are " +
+                quoted_list(builtin_view_names()) + ")");
+  return with_ocio_errors("", [&] {
+    auto group = OCIO::GroupTransform::Create();
+    auto to_xyz = OCIO::MatrixTransform::Create();
+    const std::array<double, 16> m = rec709_to_xyz_d65();
+    to_xyz->setMatrix(m.data());
+    group->appendTransform(to_xyz);
+    auto append_builtin = [&](const char* style, OCIO::TransformDirection direction) {
+      auto transform = OCIO::BuiltinTransform::Create();
+      transform->setStyle(style);
+      transform->setDirection(direction);
+      group->appendTransform(transform);
+    };
+    if (found->aces_output) {
+      append_builtin("UTILITY - ACES-AP0_to_CIE-XYZ-D65_BFD", OCIO::TRANSFORM_DIR_INVERSE);
+      append_builtin(found->aces_output, OCIO::TRANSFORM_DIR_FORWARD);
+    }
+    append_builtin(found->display, OCIO::TRANSFORM_DIR_FORWARD);
+    return OCIO::Config::CreateRaw()->getProcessor(group);
+  });
+}
+
+// $OCIO's config, checked for what a preview needs (a scene_linear role, a default view).
+OCIO::ConstConfigRcPtr load_config(const std::string& path) {
+  check_input_file(path, "OCIO config ($OCIO)");
+  OCIO::ConstConfigRcPtr config =
+      with_ocio_errors(path, [&] { return OCIO::Config::CreateFromFile(path.c_str()); });
+  if (!config->hasRole(OCIO::ROLE_SCENE_LINEAR))
+    throw Error("OCIO config '" + path + "' has no scene_linear role");
+  const char* display = config->getDefaultDisplay();
+  if (!display || !*display) throw Error("OCIO config '" + path + "' defines no display");
+  const char* view = config->getDefaultView(display);
+  if (!view || !*view)
+    throw Error("OCIO config '" + path + "' defines no view for display '" + display + "'");
+  return config;
+}
+
+struct ConfigView {
+  std::string display, view;
+  std::string name() const { return display + "/" + view; }
+};
+
+// Every display/view of the config, the default first.
+std::vector<ConfigView> config_views(const OCIO::Config& config) {
+  const std::string default_display = config.getDefaultDisplay();
+  std::vector<ConfigView> views = {
+      {default_display, config.getDefaultView(default_display.c_str())}};
+  for (int d = 0; d < config.getNumDisplays(); ++d) {
+    const char* display = config.getDisplay(d);
+    for (int v = 0; v < config.getNumViews(display); ++v) {
+      const ConfigView view{display, config.getView(display, v)};
+      if (view.name() != views[0].name()) views.push_back(view);
+    }
+  }
+  return views;
+}
+
+OCIO::ConstProcessorRcPtr config_processor(const std::string& path, const std::string& name) {
+  OCIO::ConstConfigRcPtr config = load_config(path);
+  const std::vector<ConfigView> views = config_views(*config);
+  // "DISPLAY/VIEW" first, then "VIEW" of the default display.
+  auto found = std::find_if(views.begin(), views.end(),
+                            [&](const ConfigView& v) { return name.empty() || name == v.name(); });
+  if (found == views.end())
+    found = std::find_if(views.begin(), views.end(), [&](const ConfigView& v) {
+      return v.display == views[0].display && name == v.view;
+    });
+  if (found == views.end()) {
+    std::vector<std::string> names;
+    for (const ConfigView& v : views) names.push_back(v.name());
+    throw Error("OCIO config '" + path + "' ($OCIO) has no view '" + name + "' (its views are " +
+                quoted_list(names) + ")");
+  }
+  return with_ocio_errors(path, [&] {
+    auto transform = OCIO::DisplayViewTransform::Create();
+    transform->setSrc(OCIO::ROLE_SCENE_LINEAR);
+    transform->setDisplay(found->display.c_str());
+    transform->setView(found->view.c_str());
+    return config->getProcessor(transform);
+  });
+}
+
+// One processor per process, rebuilt when $OCIO or the view changes.
+OCIO::ConstCPUProcessorRcPtr display_processor(const std::string& view) {
+  static std::mutex mutex;
+  static std::pair<std::string, std::string> cached_key;  // $OCIO, view
+  static OCIO::ConstCPUProcessorRcPtr cached;
+
+  const std::string path = config_path();
+  const std::pair<std::string, std::string> key = {path, view};
+  std::lock_guard<std::mutex> lock(mutex);
+  if (cached && cached_key == key) return cached;
+  OCIO::ConstProcessorRcPtr processor =
+      path.empty() ? builtin_processor(view) : config_processor(path, view);
+  cached = with_ocio_errors(path, [&] { return processor->getDefaultCPUProcessor(); });
+  cached_key = key;
+  return cached;
+}
+
+// 2^stops, checked.
+float exposure_scale(double stops) {
+  if (!std::isfinite(stops))
+    throw Error("the exposure must be a finite number of stops, not " + std::to_string(stops));
+  return float(std::exp2(stops));
 }
 
 float sanitize_scene(float v) {
@@ -134,18 +244,32 @@ float sanitize_display(float v) {
 
 }  // namespace
 
-std::vector<float> to_display(const Image& image) {
+DisplayViews display_views() {
+  const std::string path = config_path();
+  DisplayViews views;
+  if (path.empty()) {
+    views.names = builtin_view_names();
+  } else {
+    for (const ConfigView& v : config_views(*load_config(path))) views.names.push_back(v.name());
+  }
+  views.default_name = views.names.front();
+  return views;
+}
+
+std::vector<float> to_display(const Image& image, const DisplayOptions& options) {
   const size_t count =
       size_t(3) * size_t(std::max(image.width, 0)) * size_t(std::max(image.height, 0));
   if (image.rgb.size() != count)
     throw Error("image of " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                 " has " + std::to_string(image.rgb.size()) + " values, not " +
                 std::to_string(count));
+  const float scale = exposure_scale(options.exposure);
   std::vector<float> out(image.rgb.size());
-  std::transform(image.rgb.begin(), image.rgb.end(), out.begin(), sanitize_scene);
+  std::transform(image.rgb.begin(), image.rgb.end(), out.begin(),
+                 [scale](float v) { return sanitize_scene(v * scale); });
   if (out.empty()) return out;
 
-  OCIO::ConstCPUProcessorRcPtr processor = display_processor();
+  OCIO::ConstCPUProcessorRcPtr processor = display_processor(options.view);
   try {
     OCIO::PackedImageDesc desc(out.data(), image.width, image.height, 3);
     processor->apply(desc);
@@ -156,14 +280,15 @@ std::vector<float> to_display(const Image& image) {
   return out;
 }
 
-void check_display_transform() {
-  display_processor();
+void check_display_transform(const DisplayOptions& options) {
+  exposure_scale(options.exposure);
+  display_processor(options.view);
 }
 
-void write_preview_png(const std::string& path, const Image& image) {
+void write_preview_png(const std::string& path, const Image& image, const DisplayOptions& options) {
   if (image.width <= 0 || image.height <= 0)
     throw Error("cannot write PNG '" + path + "': the image is empty");
-  const std::vector<float> display = to_display(image);
+  const std::vector<float> display = to_display(image, options);
   std::vector<uint8_t> pixels(display.size());
   // Round to nearest: values are already clamped to [0, 1].
   std::transform(display.begin(), display.end(), pixels.begin(),

@@ -1,5 +1,7 @@
 // The dacrt command line as a user meets it: exit codes (0 ok, 1 error, 2 usage), one clear line
 // on stderr for bad input, and never an output file (or a temporary one) after a failure.
+#include "cli.h"
+
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 
@@ -10,9 +12,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "cli.h"
 #include "gltf_writer.h"
+#include "io/color.h"
 #include "io/exr.h"
+#include "ocio_config.h"
 #include "test_geometry.h"
 
 using namespace dacrt;
@@ -34,16 +37,23 @@ TEST_CASE("cli: help and usage errors") {
   Run help = run(dir, "--help");
   CHECK(help.code == 0);
   CHECK(help.out.find("dacrt render SCENE") != std::string::npos);
+  CHECK(help.out.find("dacrt views") != std::string::npos);
   Run render_help = run(dir, "render --help");
   CHECK(render_help.code == 0);
-  for (const char* flag : {"--spp", "--backend", "--preview", "--environment", "--max-depth",
-                           "--seed", "--threads", "--quiet", "--stats", "--camera", "--integrator"})
+  for (const char* flag :
+       {"--spp", "--backend", "--preview", "--environment", "--max-depth", "--seed", "--threads",
+        "--quiet", "--stats", "--camera", "--integrator", "--view", "--exposure"})
     CHECK_MESSAGE(render_help.out.find(flag) != std::string::npos, flag);
   for (const char* args :
        {"", "frobnicate", "render",
         "render " DACRT_SOURCE_DIR "/scenes/cornell-box.gltf --spp many", "render x.gltf --spp 0",
         "render x.gltf --width", "render x.gltf --bogus", "render x.gltf --environment 1,2",
-        "render x.gltf --environment 1,nan,1", "render a.gltf b.gltf", "info"}) {
+        "render x.gltf --environment 1,nan,1", "render a.gltf b.gltf", "info",
+        "render x.gltf --view sRGB", "render x.gltf --exposure 1",
+        "render x.gltf --preview p.png --view ''", "render x.gltf --preview p.png --exposure nan",
+        "render x.gltf --preview p.png --exposure 1e999",
+        "render x.gltf --preview p.png --exposure 1x",
+        "render x.gltf --preview p.png --exposure ''", "views sRGB"}) {
     Run r = run(dir, args);
     INFO(args << " → " << r.err);
     CHECK(r.code == 2);
@@ -250,4 +260,60 @@ TEST_CASE("cli: --backend a,b,c renders with each, names each image, and compare
                          "dacrt,nosuch -o " + (dir / "bad.exr"));
   CHECK(bad.code != 0);
   CHECK(!fs::exists(dir / "bad.dacrt.exr"));
+}
+
+TEST_CASE("cli: --view and --exposure change the preview only, as to_display makes it") {
+  TempDir dir("cli-view");
+  ScopedOcioEnv env(nullptr);
+  const std::string aces = "ACES 1.0 SDR-video (sRGB)";
+  auto render = [&](const std::string& name, const std::string& flags) {
+    Run r = run(dir,
+                "render " + cornell + " --width 24 --height 20 --spp 4 --quiet -o " +
+                    (dir / (name + ".exr")) + " --preview " + (dir / (name + ".png")) + flags,
+                "env -u OCIO");
+    INFO(r.err);
+    CHECK(r.code == 0);
+  };
+  render("default", "");
+  render("srgb", " --view sRGB --exposure 0");
+  render("aces", " --view '" + aces + "' --exposure 1");
+  // The EXR stays the same linear radiance; the default view is sRGB, bit for bit.
+  const Image image = read_exr(dir / "default.exr");
+  CHECK(read_exr(dir / "aces.exr").rgb == image.rgb);
+  CHECK(slurp(dir / "srgb.png") == slurp(dir / "default.png"));
+  CHECK(slurp(dir / "aces.png") != slurp(dir / "default.png"));
+  // Each preview is the library's, of the view and exposure asked for.
+  write_preview_png(dir / "default-again.png", image);
+  CHECK(slurp(dir / "default-again.png") == slurp(dir / "default.png"));
+  write_preview_png(dir / "aces-again.png", image, {aces, 1.0});
+  CHECK(slurp(dir / "aces-again.png") == slurp(dir / "aces.png"));
+}
+
+TEST_CASE("cli: dacrt views lists the built-in views, or those of $OCIO, which render selects") {
+  TempDir dir("cli-views");
+  Run builtin = run(dir, "views", "env -u OCIO");
+  CHECK(builtin.code == 0);
+  CHECK(builtin.out.find("sRGB (default)\n") == 0);
+  CHECK(builtin.out.find("\nACES 1.0 SDR-video (sRGB)\n") != std::string::npos);
+  CHECK(lines(builtin.out) == dacrt::display_views().names.size());
+  Run help = run(dir, "views --help");
+  CHECK(help.code == 0);
+  CHECK(help.out.find("Usage: dacrt views") == 0);
+
+  write_text(dir / "config.ocio", ocio_test_config);
+  const std::string ocio = "OCIO=" + (dir / "config.ocio");
+  Run listed = run(dir, "views", ocio);
+  CHECK(listed.code == 0);
+  CHECK(listed.out == "Test/Gamma2 (default)\nTest/Raw\nOther/Half\n");
+  Run r = run(dir,
+              "render " + cornell + " --width 16 --height 12 --spp 2 --quiet -o " +
+                  (dir / "half.exr") + " --preview " + (dir / "half.png") + " --view Other/Half",
+              ocio);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  ScopedOcioEnv env((dir / "config.ocio").c_str());
+  write_preview_png(dir / "half-again.png", read_exr(dir / "half.exr"), {"Other/Half"});
+  CHECK(slurp(dir / "half-again.png") == slurp(dir / "half.png"));
+  write_preview_png(dir / "gamma2.png", read_exr(dir / "half.exr"));
+  CHECK(slurp(dir / "gamma2.png") != slurp(dir / "half.png"));
 }

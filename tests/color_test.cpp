@@ -1,5 +1,6 @@
-// Display conversion through OpenColorIO: the built-in sRGB chain's known values, robustness to
-// bad pixels, the PNG preview's 8-bit values, and $OCIO handling (a valid config, a missing one).
+// Display conversion through OpenColorIO: the built-in sRGB chain's known values, the ACES views'
+// tone mapping, exposure, robustness to bad pixels, the PNG preview's 8-bit values, and $OCIO
+// handling (a valid config and its views, a missing one).
 #include "io/color.h"
 
 #include <doctest/doctest.h>
@@ -13,31 +14,15 @@
 #include <optional>
 #include <string>
 
+#include "ocio_config.h"
 #include "temp_dir.h"
 #include "util/error.h"
 
 namespace fs = std::filesystem;
+using dacrt::test::ScopedOcioEnv;
 using dacrt::test::TempDir;
 
 namespace {
-
-// Sets or unsets $OCIO for one scope and puts the previous value back afterwards.
-struct ScopedOcioEnv {
-  std::optional<std::string> saved;
-  explicit ScopedOcioEnv(const char* value) {
-    if (const char* old = std::getenv("OCIO")) saved = old;
-    if (value)
-      setenv("OCIO", value, 1);
-    else
-      unsetenv("OCIO");
-  }
-  ~ScopedOcioEnv() {
-    if (saved)
-      setenv("OCIO", saved->c_str(), 1);
-    else
-      unsetenv("OCIO");
-  }
-};
 
 // One grey pixel per value.
 dacrt::Image greys(const std::vector<float>& values) {
@@ -45,6 +30,22 @@ dacrt::Image greys(const std::vector<float>& values) {
   for (size_t i = 0; i < values.size(); ++i)
     for (int c = 0; c < 3; ++c) image.rgb[3 * i + c] = values[i];
   return image;
+}
+
+// 'name', as error messages quote a view (appended: "'" + name + "'" meets GCC 12's false
+// -Wrestrict warning).
+std::string quoted(const std::string& name) {
+  return std::string(1, '\'').append(name).append(1, '\'');
+}
+
+// The message of the Error that checking `view` throws, or "" when it does not throw.
+std::string view_error(const std::string& view) {
+  try {
+    dacrt::check_display_transform({view});
+  } catch (const dacrt::Error& e) {
+    return e.what();
+  }
+  return "";
 }
 
 // The sRGB encoding (IEC 61966-2-1), the reference for the built-in chain.
@@ -72,27 +73,34 @@ TEST_CASE("to_display without $OCIO is the sRGB encoding of linear Rec.709") {
   }
 }
 
-TEST_CASE("to_display is monotonic and stays in [0, 1] for any input") {
+TEST_CASE("to_display is monotonic and stays in [0, 1] for any input, in every built-in view") {
   ScopedOcioEnv env(nullptr);
-  std::vector<float> in;
-  for (float v = 0.f; v < 4.f; v += 1.f / 256) in.push_back(v);
-  const std::vector<float> out = dacrt::to_display(greys(in));
-  for (size_t i = 1; i < in.size(); ++i) CHECK(out[3 * i] >= out[3 * (i - 1)]);
-  CHECK(out[3 * (in.size() - 1)] == 1.f);  // > 1 clamps to 1
-
   const float inf = std::numeric_limits<float>::infinity();
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  const std::vector<float> bad = dacrt::to_display(
-      greys({nan, -nan, inf, -inf, -1.f, -1e-3f, 1e30f, std::numeric_limits<float>::max()}));
-  for (float v : bad) {
-    CHECK(!std::isnan(v));
-    CHECK(v >= 0.f);
-    CHECK(v <= 1.f);
+  const dacrt::DisplayViews views = dacrt::display_views();
+  REQUIRE(views.names.size() >= 2);
+  for (const std::string& view : views.names) {
+    INFO("view " << view);
+    std::vector<float> in;
+    for (float v = 0.f; v < 64.f; v += 1.f / 256) in.push_back(v);
+    const std::vector<float> out = dacrt::to_display(greys(in), {view});
+    for (size_t i = 1; i < in.size(); ++i) CHECK(out[3 * i] >= out[3 * (i - 1)]);
+    CHECK(out[3 * (in.size() - 1)] == 1.f);  // 64 is white in every view
+
+    const std::vector<float> bad = dacrt::to_display(
+        greys({nan, -nan, inf, -inf, -1.f, -1e-3f, 1e30f, std::numeric_limits<float>::max()}),
+        {view});
+    for (float v : bad) {
+      CHECK(!std::isnan(v));
+      CHECK(v >= 0.f);
+      CHECK(v <= 1.f);
+    }
+    CHECK(bad[0] == bad[9]);  // NaN → what 0 gives, -inf → black
+    CHECK(bad[3] == bad[9]);
+    CHECK(bad[9] <= 1e-4f);
+    CHECK(bad[6] == 1.f);  // +inf → white
+    if (view == "sRGB") CHECK(bad[0] == 0.f);
   }
-  CHECK(bad[0] == 0.f);  // NaN → 0
-  CHECK(bad[3] == 0.f);
-  CHECK(bad[6] == 1.f);  // +inf → white
-  CHECK(bad[9] == 0.f);  // -inf → black
 
   // A NaN in one channel does not spill into its neighbours.
   dacrt::Image mixed(2, 1);
@@ -110,6 +118,88 @@ TEST_CASE("to_display of primaries keeps them saturated") {
   const std::vector<float> out = dacrt::to_display(image);
   for (int p = 0; p < 3; ++p)
     for (int c = 0; c < 3; ++c) CHECK(std::abs(out[3 * p + c] - (p == c ? 1.f : 0.f)) <= 1e-4f);
+}
+
+TEST_CASE(
+    "the default view is the built-in sRGB one, and exposure 0 changes nothing, bit for bit") {
+  ScopedOcioEnv env(nullptr);
+  const dacrt::DisplayViews views = dacrt::display_views();
+  CHECK(views.default_name == "sRGB");
+  CHECK(views.names.front() == "sRGB");
+  std::vector<float> in;
+  for (float v = -1.f; v < 8.f; v += 1.f / 64) in.push_back(v);
+  const dacrt::Image image = greys(in);
+  const std::vector<float> by_default = dacrt::to_display(image);
+  CHECK(dacrt::to_display(image, {"sRGB", 0.0}) == by_default);
+  CHECK(dacrt::to_display(image, {"", -0.0}) == by_default);
+}
+
+TEST_CASE("ACES 1.0 SDR-video views tone-map: mid-grey 0.18 → 0.356 on sRGB, highlights below 1") {
+  ScopedOcioEnv env(nullptr);
+  const std::vector<float> in = {0.f, 0.18f, 0.5f, 1.f, 2.f, 4.f, 8.f};
+  const std::vector<float> aces = dacrt::to_display(greys(in), {"ACES 1.0 SDR-video (sRGB)"});
+  const std::vector<float> srgb = dacrt::to_display(greys(in), {"sRGB"});
+  // From the ACES 1.0 CTL: the RRT and the 48-nit ODT tone scale map 0.18 to 4.8 cd/m²; the video
+  // ODT makes that (4.8 − 0.02) / (48 − 0.02) = 0.09962 of white, its dark-to-dim surround
+  // correction (Y^0.9811) 0.10406, and the sRGB encoding 0.35596 (8 bits: 91, against 118 in the
+  // plain sRGB view). On Rec.1886 (gamma 2.4), 0.10406^(1/2.4) = 0.38954.
+  CHECK(aces[3] == doctest::Approx(0.35596).epsilon(1e-3));
+  CHECK(dacrt::to_display(greys({0.18f}), {"ACES 1.0 SDR-video (Rec.1886)"})[0] ==
+        doctest::Approx(0.38954).epsilon(1e-3));
+  CHECK(dacrt::to_display(greys({0.18f}), {"Rec.1886"})[0] ==
+        doctest::Approx(std::pow(0.18, 1 / 2.4)).epsilon(1e-3));
+  CHECK(aces[0] <= 1e-4f);
+  for (size_t i = 0; i < in.size(); ++i) {
+    INFO("linear " << in[i]);
+    CHECK(aces[3 * i + 1] == doctest::Approx(aces[3 * i]).epsilon(1e-4));  // grey stays grey
+    CHECK(aces[3 * i + 2] == doctest::Approx(aces[3 * i]).epsilon(1e-4));
+    if (i > 0) CHECK(aces[3 * i] > aces[3 * (i - 1)]);
+    // Highlights that sRGB clips to white keep their gradation (1 → 0.81, 4 → 0.955).
+    if (in[i] > 1.f) CHECK(srgb[3 * i] == 1.f);
+    if (in[i] >= 1.f) CHECK(aces[3 * i] < 0.99f);
+  }
+  CHECK(aces[3 * 3] == doctest::Approx(0.812).epsilon(2e-3));
+  // A saturated red stays red: Rec.709 in, Rec.709 out.
+  dacrt::Image red(1, 1);
+  red.rgb = {0.5f, 0.f, 0.f};
+  const std::vector<float> r = dacrt::to_display(red, {"ACES 1.0 SDR-video (sRGB)"});
+  CHECK(r[0] > 0.5f);
+  CHECK(r[1] < 0.05f);
+  CHECK(r[2] < 0.05f);
+}
+
+TEST_CASE("exposure +1 is the image doubled, -1 halved, in every view; a non-finite one throws") {
+  ScopedOcioEnv env(nullptr);
+  std::vector<float> in;
+  for (float v = 0.f; v < 2.f; v += 1.f / 32) in.push_back(v);
+  const dacrt::Image image = greys(in);
+  dacrt::Image doubled = image, halved = image;
+  for (float& v : doubled.rgb) v *= 2.f;
+  for (float& v : halved.rgb) v *= 0.5f;
+  for (const std::string& view : dacrt::display_views().names) {
+    INFO("view " << view);
+    const std::vector<float> brighter = dacrt::to_display(image, {view, 1.0});
+    CHECK(brighter == dacrt::to_display(doubled, {view}));
+    CHECK(brighter != dacrt::to_display(image, {view}));
+    CHECK(dacrt::to_display(image, {view, -1.0}) == dacrt::to_display(halved, {view}));
+  }
+  for (double stops : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    CHECK_THROWS_AS(dacrt::to_display(image, {"", stops}), dacrt::Error);
+    CHECK_THROWS_AS(dacrt::check_display_transform({"", stops}), dacrt::Error);
+  }
+}
+
+TEST_CASE("an unknown view throws one line naming it and the valid views") {
+  ScopedOcioEnv env(nullptr);
+  for (const char* view : {"Nope", "srgb", "Test/Gamma2"}) {
+    const std::string message = view_error(view);
+    INFO(view << " → " << message);
+    CHECK(message.find(quoted(view)) != std::string::npos);
+    CHECK(message.find("'sRGB'") != std::string::npos);
+    CHECK(message.find("'ACES 1.0 SDR-video (sRGB)'") != std::string::npos);
+    CHECK(message.find('\n') == std::string::npos);
+    CHECK_THROWS_AS(dacrt::to_display(greys({0.18f}), {view}), dacrt::Error);
+  }
 }
 
 TEST_CASE("write_preview_png writes rounded 8-bit sRGB that stb_image reads back") {
@@ -180,23 +270,8 @@ TEST_CASE("to_display with $OCIO naming a missing config throws, naming the conf
 TEST_CASE("to_display with $OCIO uses the config's default display and view") {
   TempDir dir;
   const fs::path config = dir.path() / "config.ocio";
-  // scene_linear → default display "Test" → its first view, a gamma 2.0 encoding. Different
-  // from the built-in sRGB curve, so the test sees which path was taken.
-  std::ofstream(config) << R"(ocio_profile_version: 2
-roles:
-  default: linear
-  scene_linear: linear
-displays:
-  Test:
-    - !<View> {name: Gamma2, colorspace: gamma2}
-    - !<View> {name: Raw, colorspace: linear}
-colorspaces:
-  - !<ColorSpace>
-    name: linear
-  - !<ColorSpace>
-    name: gamma2
-    from_reference: !<ExponentTransform> {value: 2, direction: inverse}
-)";
+  // scene_linear → default display "Test" → its first view, a gamma 2.0 encoding.
+  std::ofstream(config) << dacrt::test::ocio_test_config;
   {
     ScopedOcioEnv env(config.c_str());
     const std::vector<float> out = dacrt::to_display(greys({0.f, 0.25f, 1.f, 4.f}));
@@ -207,4 +282,38 @@ colorspaces:
   }
   ScopedOcioEnv env(nullptr);
   CHECK(dacrt::to_display(greys({0.25f}))[0] == doctest::Approx(srgb_encode(0.25)).epsilon(2e-3));
+}
+
+TEST_CASE("with $OCIO, the views are the config's DISPLAY/VIEW pairs, each selectable") {
+  TempDir dir;
+  const fs::path config = dir.path() / "config.ocio";
+  std::ofstream(config) << dacrt::test::ocio_test_config;
+  ScopedOcioEnv env(config.c_str());
+  const dacrt::DisplayViews views = dacrt::display_views();
+  CHECK(views.default_name == "Test/Gamma2");
+  CHECK(views.names == std::vector<std::string>{"Test/Gamma2", "Test/Raw", "Other/Half"});
+
+  const dacrt::Image image = greys({0.25f, 1.f});
+  const std::vector<float> gamma2 = {0.5f, 0.5f, 0.5f, 1.f, 1.f, 1.f};
+  const std::vector<float> raw = {0.25f, 0.25f, 0.25f, 1.f, 1.f, 1.f};
+  const std::vector<float> half = {0.125f, 0.125f, 0.125f, 0.5f, 0.5f, 0.5f};
+  auto near = [](const std::vector<float>& a, const std::vector<float>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+      if (std::abs(a[i] - b[i]) > 1e-4f) return false;
+    return true;
+  };
+  CHECK(near(dacrt::to_display(image), gamma2));
+  CHECK(near(dacrt::to_display(image, {"Test/Raw"}), raw));
+  CHECK(near(dacrt::to_display(image, {"Raw"}), raw));  // a view of the default display
+  CHECK(near(dacrt::to_display(image, {"Other/Half"}), half));
+  CHECK(near(dacrt::to_display(image, {"Other/Half", 1.0}), raw));
+  // "Half" is not a view of the default display, and the built-in names are not the config's.
+  for (const char* view : {"Half", "sRGB", "Other/Raw"}) {
+    const std::string message = view_error(view);
+    INFO(view << " → " << message);
+    CHECK(message.find(config.string()) != std::string::npos);
+    CHECK(message.find(quoted(view)) != std::string::npos);
+    CHECK(message.find("'Other/Half'") != std::string::npos);
+  }
 }

@@ -11,6 +11,7 @@
 
 #include "cli.h"
 #include "gltf_writer.h"
+#include "ocio_config.h"
 #include "util/memory.h"
 
 using namespace dacrt::test;
@@ -157,6 +158,7 @@ TEST_CASE("untrusted cli: a broken $OCIO is an error before the render, not afte
   for (const std::string& config : {dir / "bad.ocio", dir / "missing.ocio"}) {
     Run r = run(dir, render, "OCIO=" + config + " timeout 120");
     check_refused(r, 1, {config, "OCIO"});
+    check_refused(run(dir, "views", "OCIO=" + config), 1, {config, "OCIO"});
   }
   fs::remove(dir.path() / "bad.ocio");
   check_no_outputs(dir);
@@ -164,6 +166,22 @@ TEST_CASE("untrusted cli: a broken $OCIO is an error before the render, not afte
   CHECK(run(dir, "render " + scene + " --spp 1 --quiet -o " + (dir / "o.exr"),
             "OCIO=" + (dir / "missing.ocio"))
             .code == 0);
+}
+
+TEST_CASE("untrusted cli: an unknown view is an error before the render, naming the valid ones") {
+  TempDir dir("view");
+  const std::string scene = small_scene(dir);
+  const std::string render =
+      "render " + scene + " --spp 1000000 -o " + (dir / "o.exr") + " --preview " + (dir / "o.png");
+  check_refused(run(dir, render + " --view Nope", "env -u OCIO timeout 120"), 1,
+                {"'Nope'", "'sRGB'", "'ACES 1.0 SDR-video (sRGB)'"});
+  // With $OCIO, the config's views are the valid ones, and the built-in names are not among them.
+  TempDir config_dir("view-config");
+  write_text(config_dir / "config.ocio", ocio_test_config);
+  check_refused(
+      run(dir, render + " --view sRGB", "OCIO=" + (config_dir / "config.ocio") + " timeout 120"), 1,
+      {"'sRGB'", config_dir / "config.ocio", "'Test/Gamma2'", "'Other/Half'"});
+  check_no_outputs(dir);
 }
 
 TEST_CASE("untrusted cli: sizes derived from a camera meet the limits of the flags") {
@@ -257,6 +275,8 @@ TEST_CASE("untrusted cli: output to a full standard output is an error") {
   check_refused(run(dir, "info " + scene, "", "/dev/full"), 1, {"standard output"});
   check_refused(run(dir, "--help", "", "/dev/full"), 1, {"standard output"});
   check_refused(run(dir, "render --help", "", "/dev/full"), 1, {"standard output"});
+  check_refused(run(dir, "views", "", "/dev/full"), 1, {"standard output"});
+  check_refused(run(dir, "views --help", "", "/dev/full"), 1, {"standard output"});
   check_refused(
       run(dir, "bench " + scene + " --count 64 --repeat 1 --rays primary --quiet", "", "/dev/full"),
       1, {"standard output"});
