@@ -95,6 +95,9 @@ Light transport
                              (the first hit's values as the image)
   --ao-distance D            ao: how far occluders count (default: the scene's diagonal)
   --max-depth D              scattering events per path (default 64; Russian roulette after 3)
+  --point-light X,Y,Z=R,G,B  adds a point light at X,Y,Z of intensity R,G,B (irradiance I / d², the
+                             units of KHR_lights_punctual's intensity as dacrt reads it); repeatable:
+                             interiors without emitters (McGuire's conference room) can be lit
   --environment R,G,B        uniform environment radiance (default 0, or 1 when the scene has no emitters)
   --environment FILE.exr     an equirectangular environment map (+Y up, image centre towards -Z),
                              importance-sampled
@@ -263,6 +266,16 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
         r.setup.environment_file = v, r.setup.environment.reset();
       else
         r.setup.environment = parse_rgb(a, v), r.setup.environment_file.clear();
+    } else if (a == "--point-light") {
+      const std::string v = value();
+      const size_t eq = v.find('=');
+      PunctualLight light;
+      light.name = "--point-light " + v;
+      light.position = parse_point(a, v.substr(0, eq));
+      if (eq == std::string::npos)
+        throw UsageError(a + " wants X,Y,Z=R,G,B (a position and an intensity), got '" + v + "'");
+      light.intensity = parse_rgb(a, v.substr(eq + 1));
+      r.setup.lights.push_back(light);
     } else if (a == "--max-depth")
       r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
     else if (a == "--seed")

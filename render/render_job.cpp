@@ -48,6 +48,7 @@ std::vector<std::string> prepare_render(Scene& scene, RenderSettings& s, const R
       image_size(scene.cameras[s.camera].aspect, setup.width.value_or(0), setup.height.value_or(0),
                  setup.longer_side, scene.path + ": camera " + std::to_string(s.camera));
   s.width = size.x, s.height = size.y;
+  scene.lights.insert(scene.lights.end(), setup.lights.begin(), setup.lights.end());
   scene.environment_map.reset();
   scene.environment = glm::vec3(0.f);
   if (!setup.environment_file.empty()) {

@@ -31,13 +31,15 @@ struct RenderSetup {
   int longer_side = 512;                 // with neither set
   std::optional<glm::vec3> environment;  // uniform radiance; unset: 0, or 1 without emitters
   std::string environment_file;          // an equirectangular .exr map instead
+  std::vector<PunctualLight> lights;     // added to the scene's (--point-light)
 };
 
 // Applies the camera override to the chosen camera (Error naming the flags when it is
 // degenerate; Error when the camera does not exist).
 void override_scene_camera(Scene& scene, const RenderSetup& setup);
 
-// Sets the image size (settings.width, height, camera) and the scene's environment. Returns
+// Sets the image size (settings.width, height, camera), adds the setup's lights and sets the
+// scene's environment. Returns
 // notes for the user (a scene without emitters lit by a uniform environment of 1, a framed
 // camera). Throws Error for a size over max_image_side or a bad environment map.
 std::vector<std::string> prepare_render(Scene& scene, RenderSettings& settings,
