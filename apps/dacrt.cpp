@@ -304,15 +304,8 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
 // (and its preview), the path state. Throws Error naming the file and what is too big when they
 // exceed the memory this process may still take.
 void check_memory(const RenderArgs& r, const RenderSettings& s) {
-  const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
-  // The resolved channels (4 bytes each) and the preview's 8-bit RGB with its float copy.
-  const uint64_t channels = 3 + 3 * s.aovs.has(Aov::albedo) + 3 * s.aovs.has(Aov::normal) +
-                            s.aovs.has(Aov::depth) + 3 * s.aovs.has(Aov::position) +
-                            3 * s.aovs.has(Aov::variance) + 1;
-  const uint64_t film = Film::bytes(s.width, s.height, s.aovs) +
-                        pixels * (4 * channels + (r.preview.empty() ? 0 : 15));
-  const uint64_t bytes = path_state_bytes + (s.aovs.first_hit() ? sizeof(FirstHit) : 0);
-  const uint64_t paths = resolve_wavefront(s, pixels * uint64_t(s.spp)) * bytes;
+  const RenderMemory need = render_memory(s, !r.preview.empty());
+  const uint64_t film = need.image, paths = need.paths;
   const uint64_t available = available_memory();
   if (film + paths <= available) return;
   throw Error(r.scene + ": a " + std::to_string(s.width) + " x " + std::to_string(s.height) +

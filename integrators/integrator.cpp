@@ -31,8 +31,7 @@ std::unique_ptr<Integrator> Integrator::create(std::string_view name, const Scen
 }
 
 size_t resolve_wavefront(const RenderSettings& s, uint64_t paths) {
-  const uint64_t bytes = path_state_bytes + (s.aovs.first_hit() ? sizeof(FirstHit) : 0);
-  const uint64_t n = s.wavefront > 0 ? s.wavefront : s.wavefront_budget / bytes;
+  const uint64_t n = s.wavefront > 0 ? s.wavefront : s.wavefront_budget / path_bytes(s.aovs);
   return size_t(std::clamp<uint64_t>(std::min(n, paths), 1, uint64_t(1) << 31));
 }
 

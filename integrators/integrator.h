@@ -45,6 +45,10 @@ struct RenderSettings {
 // hits (16), the stages' scratch (two ray records of 40, a contribution of 12, flags and indices:
 // 109), and the dacrt backend's ray record (36).
 inline constexpr uint64_t path_state_bytes = 40 + 4 * 36 + 16 + 109 + 36;
+// ... and with the first-hit values the AOVs need.
+inline uint64_t path_bytes(AovSet aovs) {
+  return path_state_bytes + (aovs.first_hit() ? sizeof(FirstHit) : 0);
+}
 
 // The live paths a render of `paths` samples keeps with these settings.
 size_t resolve_wavefront(const RenderSettings& settings, uint64_t paths);

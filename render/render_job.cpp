@@ -67,6 +67,20 @@ std::vector<std::string> prepare_render(Scene& scene, RenderSettings& s, const R
   return notes;
 }
 
+RenderMemory render_memory(const RenderSettings& s, bool preview) {
+  const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
+  // The resolved channels (4 bytes each, the samples channel always counted), and the preview's
+  // 8-bit RGB with its float copy.
+  const AovSet a = s.aovs;
+  const uint64_t channels = 3 + 3 * a.has(Aov::albedo) + 3 * a.has(Aov::normal) +
+                            a.has(Aov::depth) + 3 * a.has(Aov::position) +
+                            3 * a.has(Aov::variance) + 1;
+  RenderMemory m;
+  m.image = Film::bytes(s.width, s.height, a) + pixels * (4 * channels + (preview ? 15 : 0));
+  m.paths = resolve_wavefront(s, pixels * uint64_t(s.spp)) * path_bytes(a);
+  return m;
+}
+
 RenderJob::RenderJob(const Scene& scene, Backend& backend, RenderSettings settings,
                      std::string integrator)
     : scene_(scene),

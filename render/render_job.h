@@ -48,6 +48,13 @@ std::vector<std::string> prepare_render(Scene& scene, RenderSettings& settings,
 // Whether anything in the scene emits light (emissive triangles, punctual lights).
 bool has_emitters(const Scene& scene);
 
+// A render's largest allocations, estimated before any is made: the film, its resolved channels
+// and the preview (image), the path state (paths).
+struct RenderMemory {
+  uint64_t image = 0, paths = 0;
+};
+RenderMemory render_memory(const RenderSettings& settings, bool preview);
+
 struct PassOptions {
   uint32_t spp_per_pass = 0;  // 0: enough samples for 8 wavefronts a pass, at least 1 per pixel
   double time_limit = 0.0;    // seconds; 0: none. The render stops after the pass that crosses it
