@@ -314,18 +314,20 @@ void check_memory(const RenderArgs& r, const RenderSettings& s) {
               format_bytes(available) + " of memory available");
 }
 
-// The EXR (every channel asked, and the per-pixel counts when they differ) and the preview of a
-// film, with the header saying what it holds.
+// The EXR (every channel asked, and the per-pixel counts when they differ: a pass cut short, or
+// samples dropped as NaN) and the preview of a film, with the header saying what it holds: `spp`
+// is the count every pixel has.
 void write_outputs(const RenderArgs& r, const Scene& scene, const BackendRun& run, const Film& film,
                    const RenderOutcome& outcome, const RenderSettings& s) {
   std::vector<Channel> channels = film.channels();
-  if (!outcome.uniform() && !film.aovs().has(Aov::samples)) {
+  const uint32_t least = film.min_count(), most = film.max_count();
+  if (least != most && !film.aovs().has(Aov::samples)) {
     Channel samples{"samples", std::vector<float>(film.pixels())};
     for (size_t p = 0; p < film.pixels(); ++p) samples.values[p] = float(film.count(p));
     channels.push_back(std::move(samples));
   }
   ExrMetadata meta;
-  meta.spp = int(outcome.spp());
+  meta.spp = int(least);
   meta.backend = run.backend;
   meta.integrator = r.integrator;
   meta.render_seconds = outcome.seconds;
@@ -338,10 +340,9 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const BackendRun& ru
       {"sampler", "independent"},
       {"seed", std::to_string(s.seed)},
       {"sppRequested", std::to_string(s.spp)},
-      {"samplesPerPixel", outcome.uniform() ? "every pixel " + std::to_string(outcome.spp())
-                                            : "from " + std::to_string(outcome.spp()) + " to " +
-                                                  std::to_string(outcome.most - outcome.first) +
-                                                  " (the samples channel)"},
+      {"samplesPerPixel", least == most ? "every pixel " + std::to_string(least)
+                                        : "from " + std::to_string(least) + " to " +
+                                              std::to_string(most) + " (the samples channel)"},
       {"software", std::string("dacrt ") + version()},
       {"dacrtVersion", version()}};
   if (!run.stopped.empty()) meta.extra.push_back({"stoppedBy", run.stopped});
