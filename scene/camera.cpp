@@ -24,7 +24,8 @@ Camera frame_bounds(const Box& bounds, float aspect, float yfov) {
   float distance = radius / std::sin(half);
   glm::vec3 dir = glm::normalize(glm::vec3(0.f, 0.25f, 1.f));
   glm::vec3 eye = center + distance * dir;
-  cam.to_world = glm::inverse(glm::lookAt(eye, center, glm::vec3(0.f, 1.f, 0.f)));
+  cam.aimed_up = glm::vec3(0.f, 1.f, 0.f);
+  cam.to_world = glm::inverse(glm::lookAt(eye, center, *cam.aimed_up));
   cam.znear = 0.f;
   return cam;
 }
@@ -33,7 +34,7 @@ Camera override_camera(const Camera& base, const CameraOverride& o, const glm::v
   const glm::vec3 position = base.position(), forward = -glm::vec3(base.to_world[2]);
   const glm::vec3 from = o.from.value_or(position);
   const glm::vec3 at = o.at ? *o.at : o.from ? target : position + forward;
-  const glm::vec3 up = o.up.value_or(glm::vec3(base.to_world[1]));
+  const glm::vec3 up = o.up.value_or(base.up());
   const glm::vec3 view = at - from;
   if (!(glm::length(view) > 0.f))
     throw Error("--look-at must differ from --look-from (the camera's position)");
@@ -42,6 +43,7 @@ Camera override_camera(const Camera& base, const CameraOverride& o, const glm::v
   Camera cam = base;
   if (o.any()) cam.name = "command line";
   cam.to_world = glm::inverse(glm::lookAt(from, at, up));
+  if (o.any()) cam.aimed_up = up;
   if (o.fov_degrees) {
     cam.orthographic = false;
     cam.yfov = glm::radians(*o.fov_degrees);
@@ -76,7 +78,7 @@ float camera_ray(const Camera& camera, int width, int height, float x, float y, 
 std::string camera_flags(const Camera& cam, const glm::vec3& target) {
   const glm::vec3 p = cam.position() + 0.f;  // + 0: no "-0" printed
   const glm::vec3 at = look_at_point(cam, target) + 0.f;
-  const glm::vec3 up = glm::vec3(cam.to_world[1]) + 0.f;
+  const glm::vec3 up = cam.up() + 0.f;
   char text[320];
   std::snprintf(text, sizeof text,
                 "--look-from %.7g,%.7g,%.7g --look-at %.7g,%.7g,%.7g --up %.7g,%.7g,%.7g", p.x, p.y,

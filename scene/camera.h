@@ -20,8 +20,12 @@ struct Camera {
   float znear = 0.f;
   bool orthographic = false;
   float ymag = 1.f;  // orthographic: half the view's height (its width follows the aspect)
+  // The up direction it was aimed with, as LookAt's up (+Y for the camera framing a scene, the
+  // --up of an override); unset for a file's camera: its image's up.
+  std::optional<glm::vec3> aimed_up;
 
   glm::vec3 position() const { return glm::vec3(to_world[3]); }
+  glm::vec3 up() const { return aimed_up.value_or(glm::vec3(to_world[1])); }
 };
 
 // A camera that looks at the whole box from the +Z side (glTF's front), slightly above, with the
@@ -37,7 +41,8 @@ struct CameraOverride {
 };
 
 // `base` with the override applied. Unset parts keep base's: its position, its direction (when
-// only `from` is new, the camera looks at `target`, the scene's centre), its up, its yfov.
+// only `from` is new, the camera looks at `target`, the scene's centre), its up (up(): +Y for a
+// framed camera, so a new view is not tilted by the framing's downward look), its yfov.
 // Throws Error (naming the flags) when from and at coincide or up is parallel to the view.
 Camera override_camera(const Camera& base, const CameraOverride& o, const glm::vec3& target);
 

@@ -136,3 +136,17 @@ TEST_CASE("camera flags: usage errors, and info's printed camera renders the sam
   CHECK(mean_difference(file, with_flags) < 1e-3);
   CHECK(mean_difference(file, back) > 0.2);
 }
+
+TEST_CASE("camera override: a new view from the framed camera is upright (its up is +Y)") {
+  // The framed camera looks down at the scene: its image's up leans back. A new position or
+  // direction keeps the up it was aimed with, +Y, so the new image is not tilted.
+  const Camera framed = frame_bounds(Box{glm::vec3(-1.f), glm::vec3(1.f)}, 1.f);
+  CHECK(glm::vec3(framed.to_world[1]).y < 0.99f);
+  CHECK(near(framed.up(), {0, 1, 0}));
+  CameraOverride o;
+  o.from = glm::vec3(3, 0.5f, 0), o.at = glm::vec3(0, 0, 2);
+  const Camera c = override_camera(framed, o, {});
+  CHECK(std::abs(c.to_world[0].y) < 1e-6f);  // the image's horizontal is the world's
+  CHECK(up(c).y > 0.9f);
+  CHECK(near(c.up(), {0, 1, 0}));
+}
