@@ -87,7 +87,10 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std:
   uint64_t next_id = begin, finished = 0;
   auto stopped = [&] { return stop && stop->load(std::memory_order_relaxed); };
   while ((next_id < end && !stopped()) || bounce_.size() > 0) {
-    if (!stopped()) next_id += camera_rays(next_id, end);
+    if (stopped())
+      camera_.clear();  // no new samples (the last iteration's camera rays are traced already)
+    else
+      next_id += camera_rays(next_id, end);
     shadow_.type = RayType::shadow;
     shadow_.clear();
     shadow_contribution_.clear();

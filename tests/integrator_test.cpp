@@ -16,27 +16,6 @@ using namespace dacrt::test;
 
 namespace {
 
-// An axis-aligned box from -1 to 1, wound so its faces point inwards.
-Geometry inward_box() {
-  Geometry g;
-  const glm::vec3 c[8] = {{-1, -1, -1}, {1, -1, -1}, {-1, 1, -1}, {1, 1, -1},
-                          {-1, -1, 1},  {1, -1, 1},  {-1, 1, 1},  {1, 1, 1}};
-  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 2, 6, 4},
-                           {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}};
-  for (const auto& f : faces) {
-    g.add(c[f[0]], c[f[1]], c[f[2]], 0);
-    g.add(c[f[0]], c[f[2]], c[f[3]], 0);
-  }
-  return g;
-}
-
-Camera looking_at(const glm::vec3& eye, const glm::vec3& target, float yfov) {
-  Camera cam;
-  cam.yfov = yfov;
-  cam.to_world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
-  return cam;
-}
-
 struct Result {
   Film film;
   RenderStats stats;

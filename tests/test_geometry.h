@@ -1,5 +1,6 @@
 // Geometry and ray generators shared by the backend tests: the five kinds of triangle sets the
-// oracle comparison runs on, and rays that stress them.
+// oracle comparison runs on, and rays that stress them; and the box and camera the render tests
+// build their scenes from.
 #pragma once
 
 #include <atomic>
@@ -8,6 +9,7 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "scene/camera.h"
 #include "tracer/backend.h"
 #include "tracer/geometry.h"
 #include "tracer/ray.h"
@@ -24,6 +26,28 @@ inline glm::vec3 random_direction(Pcg32& rng) {
   float z = 1.f - 2.f * rng.uniform(), phi = 2.f * glm::pi<float>() * rng.uniform();
   float r = std::sqrt(std::max(0.f, 1.f - z * z));
   return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+// An axis-aligned box from -1 to 1, wound so its faces point inwards.
+inline Geometry inward_box() {
+  Geometry g;
+  const glm::vec3 c[8] = {{-1, -1, -1}, {1, -1, -1}, {-1, 1, -1}, {1, 1, -1},
+                          {-1, -1, 1},  {1, -1, 1},  {-1, 1, 1},  {1, 1, 1}};
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 2, 6, 4},
+                           {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}};
+  for (const auto& f : faces) {
+    g.add(c[f[0]], c[f[1]], c[f[2]], 0);
+    g.add(c[f[0]], c[f[2]], c[f[3]], 0);
+  }
+  return g;
+}
+
+// A perspective camera at `eye` looking at `target`, +y up, of vertical field of view `yfov`.
+inline Camera looking_at(const glm::vec3& eye, const glm::vec3& target, float yfov) {
+  Camera cam;
+  cam.yfov = yfov;
+  cam.to_world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
+  return cam;
 }
 
 // Random triangles of random sizes in the unit cube.
