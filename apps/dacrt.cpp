@@ -420,7 +420,9 @@ int render(const std::vector<std::string>& args) {
   StopOnSignals signals;
   r.passes.stop = &signals.token();
   r.backend_options.threads = r.threads;
+  size_t rendered = 0;  // the runs begun: a stop skips the backends after it
   for (BackendRun& run : runs) {
+    ++rendered;
     const auto t0 = std::chrono::steady_clock::now();
     auto backend =
         Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
@@ -463,8 +465,8 @@ int render(const std::vector<std::string>& args) {
       j = describe(runs[0]);
     } else {
       j = {{"backends", nlohmann::json::array()}};
-      for (const BackendRun& run : runs)
-        if (run.spp > 0 || run.stopped.empty()) j["backends"].push_back(describe(run));
+      for (size_t k = 0; k < rendered; ++k)
+        if (runs[k].spp > 0 || runs[k].stopped.empty()) j["backends"].push_back(describe(runs[k]));
     }
     write_atomically(r.stats, "statistics", [&](std::ofstream& out) { out << j.dump(2) << "\n"; });
   }

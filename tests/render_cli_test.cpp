@@ -1,0 +1,392 @@
+// `dacrt render` while it runs: real signals sent to a child process (the first stops the render
+// and writes what it has, a second ends it at once), --time-limit, --checkpoint files that appear
+// while the render goes on, the AOV layers and the header, the integrators by name. The header's
+// `spp` is always the count every pixel has, and no temporary file survives.
+#include <doctest/doctest.h>
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli.h"
+#include "io/exr.h"
+
+using namespace dacrt;
+using namespace dacrt::test;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+const std::string cornell = DACRT_SOURCE_DIR "/scenes/cornell-box.gltf";
+
+// A render that would take many minutes: 100 000 samples of each of 64 × 64 pixels.
+const std::vector<std::string> endless = {"render", cornell, "--width", "64",     "--height",
+                                          "64",     "--spp", "100000",  "--quiet"};
+
+std::vector<std::string> operator+(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// `dacrt ARGS` as a child process (fork and exec, stdout and stderr to files in `dir`), so that a
+// test can signal it while it renders, and wait for it with a deadline.
+class Child {
+ public:
+  Child(const TempDir& dir, const std::vector<std::string>& args) : dir_(dir) {
+    pid_ = fork();
+    REQUIRE(pid_ >= 0);
+    if (pid_ == 0) {
+      // The test runner's handlers and masks are not the CLI's business.
+      std::signal(SIGINT, SIG_DFL);
+      std::signal(SIGTERM, SIG_DFL);
+      sigset_t none;
+      sigemptyset(&none);
+      sigprocmask(SIG_SETMASK, &none, nullptr);
+      const int in = open("/dev/null", O_RDONLY);
+      const int out = open((dir / "stdout.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int err = open((dir / "stderr.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      dup2(in, 0), dup2(out, 1), dup2(err, 2);
+      std::vector<char*> argv = {const_cast<char*>(DACRT_CLI)};
+      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(DACRT_CLI, argv.data());
+      _exit(127);
+    }
+  }
+  ~Child() {
+    if (!status_) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+
+  pid_t pid() const { return pid_; }
+  void signal(int sig) const { REQUIRE(kill(pid_, sig) == 0); }
+
+  // Whether it has ended (then status() says how).
+  bool ended() {
+    if (status_) return true;
+    int status = 0;
+    if (waitpid(pid_, &status, WNOHANG) == pid_) status_ = status;
+    return bool(status_);
+  }
+  // Waits for it to end, at most `seconds`; after that it is killed and the test fails.
+  int wait(double seconds) {
+    const auto start = Clock::now();
+    while (!ended() && seconds_since(start) < seconds)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!ended()) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+      status_ = -1;
+      FAIL("dacrt did not end within " << seconds << " s; stderr: " << err());
+    }
+    return *status_;
+  }
+  std::string err() const { return slurp(dir_ / "stderr.txt"); }
+
+ private:
+  const TempDir& dir_;
+  pid_t pid_ = -1;
+  std::optional<int> status_;
+};
+
+// Polls `done` every few milliseconds for at most `seconds`; whether it became true.
+template <class Done>
+bool poll(double seconds, Done done) {
+  const auto start = Clock::now();
+  while (!done()) {
+    if (seconds_since(start) > seconds) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
+}
+
+// Whether signal `sig` is pending for the process as a whole (sent, not yet taken by a thread).
+bool pending(pid_t pid, int sig) {
+  const std::string status = slurp("/proc/" + std::to_string(pid) + "/status");
+  const size_t at = status.find("ShdPnd:");
+  if (at == std::string::npos) return false;
+  return std::stoull(status.substr(at + 7), nullptr, 16) >> (sig - 1) & 1u;
+}
+
+// The files in `dir` whose names say they are temporaries being written.
+std::vector<std::string> temporaries(const TempDir& dir) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::directory_iterator(dir.path()))
+    if (e.path().filename().string().find(".tmp") != std::string::npos)
+      found.push_back(e.path().filename().string());
+  return found;
+}
+
+// A whole EXR, or nothing (a file that is not one fails the test).
+std::optional<ExrFile> read_if_whole(const std::string& path) {
+  try {
+    return read_exr_file(path);
+  } catch (const std::exception& e) {
+    FAIL_CHECK(path << " is not a valid EXR: " << e.what());
+    return std::nullopt;
+  }
+}
+
+// A header attribute as text, empty when the header has none.
+std::string attribute(const ExrFile& f, const std::string& key) {
+  const auto it = f.attributes.find(key);
+  return it == f.attributes.end() ? std::string() : it->second;
+}
+
+int spp_of(const ExrFile& f) {
+  REQUIRE(f.attributes.count("spp"));
+  return std::stoi(f.attributes.at("spp"));
+}
+
+// The header's spp is the count every pixel has: the least of the samples channel when there is
+// one, else the count the header says every pixel has.
+void check_counts(const ExrFile& f) {
+  const int spp = spp_of(f);
+  const std::string per_pixel = attribute(f, "samplesPerPixel");
+  INFO("spp " << spp << ", samplesPerPixel " << per_pixel);
+  if (const Channel* samples = f.find("samples")) {
+    REQUIRE(!samples->values.empty());
+    CHECK(*std::min_element(samples->values.begin(), samples->values.end()) == float(spp));
+  } else {
+    CHECK(per_pixel == "every pixel " + std::to_string(spp));
+  }
+}
+
+// Renders the endless scene with `flags` until its checkpoint file holds at least one pass, then
+// sends `sig`: the render stops, writes a whole image of what it has, says why, and exits
+// 128 + sig with no temporary left.
+void check_stopped_by(int sig, const std::vector<std::string>& flags) {
+  TempDir dir("render-cli-signal");
+  const std::string out = dir / "out.exr";
+  Child child(dir, endless + flags + std::vector<std::string>{"-o", out, "--checkpoint", "0.2"});
+  REQUIRE_MESSAGE(poll(15, [&] { return fs::exists(out) || child.ended(); }),
+                  "no checkpoint within 15 s");
+  REQUIRE_FALSE(child.ended());
+  const std::optional<ExrFile> checkpoint = read_if_whole(out);
+  REQUIRE(checkpoint);
+  child.signal(sig);
+  const int status = child.wait(15);
+  INFO(child.err());
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 128 + sig);
+  const std::optional<ExrFile> image = read_if_whole(out);
+  REQUIRE(image);
+  CHECK(attribute(*image, "stoppedBy") == (sig == SIGINT ? "SIGINT" : "SIGTERM"));
+  CHECK(attribute(*image, "sppRequested") == "100000");
+  check_counts(*image);
+  CHECK(spp_of(*image) >= spp_of(*checkpoint));
+  CHECK(spp_of(*image) < 100000);
+  CHECK(temporaries(dir).empty());
+}
+
+}  // namespace
+
+TEST_CASE("render cli: SIGINT stops the render, writes what it has and exits 130") {
+  check_stopped_by(SIGINT, {"--pass-spp", "1"});
+}
+
+TEST_CASE("render cli: SIGTERM in the middle of a pass writes the samples channel, exits 143") {
+  // Passes of 64 samples over wavefronts of 1000 paths: the signal lands inside a pass, so some
+  // pixels have one sample more than others.
+  check_stopped_by(SIGTERM, {"--pass-spp", "64", "--wavefront", "1000"});
+}
+
+TEST_CASE("render cli: a second SIGINT while the outputs are written ends the process at once") {
+  TempDir dir("render-cli-twice");
+  const std::string out = dir / "out.exr";
+  // Large enough that writing the stopped render's image takes a while.
+  Child child(dir, {"render", cornell, "--width", "512", "--height", "512", "--spp", "100000",
+                    "--pass-spp", "1", "--checkpoint", "0.1", "--quiet", "-o", out, "--aov",
+                    "albedo,normal,depth,position,variance,samples"});
+  REQUIRE_MESSAGE(poll(15, [&] { return fs::exists(out) || child.ended(); }),
+                  "no checkpoint within 15 s");
+  REQUIRE_FALSE(child.ended());
+  child.signal(SIGINT);
+  // Once the first is taken, the next temporary file is the stopped render's image (or a
+  // checkpoint's, begun before): the second signal lands while it is written.
+  REQUIRE(poll(10, [&] { return !pending(child.pid(), SIGINT) || child.ended(); }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const bool writing =
+      poll(10, [&] { return !temporaries(dir).empty() || child.ended(); }) && !child.ended();
+  const auto second = Clock::now();
+  if (writing) child.signal(SIGINT);
+  const int status = child.wait(15);
+  INFO(child.err());
+  if (writing) {
+    CHECK(seconds_since(second) < 5);
+    CHECK(WIFSIGNALED(status));
+    if (WIFSIGNALED(status)) CHECK(WTERMSIG(status) == SIGINT);
+  } else {  // it finished before the temporary was seen: the first signal's outcome
+    MESSAGE("the stopped render was written before a second signal could be sent");
+    CHECK((WIFEXITED(status) && WEXITSTATUS(status) == 130));
+  }
+  CHECK(temporaries(dir).empty());
+  if (fs::exists(out)) read_if_whole(out);
+}
+
+TEST_CASE("render cli: --time-limit stops after the pass that crosses it, with whole passes") {
+  TempDir dir("render-cli-time");
+  const std::string out = dir / "out.exr";
+  const auto start = Clock::now();
+  Child child(
+      dir, endless + std::vector<std::string>{"--time-limit", "1", "--pass-spp", "1", "-o", out});
+  const int status = child.wait(15);
+  INFO(child.err());
+  CHECK(seconds_since(start) < 10);
+  REQUIRE(WIFEXITED(status));
+  REQUIRE(WEXITSTATUS(status) == 0);
+  const std::optional<ExrFile> image = read_if_whole(out);
+  REQUIRE(image);
+  CHECK(attribute(*image, "stoppedBy") == "the time limit");
+  CHECK(attribute(*image, "sppRequested") == "100000");
+  CHECK(spp_of(*image) >= 1);
+  CHECK(spp_of(*image) < 100000);
+  CHECK(image->find("samples") == nullptr);  // whole passes: every pixel has the same count
+  check_counts(*image);
+  CHECK(temporaries(dir).empty());
+}
+
+TEST_CASE("render cli: --checkpoint writes a whole image while the render goes on") {
+  TempDir dir("render-cli-checkpoint");
+  const std::string out = dir / "out.exr";
+  Child child(dir, endless + std::vector<std::string>{"--checkpoint", "0.5", "--pass-spp", "1",
+                                                      "--time-limit", "5", "-o", out});
+  REQUIRE_MESSAGE(poll(15, [&] { return fs::exists(out) || child.ended(); }),
+                  "no checkpoint within 15 s");
+  const std::optional<ExrFile> checkpoint = read_if_whole(out);
+  CHECK_FALSE(child.ended());  // the file was there, whole, before the process ended
+  REQUIRE(checkpoint);
+  CHECK(attribute(*checkpoint, "stoppedBy").empty());
+  check_counts(*checkpoint);
+  const int status = child.wait(20);
+  INFO(child.err());
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  const std::optional<ExrFile> image = read_if_whole(out);
+  REQUIRE(image);
+  CHECK(spp_of(*checkpoint) >= 1);
+  CHECK(spp_of(*checkpoint) < spp_of(*image));  // a pass follows every checkpoint
+  CHECK(temporaries(dir).empty());
+}
+
+TEST_CASE("render cli: --aov writes every layer asked, and the header says how it was made") {
+  TempDir dir("render-cli-aov");
+  const std::string out = dir / "out.exr";
+  Run r = run(dir, "render " + cornell + " --width 16 --height 12 --spp 2 --quiet --seed 7" +
+                       " --look-from 0.25,1,3.5 -o " + out +
+                       " --aov albedo,normal,depth,position,variance,samples");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const ExrFile f = read_exr_file(out);
+  CHECK(f.width == 16);
+  CHECK(f.height == 12);
+  std::set<std::string> names;
+  for (const Channel& c : f.channels) names.insert(c.name);
+  CHECK(names == std::set<std::string>{"R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "N.X",
+                                       "N.Y", "N.Z", "Z", "P.X", "P.Y", "P.Z", "variance.R",
+                                       "variance.G", "variance.B", "samples"});
+  const Channel* samples = f.find("samples");
+  REQUIRE(samples);
+  for (float n : samples->values) CHECK(n == 2.f);
+  check_counts(f);
+  for (const char* key : {"spp", "backend", "integrator", "sampler", "seed", "renderSeconds",
+                          "scene", "camera", "dacrtVersion"})
+    CHECK_MESSAGE(f.attributes.count(key), "missing attribute " << key);
+  CHECK(attribute(f, "spp") == "2");
+  CHECK(attribute(f, "backend") == "dacrt");
+  CHECK(attribute(f, "integrator") == "path");
+  CHECK(attribute(f, "seed") == "7");
+  CHECK(attribute(f, "scene") == cornell);
+  CHECK(attribute(f, "camera").find("--look-from 0.25,1,3.5") != std::string::npos);
+  CHECK(attribute(f, "stoppedBy").empty());
+  // An AOV it does not know is a usage error naming it, before anything is written.
+  Run bad = run(
+      dir, "render " + cornell + " --spp 1 --quiet -o " + (dir / "bad.exr") + " --aov albedo,nope");
+  CHECK(bad.code == 2);
+  CHECK(lines(bad.err) == 1);
+  CHECK(bad.err.find("nope") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "bad.exr"));
+}
+
+TEST_CASE("render cli: --integrator picks one by name, an unknown one is refused before loading") {
+  TempDir dir("render-cli-integrator");
+  // The scene does not exist: the integrator is refused first, with the names it knows.
+  Run bad =
+      run(dir, "render " + (dir / "missing.gltf") + " --integrator nope -o " + (dir / "bad.exr"));
+  INFO(bad.err);
+  CHECK(bad.code == 2);
+  CHECK(lines(bad.err) == 1);
+  for (const char* word : {"'nope'", "path", "direct", "ao", "albedo", "normal", "depth"})
+    CHECK_MESSAGE(bad.err.find(word) != std::string::npos, word);
+  CHECK(bad.err.find("missing.gltf") == std::string::npos);
+  for (const std::string name : {"path", "direct", "ao", "albedo", "normal", "depth"}) {
+    const std::string out = dir / (name + ".exr");
+    Run r = run(dir, "render " + cornell + " --width 8 --height 8 --spp 1 --quiet --integrator " +
+                         name + " -o " + out);
+    INFO(name << ": " << r.err);
+    CHECK(r.code == 0);
+    if (fs::exists(out)) CHECK(attribute(read_exr_file(out), "integrator") == name);
+  }
+  // --ao-distance: occluders farther than it do not count, so a short one is brighter.
+  auto ao_sum = [&](const std::string& flags) {
+    const std::string out = dir / "ao.exr";
+    Run r = run(dir, "render " + cornell + " --width 16 --height 16 --spp 4 --quiet" +
+                         " --integrator ao -o " + out + flags);
+    REQUIRE(r.code == 0);
+    double sum = 0.0;
+    for (float v : read_exr(out).rgb) sum += v;
+    return sum;
+  };
+  CHECK(ao_sum(" --ao-distance 0.01") > 1.2 * ao_sum(""));
+}
+
+TEST_CASE("render cli: a signal during the first of several backends writes its image only") {
+  TempDir dir("render-cli-backends");
+  const std::string out = dir / "out.exr", json = dir / "out.json";
+  Child child(
+      dir, endless + std::vector<std::string>{"--backend", "dacrt,brute", "--pass-spp", "1",
+                                              "--checkpoint", "0.2", "-o", out, "--stats", json});
+  // dacrt's checkpoint: it renders (its 100 000 samples would take minutes).
+  REQUIRE_MESSAGE(poll(15, [&] { return fs::exists(dir / "out.dacrt.exr") || child.ended(); }),
+                  "no checkpoint within 15 s");
+  REQUIRE_FALSE(child.ended());
+  child.signal(SIGINT);
+  const int status = child.wait(15);
+  INFO(child.err());
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  const std::optional<ExrFile> image = read_if_whole(dir / "out.dacrt.exr");
+  REQUIRE(image);
+  CHECK(attribute(*image, "backend") == "dacrt");
+  CHECK(attribute(*image, "stoppedBy") == "SIGINT");
+  check_counts(*image);
+  CHECK_FALSE(fs::exists(dir / "out.brute.exr"));
+  CHECK_FALSE(fs::exists(out));
+  CHECK(temporaries(dir).empty());
+  // The statistics hold the backend that rendered, not the one that never began.
+  const nlohmann::json j = nlohmann::json::parse(slurp(json));
+  REQUIRE(j.contains("backends"));
+  REQUIRE(j["backends"].size() == 1);
+  CHECK(j["backends"][0]["backend"] == "dacrt");
+  CHECK(j["backends"][0]["stopped_by"] == "SIGINT");
+}
