@@ -1,5 +1,7 @@
 #include "integrators/sampler.h"
 
+#include <array>
+
 namespace dacrt {
 
 namespace {
@@ -17,11 +19,22 @@ constexpr uint32_t reverse_bits(uint32_t x) {
 constexpr uint32_t dimension0(uint32_t index) {
   return reverse_bits(index);
 }
+// Dimension 1 by bytes of the index: the XOR of the direction numbers of its set bits, 8 at a
+// time from a table built at compile time.
+constexpr std::array<std::array<uint32_t, 256>, 4> dimension1_bytes = [] {
+  std::array<uint32_t, 32> v{};
+  v[0] = 1u << 31;
+  for (int i = 1; i < 32; ++i) v[i] = v[i - 1] ^ (v[i - 1] >> 1);
+  std::array<std::array<uint32_t, 256>, 4> t{};
+  for (int k = 0; k < 4; ++k)
+    for (uint32_t b = 0; b < 256; ++b)
+      for (int j = 0; j < 8; ++j)
+        if (b >> j & 1) t[k][b] ^= v[8 * k + j];
+  return t;
+}();
 constexpr uint32_t dimension1(uint32_t index) {
-  uint32_t x = 0;
-  for (uint32_t v = 1u << 31; index; index >>= 1, v ^= v >> 1)
-    if (index & 1) x ^= v;
-  return x;
+  return dimension1_bytes[0][index & 0xff] ^ dimension1_bytes[1][index >> 8 & 0xff] ^
+         dimension1_bytes[2][index >> 16 & 0xff] ^ dimension1_bytes[3][index >> 24];
 }
 
 // Burley's Laine–Karras-style permutation: each bit is flipped by a hash of itself and the bits
@@ -44,7 +57,7 @@ constexpr uint32_t owen_scramble(uint32_t x, uint32_t seed) {
 constexpr uint32_t sample_bits(uint32_t index, uint32_t component, uint64_t seed) {
   const uint32_t shuffled = owen_scramble(index, uint32_t(seed));
   const uint32_t x = component == 0 ? dimension0(shuffled) : dimension1(shuffled);
-  return owen_scramble(x, uint32_t(hash(seed, component + 1) >> 32));
+  return owen_scramble(x, uint32_t(mix64(seed + component + 1) >> 32));
 }
 
 }  // namespace
@@ -59,7 +72,7 @@ std::string sampler_name(SamplerKind kind) {
 
 float sobol_number(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth, Dimension dim) {
   const DimensionSlot slot = dimension_slots[dim];
-  const uint64_t pattern = hash(seed, pixel, uint64_t(depth), uint64_t(slot.slot), 0x50b01u);
+  const uint64_t pattern = hash(seed, pixel, uint64_t(depth) << 8 | slot.slot);
   return float(sample_bits(index, slot.component, pattern) >> 8) * 0x1p-24f;
 }
 
