@@ -102,6 +102,8 @@ Light transport
   --environment FILE.exr     an equirectangular environment map (+Y up, image centre towards -Z),
                              importance-sampled
   --seed S                   random seed (default 0)
+  --sampler NAME             sobol (default: Owen-scrambled Sobol, stratified in each pair of
+                             dimensions), independent (a hash per number: white noise)
 Ray tracing
   --backend NAME[,NAME...]   dacrt (default), dacrt-naive, embree, brute; several: each renders
                              with the same seed to OUT.NAME.exr, then a table compares them
@@ -278,7 +280,14 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
       r.setup.lights.push_back(light);
     } else if (a == "--max-depth")
       r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
-    else if (a == "--seed")
+    else if (a == "--sampler") {
+      const std::string v = value();
+      if (!parse_sampler(v, r.settings.sampler)) {
+        std::string names;
+        for (const std::string& n : sampler_names()) names += (names.empty() ? "" : ", ") + n;
+        throw UsageError("unknown sampler '" + v + "' (known: " + names + ")");
+      }
+    } else if (a == "--seed")
       r.settings.seed = uint64_t(parse_int(a, value(), 0, LONG_MAX));
     else if (a == "--threads")
       r.threads = int(parse_int(a, value(), 1, 1024));
@@ -337,7 +346,7 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const BackendRun& ru
       {"scene", r.scene},
       {"camera", std::to_string(s.camera) + (camera.name.empty() ? "" : " (" + camera.name + ")") +
                      ": " + camera_flags(camera, b.empty() ? glm::vec3(0.f) : b.center())},
-      {"sampler", "independent"},
+      {"sampler", sampler_name(s.sampler)},
       {"seed", std::to_string(s.seed)},
       {"sppRequested", std::to_string(s.spp)},
       {"samplesPerPixel", least == most ? "every pixel " + std::to_string(least)
@@ -454,6 +463,7 @@ int render(const std::vector<std::string>& args) {
                           {"spp", run.spp},
                           {"spp_requested", s.spp},
                           {"integrator", r.integrator},
+                          {"sampler", sampler_name(s.sampler)},
                           {"threads", tbb::this_task_arena::max_concurrency()},
                           {"load_seconds", load_seconds}};
       if (!run.stopped.empty()) j["stopped_by"] = run.stopped;

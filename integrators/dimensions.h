@@ -1,25 +1,55 @@
-// The random dimensions of one path vertex, for the counter-based generator (util/random.h): a
-// path's numbers depend only on (seed, pixel, sample index, depth, dimension), so the image is the
-// same for any thread count, wavefront size or exact backend. Allocated once, here.
+// The random dimensions of one path vertex, allocated once, here. A path's numbers depend only on
+// (seed, pixel, sample index, depth, dimension), so the image is the same for any thread count,
+// wavefront size or exact backend. The sampler (integrators/sampler.h) draws each pair from one
+// 2D low-discrepancy pattern and each single dimension from a 1D one; `dimension_slots` says
+// which is which.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 namespace dacrt {
 
 enum Dimension : uint32_t {
-  pixel_x,
+  pixel_x,  // pair: camera (the point in the pixel)
   pixel_y,
-  roulette,
-  light_pick,
-  light_u,
+  lens_u,  // pair: lens (reserved: no camera has an aperture yet)
+  lens_v,
+  light_pick,  // single: which light
+  light_u,     // pair: the point on that light
   light_v,
-  bsdf_u,
+  bsdf_lobe,  // single: which lobe of the BSDF
+  bsdf_u,     // pair: the direction in that lobe
   bsdf_v,
-  bsdf_lobe,
-  environment_u,
+  roulette,       // single: Russian roulette
+  environment_u,  // pair: the point on the environment map
   environment_v,
-  alpha  // + the ray type, + the triangle × 256: one number per ray and triangle
+  alpha,  // + the ray type, + the triangle × 256: one number per ray and triangle, always
+          // independent (a ray may test many triangles, none of them a pattern's dimension)
+  dimension_count = alpha
 };
+
+// Where a dimension sits in the sampler's patterns: pattern `slot` (its own scramble seeds), and
+// component 0 or 1 of it; a single dimension has pair false and uses component 0 only.
+struct DimensionSlot {
+  uint32_t slot, component;
+  bool pair;
+};
+
+inline constexpr std::array<DimensionSlot, dimension_count> dimension_slots = {{
+    {0, 0, true},   // pixel_x
+    {0, 1, true},   // pixel_y
+    {1, 0, true},   // lens_u
+    {1, 1, true},   // lens_v
+    {2, 0, false},  // light_pick
+    {3, 0, true},   // light_u
+    {3, 1, true},   // light_v
+    {4, 0, false},  // bsdf_lobe
+    {5, 0, true},   // bsdf_u
+    {5, 1, true},   // bsdf_v
+    {6, 0, false},  // roulette
+    {7, 0, true},   // environment_u
+    {7, 1, true},   // environment_v
+}};
 
 }  // namespace dacrt

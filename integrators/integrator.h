@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "integrators/sampler.h"
 #include "render/film.h"
 #include "scene/environment.h"
 #include "scene/scene.h"
@@ -32,6 +33,7 @@ struct RenderSettings {
   int max_depth = 64;      // scattering events per path; Russian roulette ends most earlier
   int roulette_depth = 3;  // Russian roulette from this many bounces on
   uint64_t seed = 0;
+  SamplerKind sampler = SamplerKind::sobol;  // where the paths' numbers come from
   float ao_distance = 0.f;  // ao: how far occluders count (0: the scene's bounding-box diagonal)
   AovSet aovs;              // the first-hit values and statistics the film keeps
   // Live paths at most (stream regeneration keeps this many while samples remain). 0: as many

@@ -17,6 +17,7 @@
 #include "integrators/integrator.h"
 #include "integrators/light_sampling.h"
 #include "integrators/queues.h"
+#include "integrators/sampler.h"
 #include "materials/surface.h"
 #include "tracer/ray_batch.h"
 #include "util/random.h"
@@ -47,9 +48,10 @@ class Wavefront : public Integrator {
     void resize(size_t n, bool first_hits);
   };
 
+  // The path's number of `dim` at its current depth, from the settings' sampler.
   float random(uint32_t path, Dimension dim) const {
-    return uniform_float(s_.seed, paths_.pixel[path], paths_.sample[path],
-                         uint64_t(paths_.depth[path]), uint64_t(dim));
+    return sample_number(s_.sampler, s_.seed, paths_.pixel[path], paths_.sample[path],
+                         paths_.depth[path], dim);
   }
 
   // A hit as shading sees it: the point, the normals on the side the ray arrived from (the

@@ -1,0 +1,44 @@
+// Samplers: where every number of a path comes from. Both are counter-based, a number depends
+// only on (seed, pixel, sample index, depth, dimension), so an image is the same for any threads,
+// wavefront size, pass size and exact backend.
+//   independent  a hash of all five (util/random.h): white noise, error ∝ spp^-1/2.
+//   sobol        (the default) Owen-scrambled Sobol points with hash-based scrambling, Burley 2020,
+//                "Practical Hash-based Owen Scrambling" (JCGT 9(4)). Each pair of dimensions
+//                (integrators/dimensions.h) is the first two Sobol dimensions, a (0,2)-sequence:
+//                a pixel's first 2^k samples put exactly one point in each of the 2^k elementary
+//                intervals of every shape. The sample index is shuffled by a nested uniform
+//                (Owen) scramble of its bits, and each coordinate is Owen-scrambled by a
+//                Laine–Karras-style hash, each seeded by hash(seed, pixel, depth, pair). The
+//                shuffle decorrelates the pairs from each other (without it, point i of every
+//                pair would fall in the same half, quarter…), the value scramble makes every
+//                pixel's pattern a different randomisation, so the estimate stays unbiased.
+//                A single dimension is the first Sobol dimension (van der Corput), the same way.
+// Alpha tests stay on the independent hash whatever the sampler (Wavefront::AlphaFilter).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "integrators/dimensions.h"
+#include "util/random.h"
+
+namespace dacrt {
+
+enum class SamplerKind : uint8_t { independent, sobol };
+
+std::vector<std::string> sampler_names();                      // "independent", "sobol"
+std::string sampler_name(SamplerKind kind);                    // one of those
+bool parse_sampler(std::string_view name, SamplerKind& kind);  // false: no such sampler
+
+// The number of `dim` for sample `index` of `pixel` at path depth `depth`, in [0, 1).
+float sobol_number(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth, Dimension dim);
+inline float sample_number(SamplerKind kind, uint64_t seed, uint32_t pixel, uint32_t index,
+                           uint32_t depth, Dimension dim) {
+  if (kind == SamplerKind::independent || dim >= dimension_count)
+    return uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(dim));
+  return sobol_number(seed, pixel, index, depth, dim);
+}
+
+}  // namespace dacrt

@@ -1,0 +1,199 @@
+// The samplers (integrators/sampler.h): the Sobol patterns are stratified, differ per pixel, seed
+// and depth, keep their pairs apart, and make the error fall faster than the independent hash's
+// spp^-1/2, measured on a render against a reference.
+#include "integrators/sampler.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <vector>
+
+#include "render/render_job.h"
+#include "test_geometry.h"
+
+using namespace dacrt;
+using namespace dacrt::test;
+
+namespace {
+
+constexpr Dimension pairs[][2] = {{pixel_x, pixel_y},
+                                  {lens_u, lens_v},
+                                  {light_u, light_v},
+                                  {bsdf_u, bsdf_v},
+                                  {environment_u, environment_v}};
+constexpr Dimension singles[] = {light_pick, bsdf_lobe, roulette};
+
+}  // namespace
+
+TEST_CASE("sampler: a pixel's first 2^k points hold one point in each elementary interval") {
+  for (uint32_t pixel : {0u, 1u, 777u})
+    for (uint32_t depth : {0u, 3u})
+      for (uint32_t k = 0; k <= 8; ++k) {
+        const uint32_t n = 1u << k;
+        for (const auto& pair : pairs)
+          for (uint32_t a = 0; a <= k; ++a) {  // intervals of 2^-a × 2^-(k−a)
+            std::set<uint64_t> cells;
+            for (uint32_t i = 0; i < n; ++i) {
+              const float x = sobol_number(5, pixel, i, depth, pair[0]);
+              const float y = sobol_number(5, pixel, i, depth, pair[1]);
+              cells.insert(uint64_t(x * float(1u << a)) << 32 | uint64_t(y * float(1u << (k - a))));
+            }
+            INFO("pixel " << pixel << ", depth " << depth << ", dimension " << pair[0] << ", 2^"
+                          << k << " points in intervals of 2^-" << a << " × 2^-" << k - a);
+            CHECK(cells.size() == n);
+          }
+        for (Dimension dim : singles) {
+          std::set<uint32_t> cells;
+          for (uint32_t i = 0; i < n; ++i)
+            cells.insert(uint32_t(sobol_number(5, pixel, i, depth, dim) * float(n)));
+          CHECK(cells.size() == n);
+        }
+      }
+}
+
+TEST_CASE("sampler: different pixels, seeds and depths give different scrambles, all below 1") {
+  auto first_points = [](uint64_t seed, uint32_t pixel, uint32_t depth, Dimension dim) {
+    std::vector<float> v;
+    for (uint32_t i = 0; i < 16; ++i) v.push_back(sobol_number(seed, pixel, i, depth, dim));
+    return v;
+  };
+  for (Dimension dim : {pixel_x, light_pick, bsdf_v}) {
+    const auto base = first_points(0, 0, 0, dim);
+    CHECK(first_points(0, 1, 0, dim) != base);
+    CHECK(first_points(1, 0, 0, dim) != base);
+    CHECK(first_points(0, 0, 1, dim) != base);
+  }
+  for (SamplerKind kind : {SamplerKind::independent, SamplerKind::sobol})
+    for (uint32_t i : {0u, 1u, 2u, 0x7fffffffu, 0xfffffffeu, 0xffffffffu})
+      for (uint32_t pixel = 0; pixel < 64; ++pixel)
+        for (uint32_t dim = 0; dim <= alpha; ++dim) {
+          const float x = sample_number(kind, 9, pixel, i, 2, Dimension(dim));
+          CHECK((x >= 0.f && x < 1.f));
+        }
+}
+
+TEST_CASE("sampler: the index shuffle decorrelates the pairs") {
+  // Without the shuffle point i of every pair would sit in the same half of [0, 1) in all pairs
+  // (or the opposite half in all): the first coordinate's top bit is bit 0 of i, flipped per pair.
+  // Shuffled, pairs agree on the half of a pixel's 16 points about half the time.
+  int all_or_none = 0;
+  for (uint32_t pixel = 0; pixel < 100; ++pixel) {
+    int agree = 0;
+    for (uint32_t i = 0; i < 16; ++i)
+      agree += (sobol_number(0, pixel, i, 0, pixel_x) < 0.5f) ==
+               (sobol_number(0, pixel, i, 0, bsdf_u) < 0.5f);
+    all_or_none += agree == 0 || agree == 16;
+  }
+  CHECK(all_or_none <= 5);
+}
+
+namespace {
+
+// A Lambert plane seen from above (orthographic, 16 × 16 pixels), lit by a square emitter and
+// shaded by a strip between them: soft shadow edges, a smooth falloff, one scattering event.
+Scene penumbra_scene() {
+  Scene scene;
+  const glm::vec3 a(-2, -2, 0), b(2, -2, 0), c(2, 2, 0), d(-2, 2, 0);
+  scene.geometry.add(a, b, c, 0);
+  scene.geometry.add(a, c, d, 0);
+  const glm::vec3 la(-0.5f, -0.5f, 2), lb(0.5f, -0.5f, 2), lc(0.5f, 0.5f, 2), ld(-0.5f, 0.5f, 2);
+  scene.geometry.add(la, lc, lb, 1);  // facing −z
+  scene.geometry.add(la, ld, lc, 1);
+  const glm::vec3 oa(-0.1f, -3, 1), ob(0.1f, -3, 1), oc(0.1f, 3, 1), od(-0.1f, 3, 1);
+  scene.geometry.add(oa, ob, oc, 0);
+  scene.geometry.add(oa, oc, od, 0);
+  Material light = Material::lambert(glm::vec3(0.f));
+  light.emission = glm::vec3(4.f);
+  scene.materials = {Material::lambert(glm::vec3(0.5f)), light};
+  Camera cam = looking_at(glm::vec3(0, 0, 0.9f), glm::vec3(0), 1.f);
+  cam.orthographic = true;
+  cam.ymag = 1.f;
+  scene.cameras = {cam};
+  return scene;
+}
+
+std::vector<double> render_means(const Scene& scene, Backend& backend, SamplerKind kind,
+                                 uint64_t seed, int spp) {
+  RenderSettings s;
+  s.width = s.height = 16, s.spp = spp, s.seed = seed, s.sampler = kind;
+  RenderJob job(scene, backend, s, "direct");
+  Film film = job.film();
+  Progress quiet("test", 1, false);
+  job.run(film, 0, uint32_t(spp), quiet);
+  std::vector<double> means(film.pixels());
+  for (size_t p = 0; p < film.pixels(); ++p) means[p] = film.mean_and_error(p).x;
+  return means;
+}
+
+// The least-squares slope of y against x, and its standard error from the y's own errors.
+struct Slope {
+  double slope, error;
+};
+Slope fit(const std::vector<double>& x, const std::vector<double>& y,
+          const std::vector<double>& y_error) {
+  double mx = 0.0, my = 0.0;
+  for (size_t i = 0; i < x.size(); ++i) mx += x[i] / x.size(), my += y[i] / y.size();
+  double sxx = 0.0, sxy = 0.0;
+  for (size_t i = 0; i < x.size(); ++i) sxx += (x[i] - mx) * (x[i] - mx);
+  for (size_t i = 0; i < x.size(); ++i) sxy += (x[i] - mx) * (y[i] - my);
+  double var = 0.0;
+  for (size_t i = 0; i < x.size(); ++i) var += std::pow((x[i] - mx) / sxx * y_error[i], 2);
+  return {sxy / sxx, std::sqrt(var)};
+}
+
+}  // namespace
+
+constexpr int reference_spp = 2048;
+
+TEST_CASE("sampler: RMSE falls as spp^-1/2 with independent numbers, faster with sobol") {
+  // RMSE against a sobol reference of 2048 spp, at 1, 2, … 64 spp, each averaged over 8 seeds
+  // (256 pixels × 8 = 2048 squared errors). The standard error of each log RMSE comes from the
+  // spread of those squared errors (relative error of their mean, halved), and the slope's from
+  // those through the least-squares weights; 4 of them bound the noise. The reference's own error
+  // adds at most MSE(1 spp of independent) / 2048 to every MSE (sobol converges faster than
+  // that), which bends the fitted slope by the `bias` below, added to the tolerance.
+  const Scene scene = penumbra_scene();
+  auto backend = Backend::create("dacrt", scene.geometry);
+  const std::vector<double> reference =
+      render_means(scene, *backend, SamplerKind::sobol, 1000, reference_spp);
+  std::vector<double> log_spp;
+  for (int spp = 1; spp <= 64; spp *= 2) log_spp.push_back(std::log(double(spp)));
+  auto log_rmse = [&](SamplerKind kind, std::vector<double>& error, double& mse1) {
+    std::vector<double> y;
+    error.clear();
+    for (int spp = 1; spp <= 64; spp *= 2) {
+      double sum = 0.0, sum2 = 0.0;
+      size_t n = 0;
+      for (uint64_t seed = 1; seed <= 8; ++seed) {
+        const std::vector<double> m = render_means(scene, *backend, kind, seed, spp);
+        for (size_t p = 0; p < m.size(); ++p) {
+          const double e2 = (m[p] - reference[p]) * (m[p] - reference[p]);
+          sum += e2, sum2 += e2 * e2, ++n;
+        }
+      }
+      const double mse = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mse * mse));
+      if (spp == 1) mse1 = mse;
+      y.push_back(0.5 * std::log(mse));
+      error.push_back(0.5 * sd / (mse * std::sqrt(double(n))));
+    }
+    return y;
+  };
+  std::vector<double> independent_error, sobol_error;
+  double mse1 = 0.0, sobol_mse1 = 0.0;
+  const Slope independent =
+      fit(log_spp, log_rmse(SamplerKind::independent, independent_error, mse1), independent_error);
+  const Slope sobol =
+      fit(log_spp, log_rmse(SamplerKind::sobol, sobol_error, sobol_mse1), sobol_error);
+  // The slope of 0.5 log(mse1 / spp + mse1 / reference_spp) minus −0.5: how far the reference
+  // alone moves a true −0.5.
+  std::vector<double> bent;
+  for (double x : log_spp) bent.push_back(0.5 * std::log(std::exp(-x) + 1.0 / reference_spp));
+  const double bias = fit(log_spp, bent, std::vector<double>(bent.size(), 0.0)).slope + 0.5;
+  const double tolerance = 4.0 * independent.error + bias;
+  INFO("independent: slope " << independent.slope << " ± " << independent.error << " (bias " << bias
+                             << "), sobol: " << sobol.slope << " ± " << sobol.error);
+  CHECK(std::abs(independent.slope + 0.5) <= tolerance);
+  CHECK(sobol.slope <= -0.5 - 4.0 * sobol.error);
+}
