@@ -328,13 +328,8 @@ void check_memory(const RenderArgs& r, const RenderSettings& s) {
 // is the count every pixel has.
 void write_outputs(const RenderArgs& r, const Scene& scene, const BackendRun& run, const Film& film,
                    const RenderOutcome& outcome, const RenderSettings& s) {
-  std::vector<Channel> channels = film.channels();
   const uint32_t least = film.min_count(), most = film.max_count();
-  if (least != most && !film.aovs().has(Aov::samples)) {
-    Channel samples{"samples", std::vector<float>(film.pixels())};
-    for (size_t p = 0; p < film.pixels(); ++p) samples.values[p] = float(film.count(p));
-    channels.push_back(std::move(samples));
-  }
+  const std::vector<Channel> channels = film.channels(least != most);
   ExrMetadata meta;
   meta.spp = int(least);
   meta.backend = run.backend;

@@ -103,7 +103,12 @@ double Film::variance_of_mean(size_t pixel, int c) const {
   return s2 / n;
 }
 
-std::vector<Channel> Film::channels() const {
+int Film::channel_count(AovSet a) {
+  return 3 + 3 * a.has(Aov::albedo) + 3 * a.has(Aov::normal) + a.has(Aov::depth) +
+         3 * a.has(Aov::position) + 3 * a.has(Aov::variance) + 1;
+}
+
+std::vector<Channel> Film::channels(bool counts) const {
   std::vector<Channel> out;
   const size_t n = pixels();
   // A channel whose value at pixel p is value(p).
@@ -136,7 +141,8 @@ std::vector<Channel> Film::channels() const {
   if (aovs_.has(Aov::variance))
     for (int c = 0; c < 3; ++c)
       channel(std::string("variance.") + rgb[c], [&](size_t p) { return variance_of_mean(p, c); });
-  if (aovs_.has(Aov::samples)) channel("samples", [&](size_t p) { return double(count_[p]); });
+  if (counts || aovs_.has(Aov::samples))
+    channel("samples", [&](size_t p) { return double(count_[p]); });
   return out;
 }
 

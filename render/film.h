@@ -126,7 +126,11 @@ class Film {
 
   // Every output as named channels: R, G, B, then the AOVs asked (albedo.R/G/B, N.X/Y/Z, Z,
   // P.X/Y/Z, variance.R/G/B, samples). Z is +inf and P zero where no sample hit anything.
-  std::vector<Channel> channels() const;
+  // `counts`: the samples channel even when the AOVs do not ask for it (for a film whose pixels
+  // have different counts).
+  std::vector<Channel> channels(bool counts = false) const;
+  // How many channels channels() returns, at most (the samples channel counted).
+  static int channel_count(AovSet aovs);
 
  private:
   // False (and nothing added) for a sample that is not finite.

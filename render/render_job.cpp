@@ -72,9 +72,7 @@ RenderMemory render_memory(const RenderSettings& s, bool preview) {
   // The resolved channels (4 bytes each, the samples channel always counted), and the preview's
   // 8-bit RGB with its float copy.
   const AovSet a = s.aovs;
-  const uint64_t channels = 3 + 3 * a.has(Aov::albedo) + 3 * a.has(Aov::normal) +
-                            a.has(Aov::depth) + 3 * a.has(Aov::position) +
-                            3 * a.has(Aov::variance) + 1;
+  const uint64_t channels = uint64_t(Film::channel_count(a));
   RenderMemory m;
   m.image = Film::bytes(s.width, s.height, a) + pixels * (4 * channels + (preview ? 15 : 0));
   m.paths = resolve_wavefront(s, pixels * uint64_t(s.spp)) * path_bytes(a);
