@@ -33,8 +33,8 @@ class AmbientOcclusion final : public Wavefront {
       for (size_t q = range.begin(); q != range.end(); ++q) {
         const uint32_t i = queue_[q], path = rays.path[i];
         const Hit h = hit_at(rays, hits, i);
-        const glm::vec3 wi = Frame(h.ns).to_world(
-            sample_cosine_hemisphere(random(path, bsdf_u), random(path, bsdf_v)));
+        const auto [u1, u2] = random_pair(path, bsdf_u);
+        const glm::vec3 wi = Frame(h.ns).to_world(sample_cosine_hemisphere(u1, u2));
         if (!(glm::dot(wi, h.ng) > 0.f)) continue;  // below the surface: occluded by it
         ShadowRay& s = scratch_shadow_[q];
         s.origin = offset_ray_origin(h.p, h.ng);

@@ -145,8 +145,8 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
 
   // BSDF sampling: reflection keeps to the arrival side, transmission crosses to the other.
   ended_[path] = 1;  // unless it bounces
-  const auto s =
-      x.brdf.sample(x.wo, random(path, bsdf_lobe), random(path, bsdf_u), random(path, bsdf_v));
+  const auto [u1, u2] = random_pair(path, bsdf_u);
+  const auto s = x.brdf.sample(x.wo, random(path, bsdf_lobe), u1, u2);
   if (!s) return;
   const glm::vec3 wi = x.frame.to_world(s->wi);
   const glm::vec3* origin = x.origin_towards(wi, s->wi);

@@ -6,35 +6,12 @@ namespace dacrt {
 
 namespace {
 
+// Bit i becomes bit 31 − i: the bytes swapped, then the bits within each byte.
 constexpr uint32_t reverse_bits(uint32_t x) {
+  x = __builtin_bswap32(x);
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-  return (x >> 16) | (x << 16);
-}
-
-// Sobol dimension 0 (van der Corput) and 1 (generator matrix: Pascal's triangle mod 2), as 32-bit
-// fractions.
-constexpr uint32_t dimension0(uint32_t index) {
-  return reverse_bits(index);
-}
-// Dimension 1 by bytes of the index: the XOR of the direction numbers of its set bits, 8 at a
-// time from a table built at compile time.
-constexpr std::array<std::array<uint32_t, 256>, 4> dimension1_bytes = [] {
-  std::array<uint32_t, 32> v{};
-  v[0] = 1u << 31;
-  for (int i = 1; i < 32; ++i) v[i] = v[i - 1] ^ (v[i - 1] >> 1);
-  std::array<std::array<uint32_t, 256>, 4> t{};
-  for (int k = 0; k < 4; ++k)
-    for (uint32_t b = 0; b < 256; ++b)
-      for (int j = 0; j < 8; ++j)
-        if (b >> j & 1) t[k][b] ^= v[8 * k + j];
-  return t;
-}();
-constexpr uint32_t dimension1(uint32_t index) {
-  return dimension1_bytes[0][index & 0xff] ^ dimension1_bytes[1][index >> 8 & 0xff] ^
-         dimension1_bytes[2][index >> 16 & 0xff] ^ dimension1_bytes[3][index >> 24];
+  return ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
 }
 
 // Burley's Laine–Karras-style permutation: each bit is flipped by a hash of itself and the bits
@@ -48,16 +25,61 @@ constexpr uint32_t laine_karras(uint32_t x, uint32_t seed) {
   x ^= x * 0x8d22f6e6u;
   return x;
 }
-constexpr uint32_t owen_scramble(uint32_t x, uint32_t seed) {
-  return reverse_bits(laine_karras(reverse_bits(x), seed));
+
+// The Owen scramble of a 32-bit fraction x is reverse(LK(reverse(x))). With y = LK(reverse(index))
+// (the shuffled index s = reverse(y)), the two components need few reversals:
+//   dimension 0 (van der Corput) of s is reverse(s) = y, so its scramble is reverse(LK(s));
+//   dimension 1 (generator matrix: Pascal's triangle mod 2) of s is linear over GF(2), the XOR of
+//   the direction numbers v_j of s's set bits, and what its scramble needs is that value
+//   reversed: the XOR of reverse(v_(31−k)) over the set bits k of y, from byte tables.
+constexpr std::array<std::array<uint32_t, 256>, 4> dimension1_reversed = [] {
+  std::array<uint32_t, 32> v{};
+  v[0] = 1u << 31;
+  for (int i = 1; i < 32; ++i) v[i] = v[i - 1] ^ (v[i - 1] >> 1);
+  std::array<std::array<uint32_t, 256>, 4> t{};
+  for (int k = 0; k < 4; ++k)
+    for (uint32_t b = 0; b < 256; ++b)
+      for (int j = 0; j < 8; ++j)
+        if (b >> j & 1) t[k][b] ^= reverse_bits(v[31 - (8 * k + j)]);
+  return t;
+}();
+constexpr uint32_t dimension1_of_reversed(uint32_t r) {
+  return dimension1_reversed[0][r & 0xff] ^ dimension1_reversed[1][r >> 8 & 0xff] ^
+         dimension1_reversed[2][r >> 16 & 0xff] ^ dimension1_reversed[3][r >> 24];
 }
 
-// Component `component` (0 or 1) of sample `index` of the pattern seeded by `seed`, as a 32-bit
-// fraction. All components of a pattern share the index shuffle.
-constexpr uint32_t sample_bits(uint32_t index, uint32_t component, uint64_t seed) {
-  const uint32_t shuffled = owen_scramble(index, uint32_t(seed));
-  const uint32_t x = component == 0 ? dimension0(shuffled) : dimension1(shuffled);
-  return owen_scramble(x, uint32_t(mix64(seed + component + 1) >> 32));
+// A pattern's three scramble seeds: the index shuffle's and each component's value scramble.
+struct PatternSeeds {
+  uint32_t index, component[2];
+};
+// One pattern per (seed, pixel, depth mod 2^24, slot). mix64 is a bijection: distinct keys,
+// distinct patterns. The second component's seed is a 32-bit hash (Wellons' lowbias32) of the
+// first's.
+inline PatternSeeds pattern_seeds(uint64_t seed, uint32_t pixel, uint32_t depth, uint32_t slot) {
+  // (The additive constants keep seed 0, pixel 0, depth 0, slot 0 off mix64's fixed point 0.)
+  const uint64_t key = uint64_t(pixel) << 32 | uint64_t(depth & 0xffffff) << 8 | slot;
+  const uint64_t h = mix64(mix64(seed + 0x9e3779b97f4a7c15ull) ^ (key + 0xd1b54a32d192ed03ull));
+  uint32_t c1 = uint32_t(h >> 32);
+  c1 ^= c1 >> 16;
+  c1 *= 0x7feb352du;
+  c1 ^= c1 >> 15;
+  c1 *= 0x846ca68bu;
+  c1 ^= c1 >> 16;
+  return {uint32_t(h), {uint32_t(h >> 32), c1}};
+}
+
+// A fraction in reversed form (its most significant bit at bit 0) to a float in [0, 1): its top
+// 24 bits.
+inline float to_float(uint32_t reversed) {
+  return float(reverse_bits(reversed) >> 8) * 0x1p-24f;
+}
+
+// y as above; each returns its component, Owen-scrambled with `seed`.
+inline float component0(uint32_t y, uint32_t seed) {
+  return to_float(laine_karras(reverse_bits(y), seed));
+}
+inline float component1(uint32_t y, uint32_t seed) {
+  return to_float(laine_karras(dimension1_of_reversed(y), seed));
 }
 
 }  // namespace
@@ -72,8 +94,17 @@ std::string sampler_name(SamplerKind kind) {
 
 float sobol_number(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth, Dimension dim) {
   const DimensionSlot slot = dimension_slots[dim];
-  const uint64_t pattern = hash(seed, pixel, uint64_t(depth) << 8 | slot.slot);
-  return float(sample_bits(index, slot.component, pattern) >> 8) * 0x1p-24f;
+  const PatternSeeds k = pattern_seeds(seed, pixel, depth, slot.slot);
+  const uint32_t r = laine_karras(reverse_bits(index), k.index);
+  return slot.component == 0 ? component0(r, k.component[0]) : component1(r, k.component[1]);
+}
+
+std::array<float, 2> sobol_pair(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth,
+                                Dimension first) {
+  const DimensionSlot slot = dimension_slots[first];
+  const PatternSeeds k = pattern_seeds(seed, pixel, depth, slot.slot);
+  const uint32_t r = laine_karras(reverse_bits(index), k.index);
+  return {component0(r, k.component[0]), component1(r, k.component[1])};
 }
 
 bool parse_sampler(std::string_view name, SamplerKind& kind) {

@@ -16,6 +16,7 @@
 // Alpha tests stay on the independent hash whatever the sampler (Wavefront::AlphaFilter).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -39,6 +40,17 @@ inline float sample_number(SamplerKind kind, uint64_t seed, uint32_t pixel, uint
   if (kind == SamplerKind::independent || dim >= dimension_count)
     return uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(dim));
   return sobol_number(seed, pixel, index, depth, dim);
+}
+// Both numbers of the pair that starts at `first` (a pair's component 0 in dimension_slots), the
+// same as two sample_number calls; a pair shares its pattern's seeds and index shuffle.
+std::array<float, 2> sobol_pair(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth,
+                                Dimension first);
+inline std::array<float, 2> sample_pair(SamplerKind kind, uint64_t seed, uint32_t pixel,
+                                        uint32_t index, uint32_t depth, Dimension first) {
+  if (kind == SamplerKind::independent)
+    return {uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(first)),
+            uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(first) + 1)};
+  return sobol_pair(seed, pixel, index, depth, first);
 }
 
 }  // namespace dacrt

@@ -129,8 +129,9 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
       paths_.depth[slot] = 0;
       paths_.pixel[slot] = uint32_t(id % pixels);
       paths_.sample[slot] = uint32_t(id / pixels);
-      const float x = float(paths_.pixel[slot] % uint32_t(s_.width)) + random(slot, pixel_x);
-      const float y = float(paths_.pixel[slot] / uint32_t(s_.width)) + random(slot, pixel_y);
+      const auto [jx, jy] = random_pair(slot, pixel_x);
+      const float x = float(paths_.pixel[slot] % uint32_t(s_.width)) + jx;
+      const float y = float(paths_.pixel[slot] / uint32_t(s_.width)) + jy;
       glm::vec3 o, d;
       const float tmin = camera_ray(camera, s_.width, s_.height, x, y, o, d);
       camera_.set(j, o, d, tmin, INFINITY, slot);

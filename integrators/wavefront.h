@@ -11,6 +11,7 @@
 // any wavefront size.
 #pragma once
 
+#include <array>
 #include <memory>
 
 #include "integrators/dimensions.h"
@@ -52,6 +53,12 @@ class Wavefront : public Integrator {
   float random(uint32_t path, Dimension dim) const {
     return sample_number(s_.sampler, s_.seed, paths_.pixel[path], paths_.sample[path],
                          paths_.depth[path], dim);
+  }
+  // Both numbers of the pair that starts at `first` (bsdf_u, pixel_x…): random(path, first) and
+  // random(path, first + 1), computed together.
+  std::array<float, 2> random_pair(uint32_t path, Dimension first) const {
+    return sample_pair(s_.sampler, s_.seed, paths_.pixel[path], paths_.sample[path],
+                       paths_.depth[path], first);
   }
 
   // A hit as shading sees it: the point, the normals on the side the ray arrived from (the

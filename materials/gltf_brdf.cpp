@@ -60,6 +60,7 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
   const float specular = std::clamp(p.specular, 0.f, 1.f);
   f0_ = glm::min(r * r * glm::max(p.specular_color, 0.f), glm::vec3(1.f)) * specular;
   f90_ = specular;
+  lambertian_ = metallic_ == 0.f && transmission_ == 0.f && f90_ == 0.f && f0_ == glm::vec3(0.f);
 }
 
 // wi mirrored through the surface plane.
@@ -69,6 +70,7 @@ static glm::vec3 mirrored(const glm::vec3& wi) {
 
 glm::vec3 GltfBrdf::eval(const glm::vec3& wo, const glm::vec3& wi) const {
   if (wo.z <= 0.f) return glm::vec3(0.f);
+  if (lambertian_) return wi.z > 0.f ? base_ * glm::one_over_pi<float>() : glm::vec3(0.f);
   if (wi.z < 0.f) {  // through the surface: the dielectric base's transmitted part
     if (!(transmission_ > 0.f)) return glm::vec3(0.f);
     const glm::vec3 m = mirrored(wi), h = glm::normalize(wo + m);
@@ -85,7 +87,7 @@ glm::vec3 GltfBrdf::eval(const glm::vec3& wo, const glm::vec3& wi) const {
 }
 
 GltfBrdf::Fresnel GltfBrdf::fresnel(float cos_theta) const {
-  const float w = std::pow(1.f - std::clamp(cos_theta, 0.f, 1.f), 5.f);
+  const float m = 1.f - std::clamp(cos_theta, 0.f, 1.f), m2 = m * m, w = m2 * m2 * m;
   const glm::vec3 fd = f0_ + (f90_ - f0_) * w;
   return {fd, base_ + (1.f - base_) * w, 1.f - std::max({fd.x, fd.y, fd.z})};
 }
@@ -113,6 +115,7 @@ float GltfBrdf::specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const {
 
 float GltfBrdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
   if (wo.z <= 0.f || wi.z == 0.f) return 0.f;
+  if (lambertian_) return wi.z > 0.f ? cosine_hemisphere_pdf(wi.z) : 0.f;
   const Lobes p = lobes(wo);
   if (wi.z < 0.f)
     return p.transmission > 0.f ? p.transmission * specular_pdf(wo, mirrored(wi)) : 0.f;
@@ -122,6 +125,11 @@ float GltfBrdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
 std::optional<GltfBrdf::Sample> GltfBrdf::sample(const glm::vec3& wo, float u_lobe, float u1,
                                                  float u2) const {
   if (wo.z <= 0.f) return std::nullopt;
+  if (lambertian_) {
+    const glm::vec3 wi = sample_cosine_hemisphere(u1, u2);
+    if (!(wi.z > 0.f)) return std::nullopt;
+    return Sample{wi, base_, cosine_hemisphere_pdf(wi.z)};  // eval · cos / pdf = baseColor
+  }
   glm::vec3 wi;
   const Lobes p = lobes(wo);
   // (Without transmission, everything past the specular lobe is diffuse, whatever the rounding of

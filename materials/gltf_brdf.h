@@ -56,6 +56,10 @@ class GltfBrdf {
   std::optional<Sample> sample(const glm::vec3& wo, float u_lobe, float u1, float u2) const;
 
   float alpha() const { return alpha_; }
+  // True when the BRDF is exactly Lambert's, baseColor / π: not metallic, no transmission, and no
+  // dielectric reflection (F0 = F90 = 0, KHR_materials_specular's specularFactor 0). eval, pdf
+  // and sample then skip the microfacet lobe, which is zero there: the same values, less work.
+  bool lambertian() const { return lambertian_; }
 
  private:
   // Schlick's Fresnel at cos θ (between wo and the microfacet normal): the dielectric's F, the
@@ -78,6 +82,7 @@ class GltfBrdf {
   float metallic_, alpha_, transmission_;
   glm::vec3 f0_;  // dielectric F0
   float f90_;     // dielectric F90
+  bool lambertian_;
 };
 
 // GGX pieces, exposed for the tests.

@@ -299,3 +299,42 @@ TEST_CASE("transmission: a white thin sheet scatters at most what it receives, a
       if (roughness == 0.f) CHECK(mean == doctest::Approx(1.0).epsilon(2e-3));
     }
 }
+
+TEST_CASE(
+    "glTF BRDF: with no specular, metal or transmission it is Lambert's, and continuous there") {
+  BrdfParams lambert;
+  lambert.base_color = {0.7f, 0.4f, 0.2f};
+  lambert.metallic = 0.f;
+  lambert.specular = 0.f;
+  lambert.roughness = 0.3f;
+  const GltfBrdf f(lambert);
+  CHECK(f.lambertian());
+  BrdfParams almost = lambert;  // the general formula, a hair away
+  almost.specular = 1e-7f;
+  const GltfBrdf g(almost);
+  CHECK_FALSE(g.lambertian());
+  BrdfParams dielectric = lambert;
+  dielectric.specular = 1.f;
+  CHECK_FALSE(GltfBrdf(dielectric).lambertian());
+  Pcg32 rng(3);
+  for (int k = 0; k < 2000; ++k) {
+    const glm::vec3 wo = sample_cosine_hemisphere(rng.uniform(), rng.uniform());
+    const glm::vec3 wi = sample_cosine_hemisphere(rng.uniform(), rng.uniform());
+    if (!(wo.z > 1e-3f && wi.z > 1e-3f)) continue;
+    const glm::vec3 e = f.eval(wo, wi), e_ref = lambert.base_color * glm::one_over_pi<float>();
+    for (int c = 0; c < 3; ++c) {
+      CHECK(e[c] == doctest::Approx(e_ref[c]).epsilon(1e-6));
+      CHECK(g.eval(wo, wi)[c] == doctest::Approx(e[c]).epsilon(1e-5));
+    }
+    CHECK(f.pdf(wo, wi) == doctest::Approx(wi.z / glm::pi<float>()).epsilon(1e-6));
+    CHECK(g.pdf(wo, wi) == doctest::Approx(f.pdf(wo, wi)).epsilon(1e-5));
+    CHECK(f.eval(wo, -wi) == glm::vec3(0.f));
+    CHECK(f.pdf(wo, -wi) == 0.f);
+    const auto s = f.sample(wo, rng.uniform(), rng.uniform(), rng.uniform());
+    REQUIRE(s);
+    CHECK(s->wi.z > 0.f);
+    CHECK(s->pdf == doctest::Approx(f.pdf(wo, s->wi)).epsilon(1e-6));
+    for (int c = 0; c < 3; ++c)
+      CHECK(s->weight[c] == doctest::Approx(f.eval(wo, s->wi)[c] * s->wi.z / s->pdf).epsilon(1e-5));
+  }
+}

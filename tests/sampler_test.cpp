@@ -197,3 +197,27 @@ TEST_CASE("sampler: RMSE falls as spp^-1/2 with independent numbers, faster with
   CHECK(std::abs(independent.slope + 0.5) <= tolerance);
   CHECK(sobol.slope <= -0.5 - 4.0 * sobol.error);
 }
+
+TEST_CASE("sampler: a pair drawn together is the two numbers drawn one by one") {
+  for (SamplerKind kind : {SamplerKind::independent, SamplerKind::sobol})
+    for (const auto& pair : pairs)
+      for (uint32_t pixel : {0u, 7u, 123456u})
+        for (uint32_t i : {0u, 1u, 5u, 1000u, 0xffffffffu})
+          for (uint32_t depth : {0u, 3u, 63u}) {
+            const auto both = sample_pair(kind, 11, pixel, i, depth, pair[0]);
+            CHECK(both[0] == sample_number(kind, 11, pixel, i, depth, pair[0]));
+            CHECK(both[1] == sample_number(kind, 11, pixel, i, depth, pair[1]));
+          }
+}
+
+TEST_CASE("sampler: seed 0's pixel 0 is scrambled like any other") {
+  // A pattern whose scramble seeds are all zero is the bare Sobol sequence: point 0 at (0, 0)
+  // in every pair and every depth, the corner of pixel 0, in every render with seed 0.
+  int zeros = 0;
+  for (const auto& pair : pairs)
+    for (uint32_t depth = 0; depth < 4; ++depth) {
+      const auto p = sobol_pair(0, 0, 0, depth, pair[0]);
+      zeros += p[0] == 0.f || p[1] == 0.f;
+    }
+  CHECK(zeros == 0);
+}

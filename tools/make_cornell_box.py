@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Writes scenes/cornell-box.gltf: the Cornell box with its published dimensions.
+"""Writes scenes/cornell-box.gltf: the Cornell box with its published dimensions; with --lambert,
+scenes/cornell-box-lambert.gltf, the same box with every surface purely diffuse
+(KHR_materials_specular's specularFactor 0: no Fresnel reflection on top of the base colour).
 
 Geometry and camera follow the Cornell Program of Computer Graphics' measured data (millimetres,
 "Cornell Box Data", graphics.cornell.edu): camera at (278, 273, -800) looking +z, 35 mm lens on a
@@ -8,7 +10,7 @@ Reflectances and the light's radiance are the usual RGB approximations of the me
 The geometry sits under a node scaled by 0.001 (glTF is in metres); normals face into the room
 and out of the blocks. Run it from the repository root; the output is committed.
 """
-import base64, json, math, struct
+import base64, json, math, struct, sys
 
 QUADS = {
     "light": ("light", [(343.0, 548.7, 227.0), (343.0, 548.7, 332.0), (213.0, 548.7, 332.0), (213.0, 548.7, 227.0)]),
@@ -70,6 +72,7 @@ def mesh_data(quads):
 
 
 def main():
+    lambert = "--lambert" in sys.argv[1:]
     blob = bytearray()
     gltf = {"asset": {"version": "2.0", "generator": "dacrt tools/make_cornell_box.py"},
             "extensionsUsed": ["KHR_materials_emissive_strength"],
@@ -85,10 +88,12 @@ def main():
     for name, m in MATERIALS.items():
         mat = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": m["baseColorFactor"],
                                                       "metallicFactor": 0.0, "roughnessFactor": 1.0}}
+        if lambert:
+            mat.setdefault("extensions", {})["KHR_materials_specular"] = {"specularFactor": 0.0}
         if "emissive" in m:
             strength = max(m["emissive"])
             mat["emissiveFactor"] = [c / strength for c in m["emissive"]]
-            mat["extensions"] = {"KHR_materials_emissive_strength": {"emissiveStrength": strength}}
+            mat.setdefault("extensions", {})["KHR_materials_emissive_strength"] = {"emissiveStrength": strength}
         material_index[name] = len(gltf["materials"])
         gltf["materials"].append(mat)
 
@@ -125,7 +130,9 @@ def main():
 
     gltf["buffers"].append({"byteLength": len(blob),
                             "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()})
-    with open("scenes/cornell-box.gltf", "w") as f:
+    if lambert:
+        gltf["extensionsUsed"].append("KHR_materials_specular")
+    with open("scenes/cornell-box-lambert.gltf" if lambert else "scenes/cornell-box.gltf", "w") as f:
         json.dump(gltf, f, indent=1)
         f.write("\n")
 
