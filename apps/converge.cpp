@@ -408,7 +408,7 @@ void write_script(const std::string& path, const std::vector<Curve>& curves, Met
         << "set xlabel 'seconds (cumulative: build and every sample so far)'\n"
         << "set ylabel "
         << gnuplot_quote(std::string(metric_names[int(metric)]) + " (linear radiance)")
-        << "\nset title " << gnuplot_quote(title) << "\nset key bottom left box opaque\n"
+        << "\nset title " << gnuplot_quote(title) << "\nset key top right box opaque\n"
         << "set terminal svg size 820,560 dynamic noenhanced font 'sans,12' background '#ffffff'\n"
         << "set output svg\n"
         << plot.str() << "\nset terminal pngcairo size 820,560 noenhanced font 'sans,10'\n"
