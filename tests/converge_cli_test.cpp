@@ -249,3 +249,23 @@ TEST_CASE("converge: --help lists the options") {
     CHECK_MESSAGE(r.out.find(option) != std::string::npos, option);
   CHECK(run(dir, "--help").out.find("dacrt converge SCENE") != std::string::npos);
 }
+
+TEST_CASE("converge: SIGTERM stops at the next wavefront and writes the points finished") {
+  TempDir dir("converge-cli-signal");
+  const std::string out = dir / "out", err = dir / "err.txt", rc = dir / "rc.txt";
+  // (The run is a shell script: a background job, polled, signalled, waited for.)
+  // A budget of minutes; the signal comes once stderr shows the 4-spp point.
+  const std::string script =
+      std::string(DACRT_CLI) + " converge " + cornell +
+      " --width 32 --height 32 --no-reference --time-budget 600 --no-plot --config '' -o " + out +
+      " >/dev/null 2>" + err + " & pid=$!; for i in $(seq 300); do grep -q ' 4 spp' " + err +
+      " && break; sleep 0.05; done; kill -TERM $pid; wait $pid; echo $? >" + rc;
+  std::ofstream(dir / "run.sh") << script << "\n";
+  REQUIRE(std::system(("bash " + (dir / "run.sh")).c_str()) == 0);
+  INFO(slurp(err));
+  CHECK(slurp(rc) == "143\n");
+  const std::vector<Row> rows = read_csv(out + "/convergence.csv");
+  CHECK(rows.size() >= 3);
+  CHECK(rows.size() < 16);  // stopped long before the budget
+  CHECK(files(out) == std::vector<std::string>{"convergence.csv", "convergence.gp"});
+}
