@@ -1,0 +1,464 @@
+// `dacrt converge`: the command line and the renders at doubling sample counts; the outputs (CSV,
+// gnuplot script and plot, the comparison table) are apps/converge_report.cpp's. The metrics, fits
+// and interpolations are the library's (render/convergence.h); the render options are `dacrt
+// render`'s own parser (apps/render_options.h), so a configuration's `max-depth=8` means what
+// `--max-depth 8` means.
+#include "apps/converge.h"
+
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "apps/converge_report.h"
+#include "apps/render_options.h"
+#include "apps/report.h"
+#include "io/exr.h"
+#include "io/gltf.h"
+#include "render/convergence.h"
+#include "render/render_job.h"
+#include "tracer/backend.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+#include "util/interrupt.h"
+#include "util/paths.h"
+#include "util/progress.h"
+
+namespace dacrt {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* converge_help = R"help(Usage: dacrt converge SCENE [options] [render options]
+
+Renders each configuration at 1, 2, 4, … samples per pixel until its time budget is spent, and
+measures each point's error: run time against error.
+
+Configurations
+  --config "KEY=VALUE ..."   one configuration: render options that override the shared ones,
+                             KEY a render option's name without its dashes (backend=embree,
+                             sampler=independent, integrator=direct, max-depth=8, seed=3,
+                             backend-option=dacrt.bins=8, threads=1, wavefront=65536, ...);
+                             its label is the text itself ("" is "default"). Repeatable. Default:
+                             "" (dacrt, sobol), "sampler=independent", "backend=embree"
+  --time-budget SECONDS      per configuration (default 10): doubling stops when the next point
+                             would end past it (its cost predicted from the points so far); the
+                             first two points (1 and 2 spp) are always rendered
+  --max-spp N                stop at N samples per pixel at most (default 65536)
+Error
+  --reference REF.exr        the converged image (same size as the renders)
+  --reference-spp N          without --reference: render one of N spp (default 1024) with the
+                             shared options (no configuration's), seed S + 2^32, and keep it as
+                             OUTDIR/reference.exr (reuse it with --reference)
+  --no-reference             no reference: the error is the noise between two seeds
+  --noise                    also the noise: every point rendered again with seed S + 1;
+                             noise = RMSE(seed S, seed S + 1) / sqrt 2 (the second render's time
+                             is not counted). On with --no-reference
+  --metric NAME              what the fits, the plot and the table use: rmse (default), relmse,
+                             mae, smape, noise (the default with --no-reference)
+  --target-error E           the equal-error comparison's level (repeatable; default: the lowest
+                             error every configuration reached)
+Output
+  -o, --output OUTDIR        the directory (default converge-SCENE): convergence.csv (one row per
+                             configuration and spp), convergence.gp (the gnuplot script, data
+                             inline), convergence.svg and convergence.png (drawn by gnuplot; when
+                             gnuplot is missing a warning says so, the rest is written, and the
+                             exit code is still 0: `gnuplot convergence.gp` in OUTDIR draws it)
+  --no-plot                  write the script, do not run gnuplot
+  --quiet                    no progress on stderr
+Render options that apply to every configuration: those of `dacrt render --help` (--width,
+--height, --camera, --max-depth, --integrator, --threads, ...) but for -o, --preview, --view,
+--exposure, --stats, --aov, --spp, --time-limit and --checkpoint. Those that change the image
+itself (--width, --height, --camera, --look-from, --look-at, --up, --fov, --scene,
+--environment, --point-light) cannot be set per configuration.
+
+Metrics (on linear radiance, every channel of every pixel, against the reference r):
+  RMSE sqrt(mean (x-r)^2), relMSE mean (x-r)^2/(r^2 + 0.01), MAE mean |x-r|,
+  SMAPE mean 2|x-r|/(|x|+|r|) (0 where both are 0).
+Seconds are cumulative, as a user waits for them: the backend's build and the render of every
+sample so far.
+)help";
+
+// Options that change the image itself: every configuration must share them (one reference).
+const std::set<std::string> shared_only = {
+    "--width", "--height", "--camera", "--look-from",   "--look-at",
+    "--up",    "--fov",    "--scene",  "--environment", "--point-light"};
+// Render options that mean nothing here.
+const std::set<std::string> not_applicable = {"--preview",    "--view",      "--exposure",
+                                              "--stats",      "--aov",       "--spp",
+                                              "--time-limit", "--checkpoint"};
+
+struct Config {
+  std::string label;
+  RenderArgs args;
+};
+
+struct ConvergeArgs {
+  RenderArgs shared;
+  std::vector<std::string> configs;
+  std::string reference, outdir;
+  int reference_spp = 1024;
+  bool no_reference = false, noise = false, plot = true, help = false;
+  std::optional<Metric> metric;
+  double budget = 10.0;
+  uint32_t max_spp = 1u << 16;
+  std::vector<double> targets;
+};
+
+ConvergeArgs parse_converge(const std::vector<std::string>& args) {
+  ConvergeArgs c;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
+      return args[++i];
+    };
+    if (a == "-h" || a == "--help") {
+      c.help = true;
+      return c;
+    } else if (a == "--config")
+      c.configs.push_back(value());
+    else if (a == "--reference")
+      c.reference = value();
+    else if (a == "--reference-spp")
+      c.reference_spp = int(parse_int(a, value(), 1, 1 << 20));
+    else if (a == "--no-reference")
+      c.no_reference = true;
+    else if (a == "--noise")
+      c.noise = true;
+    else if (a == "--metric") {
+      const std::string v = value();
+      for (int m = 0; m < 5; ++m)
+        if (v == metric_keys[m]) c.metric = Metric(m);
+      if (!c.metric)
+        throw UsageError("--metric wants rmse, relmse, mae, smape or noise, got '" + v + "'");
+    } else if (a == "--time-budget")
+      c.budget = parse_seconds(a, value());
+    else if (a == "--max-spp")
+      c.max_spp = uint32_t(parse_int(a, value(), 1, 1 << 20));
+    else if (a == "--target-error")
+      c.targets.push_back(parse_seconds(a, value()));
+    else if (a == "-o" || a == "--output")
+      c.outdir = value();
+    else if (a == "--no-plot")
+      c.plot = false;
+    else if (not_applicable.count(a) || a == "--output")
+      throw UsageError(a + " does not apply to dacrt converge (see dacrt converge --help)");
+    else if (parse_render_option(args, i, c.shared))
+      continue;
+    else if (!a.empty() && a[0] == '-')
+      throw UsageError("unknown option " + a);
+    else if (c.shared.scene.empty())
+      c.shared.scene = a;
+    else
+      throw UsageError("unexpected argument '" + a + "' (one scene at a time)");
+  }
+  if (c.shared.scene.empty()) throw UsageError("converge needs a SCENE");
+  if (!c.reference.empty() && c.no_reference)
+    throw UsageError("--reference and --no-reference exclude each other");
+  if (c.no_reference) {
+    c.noise = true;
+    if (c.metric && *c.metric != Metric::noise)
+      throw UsageError(std::string("--metric ") + metric_keys[int(*c.metric)] +
+                       " needs a reference (drop --no-reference)");
+    c.metric = Metric::noise;
+  }
+  if (c.metric == Metric::noise) c.noise = true;
+  if (!c.metric) c.metric = Metric::rmse;
+  if (c.outdir.empty()) c.outdir = "converge-" + fs::path(c.shared.scene).stem().string();
+  while (c.outdir.size() > 1 && c.outdir.back() == '/') c.outdir.pop_back();
+  return c;
+}
+
+// A configuration: the shared options, then "KEY=VALUE ..." through the render option parser.
+Config parse_config(const std::string& text, const RenderArgs& shared) {
+  Config c{text, shared};
+  std::istringstream words(text);
+  std::string word;
+  const std::string where = "--config \"" + text + "\": ";
+  while (words >> word) {
+    const size_t eq = word.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw UsageError(where + "'" + word + "' is not KEY=VALUE");
+    std::string key = word.substr(0, eq);
+    if (key.rfind("--", 0) == 0) key = key.substr(2);
+    const std::string flag = "--" + key;
+    if (shared_only.count(flag))
+      throw UsageError(where + key + " changes the image, which every configuration shares: give " +
+                       flag + " before the configurations");
+    if (not_applicable.count(flag))
+      throw UsageError(where + key + " does not apply to dacrt converge");
+    const std::vector<std::string> option = {flag, word.substr(eq + 1)};
+    size_t i = 0;
+    bool known = false;
+    try {
+      known = key != "output" && parse_render_option(option, i, c.args) && i == 1;
+    } catch (const UsageError& e) {
+      throw UsageError(where + e.what());
+    }
+    if (!known) throw UsageError(where + "unknown key '" + key + "' (see dacrt render --help)");
+  }
+  words.clear();
+  c.label = text;
+  c.label.erase(0, c.label.find_first_not_of(" \t"));
+  c.label.erase(c.label.find_last_not_of(" \t") + 1);
+  if (c.label.empty()) c.label = "default";
+  const std::vector<std::string> backends = split_list(c.args.backend);
+  if (backends.size() != 1)
+    throw UsageError(where + "a configuration renders with one backend (give one --config each)");
+  const std::vector<std::string> known = Backend::names();
+  if (std::find(known.begin(), known.end(), backends[0]) == known.end())
+    Backend::create(backends[0], Geometry{});  // throws the registry's error naming the backends
+  check_integrator(c.args.integrator);
+  return c;
+}
+
+std::vector<Config> parse_configs(const ConvergeArgs& c) {
+  std::vector<std::string> texts = c.configs;
+  if (texts.empty()) {
+    texts = {"", "sampler=independent"};
+    const std::vector<std::string> known = Backend::names();
+    if (std::find(known.begin(), known.end(), "embree") != known.end())
+      texts.push_back("backend=embree");
+  }
+  std::vector<Config> configs;
+  std::set<std::string> labels;
+  for (const std::string& text : texts) {
+    configs.push_back(parse_config(text, c.shared));
+    if (!labels.insert(configs.back().label).second)
+      throw UsageError("--config \"" + text + "\" is given twice");
+  }
+  return configs;
+}
+
+std::optional<std::string> find_in_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::istringstream dirs(path ? path : "");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
+    if (::access(candidate.c_str(), X_OK) == 0 && fs::is_regular_file(candidate)) return candidate;
+  }
+  return std::nullopt;
+}
+
+// The render settings a configuration's job runs with (seed offset for the second-seed render).
+struct Run {
+  std::unique_ptr<Backend> backend;
+  std::unique_ptr<RenderJob> job;
+  std::optional<Film> film;
+};
+
+Run start_run(const Scene& scene, const Config& c, uint64_t seed) {
+  Run run;
+  RenderSettings s = c.args.settings;
+  s.seed = seed;
+  Options options = c.args.backend_options;
+  options.threads = c.args.threads;
+  const std::string name = split_list(c.args.backend)[0];
+  run.backend = Backend::create(name, scene.geometry, options.for_plugin(name));
+  run.job = std::make_unique<RenderJob>(scene, *run.backend, s, c.args.integrator);
+  run.film.emplace(run.job->film());
+  return run;
+}
+
+// Adds samples up to `spp` to the run's film; false when a signal stopped it.
+bool render_to(Run& run, uint32_t from, uint32_t spp, const std::string& label, bool bar,
+               const std::atomic<bool>* stop, double* seconds) {
+  const RenderSettings& s = run.job->settings();
+  Progress progress(label, uint64_t(s.width) * s.height * spp, bar);
+  PassOptions passes;
+  passes.stop = stop;
+  const RenderOutcome outcome = run.job->run(*run.film, from, spp, progress, passes);
+  if (seconds) *seconds = outcome.seconds;
+  return !outcome.stopped;
+}
+
+}  // namespace
+
+int converge_main(const std::vector<std::string>& args) {
+  ConvergeArgs a = parse_converge(args);
+  if (a.help) return std::fputs(converge_help, stdout), 0;
+  std::vector<Config> configs = parse_configs(a);
+  const bool verbose = !a.shared.quiet;
+  const bool bar = verbose && isatty(STDERR_FILENO);
+
+  // Inputs and outputs checked before anything is rendered.
+  check_input_file(a.shared.scene, "scene");
+  if (!a.reference.empty()) check_input_file(a.reference, "reference");
+  if (!a.shared.setup.environment_file.empty())
+    check_input_file(a.shared.setup.environment_file, "environment map");
+  const fs::path outdir(a.outdir);
+  std::error_code ec;
+  const bool outdir_exists = fs::exists(outdir, ec);
+  if (outdir_exists && !fs::is_directory(outdir, ec))
+    throw Error(a.outdir + ": cannot write the outputs there: it is not a directory");
+  const std::string csv = (outdir / "convergence.csv").string(),
+                    script = (outdir / "convergence.gp").string(),
+                    svg = (outdir / "convergence.svg").string(),
+                    png = (outdir / "convergence.png").string(),
+                    reference_out = (outdir / "reference.exr").string();
+  if (outdir_exists) {
+    for (const std::string& out : {csv, script, svg, png}) check_writable(out);
+  } else {
+    check_writable(a.outdir);  // its parent is a writable directory
+  }
+  std::vector<NamedFile> inputs = {{"the scene", a.shared.scene}, {"--reference", a.reference}};
+  const bool render_reference = a.reference.empty() && !a.no_reference;
+  std::vector<NamedFile> outputs = {{"-o", csv}, {"-o", script}, {"-o", svg}, {"-o", png}};
+  if (render_reference) outputs.push_back({"-o", reference_out});
+  check_outputs(outputs, inputs);
+  std::optional<std::string> gnuplot;
+  if (a.plot) {
+    gnuplot = find_in_path("gnuplot");
+    if (!gnuplot)
+      std::fprintf(stderr,
+                   "dacrt converge: warning: gnuplot is not on PATH: the CSV and the script are "
+                   "written, the plot is not (install gnuplot-nox)\n");
+  }
+  std::optional<Image> reference;
+  if (!a.reference.empty()) reference = read_exr(a.reference);
+
+  std::unique_ptr<tbb::global_control> threads;
+  if (a.shared.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    size_t(a.shared.threads));
+  Scene scene = load_gltf(a.shared.scene, a.shared.gltf);
+  try {
+    override_scene_camera(scene, a.shared.setup);
+  } catch (const Error& e) {
+    if (a.shared.setup.camera_override.any() &&
+        size_t(a.shared.setup.camera) < scene.cameras.size())
+      throw UsageError(e.what());
+    throw;
+  }
+  RenderSetup setup = a.shared.setup;
+  setup.camera_override = {};  // applied
+  RenderSettings base = a.shared.settings;
+  const std::vector<std::string> notes = prepare_render(scene, base, setup);
+  if (verbose)
+    for (const std::string& note : notes) std::fprintf(stderr, "%s\n", note.c_str());
+  for (Config& c : configs)
+    c.args.settings.width = base.width, c.args.settings.height = base.height,
+    c.args.settings.camera = base.camera;
+  if (reference && (reference->width != base.width || reference->height != base.height))
+    throw Error(a.reference + ": the reference is " + std::to_string(reference->width) + " x " +
+                std::to_string(reference->height) + ", the renders are " +
+                std::to_string(base.width) + " x " + std::to_string(base.height) +
+                " (give --width " + std::to_string(reference->width) + " --height " +
+                std::to_string(reference->height) + ", or another reference)");
+
+  StopOnSignals signals;
+  const std::atomic<bool>* stop = &signals.token();
+  if (render_reference) {
+    Config shared{"reference", a.shared};
+    shared.args.settings = base;
+    shared.args.backend =
+        split_list(a.shared.backend).empty() ? "dacrt" : split_list(a.shared.backend)[0];
+    const uint64_t seed = base.seed + (uint64_t(1) << 32);
+    if (verbose)
+      std::fprintf(stderr,
+                   "converge: rendering the reference: %d spp, %s, sampler %s, seed %llu "
+                   "(--reference-spp, or --reference REF.exr)\n",
+                   a.reference_spp, shared.args.backend.c_str(), sampler_name(base.sampler).c_str(),
+                   (unsigned long long)seed);
+    Run run = start_run(scene, shared, seed);
+    double seconds = 0;
+    if (!render_to(run, 0, uint32_t(a.reference_spp), "reference", bar, stop, &seconds))
+      return 128 + signals.signal();
+    reference = run.film->resolve();
+    if (!outdir_exists) fs::create_directories(outdir);
+    ExrMetadata meta;
+    meta.spp = a.reference_spp;
+    meta.backend = shared.args.backend;
+    meta.integrator = shared.args.integrator;
+    meta.render_seconds = seconds;
+    meta.extra = {{"scene", a.shared.scene},
+                  {"sampler", sampler_name(base.sampler)},
+                  {"seed", std::to_string(seed)},
+                  {"software", std::string("dacrt ") + version()}};
+    write_exr(reference_out, *reference, meta);
+    if (verbose)
+      std::fprintf(stderr, "converge: reference: %d spp in %.3g s, %s\n", a.reference_spp, seconds,
+                   reference_out.c_str());
+  }
+
+  const Metric metric = *a.metric;
+  std::vector<Curve> curves;
+  for (size_t k = 0; k < configs.size() && !signals.signal(); ++k) {
+    const Config& c = configs[k];
+    std::unique_ptr<tbb::global_control> own_threads;
+    if (c.args.threads > 0 && c.args.threads != a.shared.threads)
+      own_threads = std::make_unique<tbb::global_control>(
+          tbb::global_control::max_allowed_parallelism, size_t(c.args.threads));
+    const auto t0 = Clock::now();
+    Run run = start_run(scene, c, c.args.settings.seed);
+    const double setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    std::optional<Run> second;
+    if (a.noise) second = start_run(scene, c, c.args.settings.seed + 1);
+    Curve curve{c.label, {}};
+    double rendered = 0;  // the render seconds of the samples so far
+    uint32_t spp = 0;
+    for (uint32_t next = 1;; next *= 2) {
+      const std::string label = "converge " + c.label + ": " + std::to_string(next) + " spp";
+      double step = 0;
+      if (!render_to(run, spp, next, label, bar, stop, &step)) break;
+      if (second && !render_to(*second, spp, next, label + " (seed S + 1)", bar, stop, nullptr))
+        break;
+      spp = next;
+      rendered += step;
+      Point p;
+      p.spp = spp;
+      p.seconds = setup_seconds + rendered;
+      const Image image = run.film->resolve();
+      if (reference) p.error = image_error(image, *reference);
+      if (second) p.noise = noise_from_seeds(image, second->film->resolve());
+      curve.points.push_back(p);
+      if (verbose)
+        std::fprintf(stderr, "converge %s: %u spp, %.3g s, %s %.4g\n", c.label.c_str(), spp,
+                     p.seconds, metric_names[int(metric)], value_of(p, metric).value_or(NAN));
+      // Doubling renders as many samples again: it costs about what the samples so far cost.
+      if (spp >= a.max_spp || (curve.points.size() >= 2 && p.seconds + rendered > a.budget)) break;
+    }
+    if (!curve.points.empty()) curves.push_back(std::move(curve));
+  }
+
+  if (!curves.empty()) {
+    if (!fs::exists(outdir)) fs::create_directories(outdir);
+    write_csv(csv, curves);
+    const std::string title = fs::path(a.shared.scene).filename().string() + ", " +
+                              std::to_string(base.width) + " x " + std::to_string(base.height) +
+                              ": " + metric_names[int(metric)] + " against time";
+    write_script(script, curves, metric, title);
+    if (gnuplot) draw_plot(*gnuplot, fs::absolute(script).string(), svg, png);
+    print_table(curves, metric, a.targets);
+    if (verbose) {
+      std::fprintf(stderr, "converge: wrote %s, %s", csv.c_str(), script.c_str());
+      if (gnuplot) std::fprintf(stderr, ", %s, %s", svg.c_str(), png.c_str());
+      std::fprintf(stderr, "\n");
+    }
+    if (a.plot && !gnuplot)
+      std::fprintf(stderr,
+                   "dacrt converge: warning: no plot: gnuplot is not on PATH (install "
+                   "gnuplot-nox, then run `gnuplot convergence.gp` in %s)\n",
+                   a.outdir.c_str());
+  }
+  if (signals.signal()) return 128 + signals.signal();
+  return 0;
+}
+
+}  // namespace dacrt

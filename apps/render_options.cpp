@@ -1,0 +1,211 @@
+// The render options: one parser for `dacrt render` and `dacrt converge`.
+#include "apps/render_options.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
+
+#include "util/error.h"
+
+namespace fs = std::filesystem;
+
+namespace dacrt {
+
+namespace {
+// Three comma-separated finite numbers ("1,2.5,-3"), or nothing.
+std::optional<glm::vec3> parse_three(const std::string& text) {
+  glm::vec3 p;
+  std::string rest = text;
+  for (int k = 0; k < 3; ++k) {
+    const size_t comma = rest.find(',');
+    const std::string part = rest.substr(0, comma);
+    char* end = nullptr;
+    const float v = std::strtof(part.c_str(), &end);
+    if (part.empty() || *end != '\0' || !std::isfinite(v) ||
+        (k < 2) != (comma != std::string::npos))
+      return std::nullopt;
+    p[k] = v;
+    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+  }
+  return p;
+}
+
+glm::vec3 parse_point(const std::string& flag, const std::string& text) {
+  if (const auto p = parse_three(text)) return *p;
+  throw UsageError(flag + " wants X,Y,Z with three finite numbers, got '" + text + "'");
+}
+
+glm::vec3 parse_rgb(const std::string& flag, const std::string& text) {
+  const auto c = parse_three(text);
+  if (c && c->x >= 0.f && c->y >= 0.f && c->z >= 0.f) return *c;
+  throw UsageError(flag + " wants R,G,B with three finite non-negative numbers, got '" + text +
+                   "'");
+}
+
+}  // namespace
+
+long parse_int(const std::string& flag, const std::string& text, long lo, long hi) {
+  char* end = nullptr;
+  errno = 0;
+  long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno != 0 || v < lo || v > hi)
+    throw UsageError(flag + " wants an integer in [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "], got '" + text + "'");
+  return v;
+}
+
+// A positive finite number of seconds (or scene units, for --ao-distance).
+double parse_seconds(const std::string& flag, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(v > 0.0 && v < 1e30))
+    throw UsageError(flag + " wants a positive number, got '" + text + "'");
+  return v;
+}
+
+bool parse_render_option(const std::vector<std::string>& args, size_t& i, RenderArgs& r) {
+  const std::string& a = args[i];
+  auto value = [&]() -> const std::string& {
+    if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
+    return args[++i];
+  };
+  if (a == "-o" || a == "--output")
+    r.output = value();
+  else if (a == "--preview")
+    r.preview = value();
+  else if (a == "--view") {
+    r.display.view = value();
+    if (r.display.view.empty()) throw UsageError("--view needs a name (see dacrt views)");
+    r.display_flag = a;
+  } else if (a == "--exposure") {
+    const std::string v = value();
+    char* end = nullptr;
+    r.display.exposure = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !std::isfinite(r.display.exposure))
+      throw UsageError("--exposure wants a finite number of stops, got '" + v + "'");
+    r.display_flag = a;
+  } else if (a == "--stats")
+    r.stats = value();
+  else if (a == "--spp")
+    r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
+  else if (a == "--width")
+    r.setup.width = int(parse_int(a, value(), 1, max_image_side));
+  else if (a == "--height")
+    r.setup.height = int(parse_int(a, value(), 1, max_image_side));
+  else if (a == "--camera")
+    r.setup.camera = int(parse_int(a, value(), 0, 1 << 20));
+  else if (a == "--look-from")
+    r.setup.camera_override.from = parse_point(a, value());
+  else if (a == "--look-at")
+    r.setup.camera_override.at = parse_point(a, value());
+  else if (a == "--up")
+    r.setup.camera_override.up = parse_point(a, value());
+  else if (a == "--aov") {
+    try {
+      r.settings.aovs = AovSet::parse(value());
+    } catch (const Error& e) {
+      throw UsageError(std::string("--aov: ") + e.what());
+    }
+  } else if (a == "--pass-spp")
+    r.passes.spp_per_pass = uint32_t(parse_int(a, value(), 1, 1 << 20));
+  else if (a == "--time-limit")
+    r.passes.time_limit = parse_seconds(a, value());
+  else if (a == "--checkpoint")
+    r.passes.checkpoint = parse_seconds(a, value());
+  else if (a == "--ao-distance")
+    r.settings.ao_distance = float(parse_seconds(a, value()));
+  else if (a == "--fov") {
+    const std::string v = value();
+    char* end = nullptr;
+    const float degrees = std::strtof(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !(degrees > 0.f && degrees < 180.f))
+      throw UsageError("--fov wants degrees in (0, 180), got '" + v + "'");
+    r.setup.camera_override.fov_degrees = degrees;
+  } else if (a == "--scene")
+    r.gltf.scene = int(parse_int(a, value(), 0, 1 << 20));
+  else if (a == "--backend")
+    r.backend = value();
+  else if (a == "--backend-option") {
+    try {
+      r.backend_options.parse(value());
+    } catch (const Error& e) {
+      throw UsageError(std::string("--backend-option: ") + e.what());
+    }
+  } else if (a == "--integrator")
+    r.integrator = value();
+  else if (a == "--environment") {
+    const std::string v = value();
+    const bool exr = v.size() > 4 && (v.compare(v.size() - 4, 4, ".exr") == 0 ||
+                                      v.compare(v.size() - 4, 4, ".EXR") == 0);
+    if (exr)
+      r.setup.environment_file = v, r.setup.environment.reset();
+    else
+      r.setup.environment = parse_rgb(a, v), r.setup.environment_file.clear();
+  } else if (a == "--point-light") {
+    const std::string v = value();
+    const size_t eq = v.find('=');
+    PunctualLight light;
+    light.name = "--point-light " + v;
+    light.position = parse_point(a, v.substr(0, eq));
+    if (eq == std::string::npos)
+      throw UsageError(a + " wants X,Y,Z=R,G,B (a position and an intensity), got '" + v + "'");
+    light.intensity = parse_rgb(a, v.substr(eq + 1));
+    r.setup.lights.push_back(light);
+  } else if (a == "--max-depth")
+    r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
+  else if (a == "--sampler") {
+    const std::string v = value();
+    if (!parse_sampler(v, r.settings.sampler)) {
+      std::string names;
+      for (const std::string& n : sampler_names()) names += (names.empty() ? "" : ", ") + n;
+      throw UsageError("unknown sampler '" + v + "' (known: " + names + ")");
+    }
+  } else if (a == "--seed")
+    r.settings.seed = uint64_t(parse_int(a, value(), 0, LONG_MAX));
+  else if (a == "--threads")
+    r.threads = int(parse_int(a, value(), 1, 1024));
+  else if (a == "--wavefront")
+    r.settings.wavefront = size_t(parse_int(a, value(), 1, 1L << 26));
+  else if (a == "--quiet")
+    r.quiet = true;
+  else
+    return false;
+  return true;
+}
+
+RenderArgs parse_render(const std::vector<std::string>& args) {
+  RenderArgs r;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-h" || a == "--help") {
+      r.help = true;
+      return r;
+    } else if (parse_render_option(args, i, r))
+      continue;
+    else if (!a.empty() && a[0] == '-')
+      throw UsageError("unknown option " + a);
+    else if (r.scene.empty())
+      r.scene = a;
+    else
+      throw UsageError("unexpected argument '" + a + "' (one scene at a time)");
+  }
+  if (r.scene.empty()) throw UsageError("render needs a SCENE");
+  if (!r.display_flag.empty() && r.preview.empty())
+    throw UsageError(r.display_flag + " needs --preview (it changes only the PNG preview)");
+  if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
+  return r;
+}
+
+void check_integrator(const std::string& name) {
+  const std::vector<std::string> integrators = Integrator::names();
+  if (std::find(integrators.begin(), integrators.end(), name) != integrators.end()) return;
+  std::string names;
+  for (const std::string& n : integrators) names += (names.empty() ? "" : ", ") + n;
+  throw UsageError("unknown integrator '" + name + "' (known: " + names + ")");
+}
+
+}  // namespace dacrt

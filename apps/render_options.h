@@ -1,0 +1,55 @@
+// The render options of the command line (`dacrt render --help` lists them), parsed into one
+// struct: `dacrt render` reads them all, `dacrt converge` reads the shared ones and each
+// configuration's KEY=VALUE overrides through the same parser, so a flag means the same in both.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "io/color.h"
+#include "io/gltf.h"
+#include "render/render_job.h"
+#include "tracer/options.h"
+
+namespace dacrt {
+
+// A mistake on the command line: the CLI prints it with a pointer to --help and exits 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct RenderArgs {
+  std::string scene, output, preview, stats;
+  DisplayOptions display;
+  std::string display_flag;  // --view or --exposure, when given: they need --preview
+  GltfOptions gltf;
+  std::string backend = "dacrt", integrator = "path";
+  Options backend_options;
+  int threads = 0;
+  bool quiet = false, help = false;
+  RenderSettings settings;
+  RenderSetup setup;
+  PassOptions passes;
+};
+
+// Parses the render option args[i] (and its value, args[i + 1], advancing i past it) into `r`.
+// Returns false, with nothing changed, when args[i] is not a render option (-h, --help, a
+// positional argument, an unknown flag: the caller's business). Throws UsageError for a bad or
+// missing value.
+bool parse_render_option(const std::vector<std::string>& args, size_t& i, RenderArgs& r);
+
+// `dacrt render`'s arguments: SCENE and render options.
+RenderArgs parse_render(const std::vector<std::string>& args);
+
+// Throws UsageError naming the known integrators unless `name` is one.
+void check_integrator(const std::string& name);
+
+// An integer in [lo, hi] for `flag`, else UsageError.
+long parse_int(const std::string& flag, const std::string& text, long lo, long hi);
+// A positive finite number (seconds, distances) for `flag`, else UsageError.
+double parse_seconds(const std::string& flag, const std::string& text);
+
+}  // namespace dacrt
