@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 SCENE ?= scenes/cornell-box.gltf
 RENDER_ARGS ?=
 
-.PHONY: all deps configure build render test test-sanitize fuzz clean
+.PHONY: all deps configure build render test stress test-sanitize fuzz clean
 all: build
 
 deps:
@@ -25,6 +25,11 @@ render: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The numerical stress suite in full: the short checks (also in `make test`), then the sweep of
+# translation 10^k and scale 10^±k, which prints the largest level at which each check holds.
+stress: build
+	cd $(BUILD) && ./dacrt-tests -tc='stress:*' && ./dacrt-tests -ts=stress-sweep --no-skip
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build in its own directory.
 test-sanitize: deps
