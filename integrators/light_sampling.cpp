@@ -14,8 +14,8 @@ LightSampling::LightSampling(const Scene& scene, const EnvironmentMap* map)
       map_share_(map_ ? (lights_.empty() ? 1.f : 0.5f) : 0.f) {}
 
 // Towards the environment map, weighed against BSDF sampling (MIS).
-bool LightSampling::environment(const ShadingPoint& x, float u1, float u2, ShadowRay& out) const {
-  const EnvironmentMap::Sample es = map_->sample(u1, u2);
+bool LightSampling::environment(const ShadingPoint& x, const glm::vec4& u, ShadowRay& out) const {
+  const EnvironmentMap::Sample es = map_->sample(u);
   const float pdf = map_share_ * es.pdf;
   if (!(pdf > 0.f)) return false;
   const glm::vec3 wi_local = x.frame.to_local(es.direction);

@@ -69,14 +69,18 @@ class LightSampling {
   // `random(dimension)` gives the path's numbers. False when the sample carries no light.
   template <class Random>
   bool sample(const glm::vec3& p, const ShadingPoint& x, Random&& random, ShadowRay& out) const {
-    float pick = random(light_pick);
-    if (pick < map_share_) return environment(x, random(environment_u), random(environment_v), out);
-    pick = std::min((pick - map_share_) / (1.f - map_share_), 0x1.fffffep-1f);
-    return emitter(p, x, pick, random(light_u), random(light_v), out);
+    // Separate numbers for the source and the emitter: rescaling one would lose the low bits
+    // the alias table needs for its probabilities to be exact.
+    if (map_share_ > 0.f && (map_share_ >= 1.f || random(light_source) < map_share_))
+      return environment(x,
+                         {random(environment_u), random(environment_v), random(environment_pixel_u),
+                          random(environment_pixel_v)},
+                         out);
+    return emitter(p, x, random(light_pick), random(light_u), random(light_v), out);
   }
 
  private:
-  bool environment(const ShadingPoint& x, float u1, float u2, ShadowRay& out) const;
+  bool environment(const ShadingPoint& x, const glm::vec4& u, ShadowRay& out) const;
   bool emitter(const glm::vec3& p, const ShadingPoint& x, float pick, float u1, float u2,
                ShadowRay& out) const;
   bool punctual(const glm::vec3& p, const PunctualLight& light, float pmf, const ShadingPoint& x,
