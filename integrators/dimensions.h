@@ -22,8 +22,12 @@ enum Dimension : uint32_t {
   bsdf_u,     // pair: the direction in that lobe
   bsdf_v,
   roulette,       // single: Russian roulette
-  environment_u,  // pair: the point on the environment map
+  environment_u,  // pair: the environment map's row and column (two alias tables)
   environment_v,
+  light_source,         // single: the environment map or the scene's emitters (light_pick then says
+                        // which emitter; one number each, so the alias table keeps all 24 bits)
+  environment_pixel_u,  // pair: the point inside the environment pixel chosen
+  environment_pixel_v,
   alpha,  // + the ray type, + the triangle × 256: one number per ray and triangle, always
           // independent (a ray may test many triangles, none of them a pattern's dimension)
   dimension_count = alpha
@@ -50,6 +54,9 @@ inline constexpr std::array<DimensionSlot, dimension_count> dimension_slots = {{
     {6, 0, false},  // roulette
     {7, 0, true},   // environment_u
     {7, 1, true},   // environment_v
+    {8, 0, false},  // light_source
+    {9, 0, true},   // environment_pixel_u
+    {9, 1, true},   // environment_pixel_v
 }};
 
 }  // namespace dacrt

@@ -2,20 +2,39 @@
 // and punctual lights as shadow rays.
 #include "integrators/light_sampling.h"
 
+#include "integrators/spherical_triangle.h"
 #include "materials/surface.h"
 #include "tracer/ray.h"
 
 namespace dacrt {
-LightSampling::LightSampling(const Scene& scene, const EnvironmentMap* map)
+namespace {
+
+glm::dvec3 corner(const Geometry& g, uint32_t tri, int k) {
+  return glm::dvec3(g.vertex(tri, k));
+}
+
+}  // namespace
+
+LightSampling::LightSampling(const Scene& scene, const EnvironmentMap* map,
+                             TriangleSampling triangles)
     : scene_(scene),
       lights_(scene),
       map_(map),
       // Next-event estimation picks the map or the scene's lights: half and half when both.
-      map_share_(map_ ? (lights_.empty() ? 1.f : 0.5f) : 0.f) {}
+      map_share_(map_ ? (lights_.empty() ? 1.f : 0.5f) : 0.f),
+      triangles_(triangles) {}
+
+double LightSampling::sampled_solid_angle(const glm::vec3& o, uint32_t tri) const {
+  if (triangles_ == TriangleSampling::area) return 0.0;
+  const Geometry& g = scene_.geometry;
+  const double omega =
+      triangle_solid_angle(glm::dvec3(o), corner(g, tri, 0), corner(g, tri, 1), corner(g, tri, 2));
+  return omega > min_solid_angle && omega < max_solid_angle ? omega : 0.0;
+}
 
 // Towards the environment map, weighed against BSDF sampling (MIS).
-bool LightSampling::environment(const ShadingPoint& x, float u1, float u2, ShadowRay& out) const {
-  const EnvironmentMap::Sample es = map_->sample(u1, u2);
+bool LightSampling::environment(const ShadingPoint& x, const glm::vec4& u, ShadowRay& out) const {
+  const EnvironmentMap::Sample es = map_->sample(u);
   const float pdf = map_share_ * es.pdf;
   if (!(pdf > 0.f)) return false;
   const glm::vec3 wi_local = x.frame.to_local(es.direction);
@@ -35,6 +54,28 @@ bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pic
   LightSampler::Sample ls = lights_.sample(pick, u1, u2);
   ls.pmf *= 1.f - map_share_;
   if (ls.light >= 0) return punctual(p, scene_.lights[size_t(ls.light)], ls.pmf, x, out);
+  // Large and near: the point is where a direction uniform in the triangle's solid angle meets
+  // it (the area sample above is discarded), and the pdf is pmf / Ω.
+  const double omega = sampled_solid_angle(p, ls.triangle);
+  if (omega > 0.0) {
+    const glm::dvec3 o(p), p0 = corner(g, ls.triangle, 0), e1 = corner(g, ls.triangle, 1) - p0,
+                           e2 = corner(g, ls.triangle, 2) - p0;
+    const glm::dvec3 dir =
+        sample_spherical_triangle(glm::normalize(p0 - o), glm::normalize(p0 + e1 - o),
+                                  glm::normalize(p0 + e2 - o), omega, u1, u2);
+    const glm::dvec3 n = glm::cross(e1, e2);
+    const double t = glm::dot(n, p0 - o) / glm::dot(n, dir);
+    if (!(t > 0.0 && std::isfinite(t))) return false;
+    // The barycentric coordinates of the hit, clamped onto the triangle against rounding.
+    const glm::dvec3 r = o + t * dir - p0;
+    const double d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+    const double r1 = glm::dot(r, e1), r2 = glm::dot(r, e2), det = d11 * d22 - d12 * d12;
+    double b1 = std::max(0.0, (d22 * r1 - d12 * r2) / det);
+    double b2 = std::max(0.0, (d11 * r2 - d12 * r1) / det);
+    if (b1 + b2 > 1.0) b1 /= b1 + b2, b2 = 1.0 - b1;
+    ls.barycentric = glm::vec2(float(b1), float(b2));
+    ls.point = glm::vec3(p0 + b1 * e1 + b2 * e2);
+  }
   const Material& light = scene_.materials[g.material[ls.triangle]];
   glm::vec3 emission = emission_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
   // An alpha-tested emitter shines only as much as it stops rays there.
@@ -52,7 +93,8 @@ bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pic
   const glm::vec3 wi_local = x.frame.to_local(wi);
   const glm::vec3* origin = x.origin_towards(wi, wi_local);
   if (cos_light <= 0.f || !origin) return false;
-  const float light_pdf = ls.pmf * dist2 / (cos_light * light_area);
+  const float light_pdf =
+      omega > 0.0 ? float(double(ls.pmf) / omega) : ls.pmf * dist2 / (cos_light * light_area);
   const float weight = power_heuristic(light_pdf, x.brdf.pdf(x.wo, wi_local));
   // The segment runs between the two offset points, so neither surface can occlude it.
   const glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);

@@ -2,6 +2,13 @@
 // samples lights: the choice between the environment map and the scene's emitters, the shadow ray
 // towards an emissive triangle, a punctual light or the map, and the MIS weights (power heuristic)
 // of emission that BSDF sampling finds instead.
+//
+// An emissive triangle is sampled by solid angle when it is large and near, by area otherwise
+// (pbrt-v4 switches on the same bounds): from the shading point it subtends a solid angle Ω, and
+// for min_solid_angle < Ω < max_solid_angle the direction is uniform over its spherical triangle
+// (integrators/spherical_triangle.h), pdf pmf / Ω; else the point is uniform on its area, pdf
+// pmf · d² / (cos · A). Emission that BSDF sampling finds is weighed with the pdf of the same rule,
+// evaluated at the bounce ray's origin (the shading point offset by a rounding error's width).
 #pragma once
 
 #include <cstdint>
@@ -46,19 +53,40 @@ struct ShadowRay {
   glm::vec3 contribution;
 };
 
+// How next-event estimation samples an emissive triangle.
+enum class TriangleSampling : uint8_t {
+  area,                  // a point uniform on its area, always
+  solid_angle_if_large,  // (the default) uniform in its solid angle when that is large, see above
+};
+
 class LightSampling {
  public:
+  // Below this solid angle the spherical triangle's formulas lose precision and a triangle is
+  // nearly a point, which area sampling handles as well; above this one the shading point is
+  // nearly on the triangle's plane (2π sr), where the sampling degenerates.
+  static constexpr double min_solid_angle = 3e-4, max_solid_angle = 6.22;
+
   // map: null for a uniform (or black) environment, which only BSDF sampling reaches.
-  LightSampling(const Scene& scene, const EnvironmentMap* map);
+  LightSampling(const Scene& scene, const EnvironmentMap* map,
+                TriangleSampling triangles = TriangleSampling::solid_angle_if_large);
 
   // Nothing to sample: no shadow rays at all.
   bool empty() const { return lights_.empty() && !map_; }
 
-  // MIS weight of emission found by BSDF sampling (solid-angle pdf bsdf_pdf): triangle `tri`
-  // seen at distance t, at cosine `cos_light` to its normal, area `area`.
-  float emitter_weight(float bsdf_pdf, uint32_t tri, float t, float cos_light, float area) const {
-    const float light_pdf = (1.f - map_share_) * lights_.pmf(tri) * t * t / (cos_light * area);
-    return power_heuristic(bsdf_pdf, light_pdf);
+  // The solid angle of triangle `tri` from point o if next-event estimation samples it by solid
+  // angle from there, else 0 (it samples the area).
+  double sampled_solid_angle(const glm::vec3& o, uint32_t tri) const;
+  // Next-event estimation's solid-angle density towards triangle `tri` from point o, the
+  // triangle being met at distance t, at cosine `cos_light` to its normal; `area` its area.
+  float emitter_pdf(const glm::vec3& o, uint32_t tri, float t, float cos_light, float area) const {
+    const float pmf = (1.f - map_share_) * lights_.pmf(tri);
+    const double omega = sampled_solid_angle(o, tri);
+    return omega > 0.0 ? float(double(pmf) / omega) : pmf * t * t / (cos_light * area);
+  }
+  // MIS weight of emission found by BSDF sampling (solid-angle pdf bsdf_pdf) along a ray from o.
+  float emitter_weight(float bsdf_pdf, uint32_t tri, const glm::vec3& o, float t, float cos_light,
+                       float area) const {
+    return power_heuristic(bsdf_pdf, emitter_pdf(o, tri, t, cos_light, area));
   }
   // ... and of the environment map, along direction d.
   float environment_weight(float bsdf_pdf, const glm::vec3& d) const {
@@ -69,14 +97,18 @@ class LightSampling {
   // `random(dimension)` gives the path's numbers. False when the sample carries no light.
   template <class Random>
   bool sample(const glm::vec3& p, const ShadingPoint& x, Random&& random, ShadowRay& out) const {
-    float pick = random(light_pick);
-    if (pick < map_share_) return environment(x, random(environment_u), random(environment_v), out);
-    pick = std::min((pick - map_share_) / (1.f - map_share_), 0x1.fffffep-1f);
-    return emitter(p, x, pick, random(light_u), random(light_v), out);
+    // Separate numbers for the source and the emitter: rescaling one would lose the low bits
+    // the alias table needs for its probabilities to be exact.
+    if (map_share_ > 0.f && (map_share_ >= 1.f || random(light_source) < map_share_))
+      return environment(x,
+                         {random(environment_u), random(environment_v), random(environment_pixel_u),
+                          random(environment_pixel_v)},
+                         out);
+    return emitter(p, x, random(light_pick), random(light_u), random(light_v), out);
   }
 
  private:
-  bool environment(const ShadingPoint& x, float u1, float u2, ShadowRay& out) const;
+  bool environment(const ShadingPoint& x, const glm::vec4& u, ShadowRay& out) const;
   bool emitter(const glm::vec3& p, const ShadingPoint& x, float pick, float u1, float u2,
                ShadowRay& out) const;
   bool punctual(const glm::vec3& p, const PunctualLight& light, float pmf, const ShadingPoint& x,
@@ -86,6 +118,7 @@ class LightSampling {
   const LightSampler lights_;
   const EnvironmentMap* map_;
   const float map_share_;  // probability that next-event estimation samples the map
+  const TriangleSampling triangles_;
 };
 
 }  // namespace dacrt

@@ -56,36 +56,26 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
         break;
     }
   }
-  double total = 0.0;
-  for (double p : power) total += p;
-  if (!(total > 0.0)) return;  // nothing emits
-  cdf_.resize(power.size());
-  pmf_.resize(power.size());
-  double running = 0.0;
-  for (size_t i = 0; i < power.size(); ++i) {
-    running += power[i];
-    cdf_[i] = float(running / total);
-    pmf_[i] = float(power[i] / total);
-  }
-  cdf_.back() = 1.f;
+  table_ = AliasTable(power);
+  if (table_.empty()) return;  // nothing emits
   if (!triangles_.empty()) {
     pmf_by_triangle_.assign(g.size(), 0.f);
-    for (size_t i = 0; i < triangles_.size(); ++i) pmf_by_triangle_[triangles_[i]] = pmf_[i];
+    for (size_t i = 0; i < triangles_.size(); ++i)
+      pmf_by_triangle_[triangles_[i]] = float(table_.pmf(i));
   }
 }
 
 LightSampler::Sample LightSampler::sample(float u, float u1, float u2) const {
-  size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
-  i = std::min(i, cdf_.size() - 1);
-  // A light whose pmf is 0 (black) sits on a flat stretch of the cdf and is never returned.
+  const size_t i = table_.sample(u);       // a light whose pmf is 0 (black) is never returned
+  const float pmf = float(table_.pmf(i));  // a multiple of 2^-24: exact in float
   if (i >= triangles_.size())
-    return {int(i - triangles_.size()), 0, glm::vec3(0.f), glm::vec2(0.f), pmf_[i]};
+    return {int(i - triangles_.size()), 0, glm::vec3(0.f), glm::vec2(0.f), pmf};
   uint32_t tri = triangles_[i];
   glm::vec2 b = sample_triangle(u1, u2);
   const Geometry& g = scene_.geometry;
   glm::vec3 p =
       (1.f - b.x - b.y) * g.vertex(tri, 0) + b.x * g.vertex(tri, 1) + b.y * g.vertex(tri, 2);
-  return {-1, tri, p, b, pmf_[i]};
+  return {-1, tri, p, b, pmf};
 }
 
 }  // namespace dacrt

@@ -5,6 +5,8 @@
 // for a point light, the cone's solid angle × I for a spot, and the irradiance over the scene's
 // bounding disk for a directional light. pmf() answers for any triangle, so MIS can weigh emitters
 // found by BSDF sampling; punctual lights are deltas that only next-event estimation can reach.
+// The choice goes through an alias table (util/alias_table.h), so pmf() is exactly the
+// probability of the choice, whatever the number of emitters or the spread of their powers.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +14,7 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "util/alias_table.h"
 
 namespace dacrt {
 
@@ -19,7 +22,7 @@ class LightSampler {
  public:
   explicit LightSampler(const Scene& scene);
 
-  bool empty() const { return cdf_.empty(); }
+  bool empty() const { return table_.empty(); }
   size_t triangles() const { return triangles_.size(); }
 
   struct Sample {
@@ -36,9 +39,8 @@ class LightSampler {
 
  private:
   const Scene& scene_;
-  std::vector<uint32_t> triangles_;  // emissive triangles, then scene_.lights in cdf_'s order
-  std::vector<float> cdf_;           // over triangles_ then the punctual lights; back() == 1
-  std::vector<float> pmf_;           // the same, per entry
+  std::vector<uint32_t> triangles_;  // emissive triangles; table_ has them, then scene_.lights
+  AliasTable table_;
   std::vector<float> pmf_by_triangle_;
 };
 

@@ -73,8 +73,8 @@ void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, const Array
     if (!(cos < 0.f || m.double_sided)) return;
     float weight = 1.f;
     if (paths_.depth[path] > 0)
-      weight = lights_.emitter_weight(paths_.bsdf_pdf[path], tri, hits.t[i], std::abs(cos),
-                                      0.5f * area2);
+      weight = lights_.emitter_weight(paths_.bsdf_pdf[path], tri, rays.origin(i), hits.t[i],
+                                      std::abs(cos), 0.5f * area2);
     paths_.radiance[path] +=
         paths_.throughput[path] * emission_at(scene_, tri, hits.u[i], hits.v[i]) * weight;
   });

@@ -49,9 +49,15 @@ inline glm::vec2 sample_triangle(float u1, float u2) {
   return {s * (1.f - u2), s * u2};
 }
 
+// The weight a² / (a² + b²) of strategy a against b, written as 1 / (1 + (b/a)²) so that squares
+// cannot overflow: a huge or infinite pdf gives a weight of 0 or 1 (pbrt-v4 guards the same case),
+// never inf/inf = NaN, which the film would drop. Two infinite pdfs share the sample (½ each); a
+// strategy whose pdf is 0 (or NaN) gets 0.
 inline float power_heuristic(float pdf_a, float pdf_b) {
-  float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
-  return a + b > 0.f ? a / (a + b) : 0.f;
+  if (!(pdf_a > 0.f)) return 0.f;
+  const float r = pdf_b > 0.f ? pdf_b / pdf_a : 0.f;
+  if (std::isnan(r)) return 0.5f;  // ∞ / ∞
+  return 1.f / (1.f + r * r);
 }
 
 inline float luminance(const glm::vec3& c) {

@@ -53,8 +53,6 @@ EnvironmentMap::EnvironmentMap(Image image, const std::string& what) : image_(st
   if (w <= 0 || h <= 0) throw Error(what + ": the environment image is empty");
   // Pixel weights: luminance × sin θ at the row's centre (the solid angle a row covers).
   std::vector<double> weight(size_t(w) * h);
-  marginal_.resize(size_t(h));
-  conditional_.resize(size_t(w) * h);
   std::vector<double> row_sum(size_t(h), 0.0);
   glm::dvec3 integral(0.0);
   for (int y = 0; y < h; ++y) {
@@ -74,22 +72,12 @@ EnvironmentMap::EnvironmentMap(Image image, const std::string& what) : image_(st
   }
   average_ = glm::vec3(integral / (4.0 * glm::pi<double>()));
   for (double r : row_sum) total_ += r;
-  pmf_.assign(size_t(w) * h, 0.f);
   if (total_ <= 0.0) return;
-  double running = 0.0;
-  for (int y = 0; y < h; ++y) {
-    running += row_sum[size_t(y)];
-    marginal_[size_t(y)] = float(running / total_);
-    double in_row = 0.0;
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      in_row += weight[i];
-      conditional_[i] = row_sum[size_t(y)] > 0.0 ? float(in_row / row_sum[size_t(y)]) : 1.f;
-      pmf_[i] = float(weight[i] / total_);
-    }
-    conditional_[size_t(y) * w + w - 1] = 1.f;
-  }
-  marginal_.back() = 1.f;
+  rows_ = AliasTable(row_sum);
+  columns_.reserve(size_t(h));
+  for (int y = 0; y < h; ++y)
+    columns_.emplace_back(std::vector<double>(weight.begin() + ptrdiff_t(y) * w,
+                                              weight.begin() + ptrdiff_t(y + 1) * w));
 }
 
 int EnvironmentMap::pixel_index(const glm::vec3& direction) const {
@@ -107,25 +95,21 @@ glm::vec3 EnvironmentMap::radiance(const glm::vec3& direction) const {
 float EnvironmentMap::pdf(const glm::vec3& direction) const {
   const float sin_theta = std::sqrt(std::max(0.f, 1.f - direction.y * direction.y));
   if (!(sin_theta > 0.f) || total_ <= 0.0) return 0.f;
-  // Constant density in (u, v) over the pixel, and dω = 2π² sin θ du dv.
-  return pmf_[size_t(pixel_index(direction))] * float(image_.width) * float(image_.height) /
-         (2.f * glm::pi<float>() * glm::pi<float>() * sin_theta);
+  // Constant density in (u, v) over the pixel, and dω = 2π² sin θ du dv. The pixel's probability
+  // is a product of two multiples of 2⁻²⁴: exact in double.
+  const int i = pixel_index(direction), x = i % image_.width, y = i / image_.width;
+  const AliasTable& row = columns_[size_t(y)];
+  if (row.empty()) return 0.f;
+  const double pmf = rows_.pmf(size_t(y)) * row.pmf(size_t(x));
+  return float(pmf * image_.width * image_.height /
+               (2.0 * glm::pi<double>() * glm::pi<double>() * double(sin_theta)));
 }
 
-EnvironmentMap::Sample EnvironmentMap::sample(float u1, float u2) const {
+EnvironmentMap::Sample EnvironmentMap::sample(const glm::vec4& u) const {
   if (total_ <= 0.0) return {glm::vec3(0.f, 1.f, 0.f), glm::vec3(0.f), 0.f};
   const int w = image_.width, h = image_.height;
-  // The row by the marginal, the column by the row's conditional; each uniform's remainder
-  // within the chosen interval places the point inside the pixel.
-  const int y = std::min(
-      h - 1, int(std::upper_bound(marginal_.begin(), marginal_.end(), u1) - marginal_.begin()));
-  const float r0 = y > 0 ? marginal_[size_t(y) - 1] : 0.f, r1 = marginal_[size_t(y)];
-  const float fv = r1 > r0 ? std::clamp((u1 - r0) / (r1 - r0), 0.f, 1.f) : 0.5f;
-  const auto row = conditional_.begin() + ptrdiff_t(y) * w;
-  const int x = std::min(w - 1, int(std::upper_bound(row, row + w, u2) - row));
-  const float c0 = x > 0 ? row[x - 1] : 0.f, c1 = row[x];
-  const float fu = c1 > c0 ? std::clamp((u2 - c0) / (c1 - c0), 0.f, 1.f) : 0.5f;
-  const glm::vec3 d = from_uv({(x + fu) / w, (y + fv) / h});
+  const uint32_t y = rows_.sample(u.x), x = columns_[y].sample(u.y);
+  const glm::vec3 d = from_uv({(float(x) + u.z) / float(w), (float(y) + u.w) / float(h)});
   return {d, radiance(d), pdf(d)};
 }
 

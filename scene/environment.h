@@ -5,7 +5,9 @@
 // measured from −Z (the default camera's view) towards +X, so the image's centre is straight ahead;
 // row v ∈ [0, 1) is the polar angle θ = π v from +Y, the top row being the zenith. A pixel's
 // radiance is constant over it (nearest lookup), which is exactly what the sampling distribution
-// assumes, so sample(), radiance() and pdf() agree.
+// assumes, so sample(), radiance() and pdf() agree. The row is chosen by an alias table over rows
+// (the marginal), the column by the row's own alias table (the conditional), so pdf() is the
+// probability the sampling realises (util/alias_table.h), not a rounded cdf's.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -13,6 +15,7 @@
 #include <vector>
 
 #include "io/image.h"
+#include "util/alias_table.h"
 
 namespace dacrt {
 
@@ -28,7 +31,8 @@ class EnvironmentMap {
     glm::vec3 radiance;
     float pdf;  // solid angle
   };
-  Sample sample(float u1, float u2) const;
+  // u.x picks the row, u.y the column, (u.z, u.w) the point inside the pixel.
+  Sample sample(const glm::vec4& u) const;
   float pdf(const glm::vec3& direction) const;
 
   bool black() const { return total_ <= 0.0; }
@@ -43,9 +47,8 @@ class EnvironmentMap {
   int pixel_index(const glm::vec3& direction) const;
 
   Image image_;
-  std::vector<float> marginal_;     // cdf over rows, back() == 1
-  std::vector<float> conditional_;  // per row, cdf over its columns (width each)
-  std::vector<float> pmf_;          // probability of each pixel
+  AliasTable rows_;                  // the marginal
+  std::vector<AliasTable> columns_;  // per row, the conditional (empty for a black row)
   double total_ = 0.0;
   glm::vec3 average_{0.f};
 };

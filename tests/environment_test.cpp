@@ -34,6 +34,12 @@ Image test_map(bool black_poles) {
   return image;
 }
 
+// The four numbers EnvironmentMap::sample takes, in a fixed order.
+glm::vec4 uniforms(Pcg32& rng) {
+  const float a = rng.uniform(), b = rng.uniform(), c = rng.uniform();
+  return {a, b, c, rng.uniform()};
+}
+
 }  // namespace
 
 TEST_CASE("environment map axes: +Y up, the image centre towards -Z, u growing towards +X") {
@@ -53,8 +59,7 @@ TEST_CASE("environment map sampling follows its pdf (χ²)") {
   const EnvironmentMap map(test_map(true), "test");
   const double p = dacrt::test::chi2_p_value(
       [&](Pcg32& rng) -> std::optional<glm::vec3> {
-        const float u1 = rng.uniform(), u2 = rng.uniform();
-        const auto s = map.sample(u1, u2);
+        const auto s = map.sample(uniforms(rng));
         if (!(s.pdf > 0.f)) return std::nullopt;
         return s.direction;
       },
@@ -64,7 +69,7 @@ TEST_CASE("environment map sampling follows its pdf (χ²)") {
   // pixels are never sampled.
   Pcg32 rng(6);
   for (int k = 0; k < 20000; ++k) {
-    const auto s = map.sample(rng.uniform(), rng.uniform());
+    const auto s = map.sample(uniforms(rng));
     REQUIRE(s.pdf > 0.f);
     CHECK(s.pdf == map.pdf(s.direction));
     CHECK(s.radiance == map.radiance(s.direction));
@@ -78,7 +83,7 @@ TEST_CASE("environment map: radiance over pdf integrates to 4π times the averag
   constexpr int n = 400000;
   glm::dvec3 sum(0.0), sum2(0.0);
   for (int k = 0; k < n; ++k) {
-    const auto s = map.sample(rng.uniform(), rng.uniform());
+    const auto s = map.sample(uniforms(rng));
     if (!(s.pdf > 0.f)) continue;
     const glm::dvec3 v = glm::dvec3(s.radiance) / double(s.pdf);
     sum += v, sum2 += v * v;

@@ -22,8 +22,9 @@ constexpr Dimension pairs[][2] = {{pixel_x, pixel_y},
                                   {lens_u, lens_v},
                                   {light_u, light_v},
                                   {bsdf_u, bsdf_v},
-                                  {environment_u, environment_v}};
-constexpr Dimension singles[] = {light_pick, bsdf_lobe, roulette};
+                                  {environment_u, environment_v},
+                                  {environment_pixel_u, environment_pixel_v}};
+constexpr Dimension singles[] = {light_pick, bsdf_lobe, roulette, light_source};
 
 }  // namespace
 
