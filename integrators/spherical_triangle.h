@@ -4,7 +4,7 @@
 // sampling such a triangle by area puts most points where it is far or seen edge-on, each of them
 // worth dist² / cos, while a uniform direction in its solid angle Ω is worth Ω, the same for all.
 // Everything is in double: the sampling formulas subtract nearly equal cosines for small triangles,
-// and the callers only use them above a solid angle of ~3e-4 sr (below, area sampling is as good).
+// and the callers only use them above a solid angle of 0.5 sr (LightSampling::min_solid_angle).
 #pragma once
 
 #include <algorithm>
