@@ -286,3 +286,30 @@ TEST_CASE("the vector triangle filters (8 and 16 lanes) keep every lane the scal
         if (std::string(c.name) == "soup") CHECK(candidates < accepted + tested / 100);
       }
 }
+
+// A ray lying in the plane of two triangles (the grazing plane of tests/stress.h, plane ray 1019):
+// the sheared triangles are segments, their edge functions and det rounding noise, and the double
+// t of intersect_triangle was their ratio: 0.57 for the triangle wholly behind the origin, which
+// DACRT's box test then culled while brute force kept it. t must lie where the ray is inside the
+// triangle's box.
+TEST_CASE("a ray in a triangle's plane never hits it at a t outside the triangle's box") {
+  const glm::vec3 o(0.f), d(-70.f, 52.f, -39.f);
+  Geometry g;
+  g.add({40.f, -40.f, 30.f}, {50.f, -32.f, 24.f}, {40.f, -32.f, 24.f}, 0);   // behind the origin
+  g.add({-60.f, 32.f, -24.f}, {-50.f, 40.f, -30.f}, {-60.f, 40.f, -30.f}, 0);  // ahead, t 0.76
+  const Ray r = Ray::shear(o, d);
+  TriangleHit h;
+  CHECK_FALSE(intersect_triangle(r, g.vertex(0, 0), g.vertex(0, 1), g.vertex(0, 2), 0.f, INFINITY, h));
+  RayBatch rays;
+  rays.push(o, d, 0.f, INFINITY, 0);
+  HitBatch expect;
+  Backend::create("brute", g)->intersect(rays, expect);
+  CHECK(expect.prim[0] == 1);
+  for (const char* name : {"dacrt", "dacrt-naive"}) {
+    HitBatch got;
+    Backend::create(name, g)->intersect(rays, got);
+    INFO(name);
+    CHECK(got.prim[0] == expect.prim[0]);
+    CHECK(got.t[0] == expect.t[0]);
+  }
+}

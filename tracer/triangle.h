@@ -4,6 +4,7 @@
 // so no ray slips between them. Edge functions that round to exactly zero are recomputed in double.
 #pragma once
 
+#include <algorithm>
 #include <glm/glm.hpp>
 
 #include "tracer/ray.h"
@@ -15,7 +16,14 @@ struct TriangleHit {
 };
 
 // The Woop test's t in double precision from the float inputs (NaN if the sheared triangle is
-// degenerate in double too).
+// degenerate in double too), clamped to the t range in which the ray is inside the triangle's
+// bounding box (NaN if it never is). A hit point is a convex combination of the corners, so its
+// exact t lies in that range, and clamping changes no t that means anything. It matters for a ray
+// lying (up to rounding) in the triangle's plane: the sheared triangle is then a segment, e0, e1,
+// e2 and det are rounding noise, and their ratio may be any t, of either sign: 0.57 for a triangle
+// wholly behind the origin, -0 for one at t = 1 (tests/stress_test.cpp). Such a t is far from the
+// triangle, where DACRT's box test (padded for rounding only) rightly culls the triangle's box,
+// so DACRT and brute force disagreed.
 inline double exact_t(const Ray& r, const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
   const glm::dvec3 o(r.o), a = glm::dvec3(p0) - o, b = glm::dvec3(p1) - o, c = glm::dvec3(p2) - o;
   const double dz = r.d[r.kz], sx = r.d[r.kx] / dz, sy = r.d[r.ky] / dz;
@@ -25,7 +33,22 @@ inline double exact_t(const Ray& r, const glm::vec3& p0, const glm::vec3& p1, co
   const double e0 = cx * by - cy * bx, e1 = ax * cy - ay * cx, e2 = bx * ay - by * ax;
   const double det = e0 + e1 + e2;
   if (det == 0.0) return NAN;
-  return (e0 * a[r.kz] + e1 * b[r.kz] + e2 * c[r.kz]) / dz / det;
+  const double t = (e0 * a[r.kz] + e1 * b[r.kz] + e2 * c[r.kz]) / dz / det;
+  double lo = -INFINITY, hi = INFINITY;  // where the ray is inside the triangle's bounding box
+  for (int k = 0; k < 3; ++k) {
+    const double box_lo = std::min({a[k], b[k], c[k]}), box_hi = std::max({a[k], b[k], c[k]});
+    if (r.d[k] == 0.f) {
+      if (box_lo > 0.0 || box_hi < 0.0) return NAN;  // parallel to the slab, outside it
+      continue;
+    }
+    const double t0 = box_lo / r.d[k], t1 = box_hi / r.d[k];
+    lo = std::max(lo, std::min(t0, t1)), hi = std::min(hi, std::max(t0, t1));
+  }
+  if (lo > hi) {  // a ray that misses the box, unless only by the rounding of the divisions
+    if (lo - hi > 0x1p-40 * std::max(std::abs(lo), std::abs(hi))) return NAN;
+    hi = lo;
+  }
+  return std::clamp(t, lo, hi);  // NaN stays NaN
 }
 
 // Accepts hits with tmin <= t <= tmax, from either side. Degenerate triangles never hit.
