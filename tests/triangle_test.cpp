@@ -295,11 +295,12 @@ TEST_CASE("the vector triangle filters (8 and 16 lanes) keep every lane the scal
 TEST_CASE("a ray in a triangle's plane never hits it at a t outside the triangle's box") {
   const glm::vec3 o(0.f), d(-70.f, 52.f, -39.f);
   Geometry g;
-  g.add({40.f, -40.f, 30.f}, {50.f, -32.f, 24.f}, {40.f, -32.f, 24.f}, 0);   // behind the origin
+  g.add({40.f, -40.f, 30.f}, {50.f, -32.f, 24.f}, {40.f, -32.f, 24.f}, 0);     // behind the origin
   g.add({-60.f, 32.f, -24.f}, {-50.f, 40.f, -30.f}, {-60.f, 40.f, -30.f}, 0);  // ahead, t 0.76
   const Ray r = Ray::shear(o, d);
   TriangleHit h;
-  CHECK_FALSE(intersect_triangle(r, g.vertex(0, 0), g.vertex(0, 1), g.vertex(0, 2), 0.f, INFINITY, h));
+  CHECK_FALSE(
+      intersect_triangle(r, g.vertex(0, 0), g.vertex(0, 1), g.vertex(0, 2), 0.f, INFINITY, h));
   RayBatch rays;
   rays.push(o, d, 0.f, INFINITY, 0);
   HitBatch expect;
