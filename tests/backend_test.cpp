@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "allocations.h"
+#include "io/gltf.h"
 #include "test_geometry.h"
 #include "tracer/dacrt/dacrt.h"
 
@@ -504,4 +505,33 @@ TEST_CASE("a call with few rays pays for its rays, not for every triangle, once 
   }
   CHECK(binned[0] >= 100000);
   CHECK(binned[1] <= 100000 / 10);
+}
+
+TEST_CASE("dacrt costs small leaves in whole blocks of 16 triangles: the Cornell box is one leaf") {
+  // 32 triangles, rays from the walls: split in two halves of 16, most rays enter both, so one
+  // leaf (two blocks) is cheaper; counting tests one by one (leaf_lanes=1, the paper's model) it
+  // splits. Either way the hits are brute force's.
+  const Geometry g = load_gltf(DACRT_SOURCE_DIR "/scenes/cornell-box.gltf").geometry;
+  REQUIRE(g.size() == 32);
+  const RayBatch rays = surface_rays(g, 20000, 71, true);
+  HitBatch reference;
+  Backend::create("brute", g)->intersect(rays, reference);
+  Stats s[2];
+  for (int i = 0; i < 2; ++i) {
+    Options o;
+    o.set("leaf_lanes", i == 0 ? "16" : "1");
+    auto b = Backend::create("dacrt", g, o);
+    HitBatch h;
+    tbb::task_arena(1).execute([&] { b->intersect(rays, h); });
+    s[i] = b->stats();
+    CHECK(h.prim == reference.prim);
+    CHECK(h.t == reference.t);
+  }
+  CHECK(s[0].nodes == 0);
+  CHECK(s[0].leaves == 1);
+  CHECK(s[1].nodes > 0);
+  CHECK(s[0].triangle_tests > s[1].triangle_tests);  // more tests, in fewer leaves and blocks
+  Options zero;
+  zero.set("leaf_lanes", "0");
+  CHECK_THROWS_WITH_AS(Backend::create("dacrt", g, zero), doctest::Contains("leaf_lanes"), Error);
 }

@@ -422,7 +422,9 @@ TEST_CASE("bench: --tmax-at-hit keeps every closest hit and never adds work") {
                                      json,
                                      "--quiet",
                                      "--backend-option",
-                                     "leaf_triangles=2"};
+                                     "leaf_triangles=2",
+                                     "--backend-option",
+                                     "leaf_lanes=1"};
     if (at_hit) args.push_back("--tmax-at-hit");
     std::ostringstream out;
     REQUIRE(bench_command(args, out) == 0);

@@ -228,9 +228,10 @@ TEST_CASE("cli: --backend a,b,c renders with each, names each image, and compare
 #ifdef DACRT_HAVE_EMBREE
   backends += ",embree";
 #endif
-  Run r = run(dir, "render " + cornell + " --width 24 --height 16 --spp 2 --quiet --backend " +
-                       backends + " --backend-option dacrt.top_triangles=0 -o " + out +
-                       " --preview " + (dir / "box.png") + " --stats " + (dir / "box.json"));
+  Run r = run(
+      dir, "render " + cornell + " --width 24 --height 16 --spp 2 --quiet --backend " + backends +
+               " --backend-option dacrt.top_triangles=0 --backend-option dacrt.leaf_lanes=1 -o " +
+               out + " --preview " + (dir / "box.png") + " --stats " + (dir / "box.json"));
   REQUIRE(r.code == 0);
   CHECK(r.err.empty());
   // One image and preview per backend; the exact ones are the same image, bit for bit.

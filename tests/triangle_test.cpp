@@ -4,6 +4,8 @@
 
 #include <doctest/doctest.h>
 
+#include <bit>
+
 #include "test_geometry.h"
 #include "tracer/backend.h"
 #include "tracer/triangle_block.h"
@@ -224,7 +226,9 @@ TEST_CASE("watertight at every batch size, for every backend of ours") {
   }
 }
 
-TEST_CASE("the vector triangle filters (8 and 16 lanes) keep every lane the scalar test accepts") {
+TEST_CASE(
+    "the vector triangle filters (8 and 16 lanes) keep every lane the scalar test accepts, and "
+    "their sure lanes are its hits") {
   if (!avx2_available()) {
     MESSAGE("skipped: this CPU has no AVX2, so leaves use the scalar test only");
     return;
@@ -254,7 +258,7 @@ TEST_CASE("the vector triangle filters (8 and 16 lanes) keep every lane the scal
       for (const bool wide : {false, true}) {
         if (wide && (width == 8 || !avx512_available())) continue;
         INFO(std::string(c.name) << ", blocks of " << width << (wide ? ", AVX-512" : ", AVX2"));
-        size_t accepted = 0, candidates = 0, dropped = 0, tested = 0;
+        size_t accepted = 0, candidates = 0, dropped = 0, tested = 0, sure = 0, wrong_sure = 0;
         for (size_t j0 = 0; j0 < c.g.size(); j0 += width) {
           uint32_t ids[16];
           const int n = int(std::min<size_t>(width, c.g.size() - j0));
@@ -266,6 +270,12 @@ TEST_CASE("the vector triangle filters (8 and 16 lanes) keep every lane the scal
             const uint32_t mask =
                 wide ? block_candidates_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i])
                      : block_candidates(block, ray, c.rays.tmin[i], c.rays.tmax[i]);
+            BlockHits bh{};
+            if (wide) {
+              block_hits_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i], bh);
+              CHECK((bh.sure & bh.unsure) == 0u);
+              CHECK((bh.sure | bh.unsure) == mask);
+            }
             for (int l = 0; l < n; ++l) {
               TriangleHit h;
               const bool hit =
@@ -273,18 +283,55 @@ TEST_CASE("the vector triangle filters (8 and 16 lanes) keep every lane the scal
                                      c.g.vertex(ids[l], 2), c.rays.tmin[i], c.rays.tmax[i], h);
               const bool kept = (mask >> l) & 1u;
               accepted += hit, candidates += kept, dropped += hit && !kept, ++tested;
+              // A sure lane is the scalar test's hit, bit for bit.
+              if (bh.sure >> l & 1u) {
+                ++sure;
+                const float u = bh.e1[l] / bh.det[l], v = bh.e2[l] / bh.det[l];
+                wrong_sure += !hit ||
+                              std::bit_cast<uint32_t>(h.t) != std::bit_cast<uint32_t>(bh.t[l]) ||
+                              std::bit_cast<uint32_t>(h.u) != std::bit_cast<uint32_t>(u) ||
+                              std::bit_cast<uint32_t>(h.v) != std::bit_cast<uint32_t>(v);
+              }
             }
             CHECK((mask >> n) == 0u);  // unused lanes are never reported
           }
         }
         CHECK(dropped == 0);
         CHECK(accepted > 0);
+        CHECK(wrong_sure == 0);
+        // On general triangles most hits skip the scalar test.
+        if (wide && std::string(c.name) == "soup") CHECK(sure > accepted * 9 / 10);
         INFO("accepted " << accepted << ", candidates " << candidates << ", tested " << tested);
         // A filter, not a pass-through: on general triangles almost every candidate is a hit.
         // (Rays in the grid's plane see every triangle edge-on, all edge functions zero: all
         // candidates.)
         if (std::string(c.name) == "soup") CHECK(candidates < accepted + tested / 100);
       }
+}
+
+// An edge function that rounds to 0 in float but not in double: the scalar test decides in double
+// (here: the origin is just outside, a miss), so the lane must go to it, not be taken as sure.
+TEST_CASE("a lane whose edge function rounds to zero is never a sure hit of the vector test") {
+  if (!avx512_available()) {
+    MESSAGE("skipped: this CPU has no AVX-512");
+    return;
+  }
+  const float e = 0x1p-23f;
+  Geometry g;
+  // The sheared corners (ray along +z from z = -1): e0 = cx·by − cy·bx = −2^-46 exactly, 0 in
+  // float; e1 and e2 are positive.
+  g.add({-1.f, 1.f, 1.f}, {1.f, 1.f + e, 1.f}, {-(1.f + e), -(1.f + 2.f * e), 1.f}, 0);
+  const Ray r = Ray::shear(glm::vec3(0.f, 0.f, -1.f), glm::vec3(0.f, 0.f, 1.f));
+  TriangleHit h;
+  CHECK_FALSE(
+      intersect_triangle(r, g.vertex(0, 0), g.vertex(0, 1), g.vertex(0, 2), 0.f, INFINITY, h));
+  const uint32_t ids[1] = {0};
+  TriangleBlock block;
+  block.load(g, ids, 1);
+  BlockHits bh{};
+  block_hits_avx512(block, r, 0.f, INFINITY, bh);
+  CHECK(bh.sure == 0u);
+  CHECK(bh.unsure == 1u);
 }
 
 // A ray lying in the plane of two triangles (the grazing plane of tests/stress.h, plane ray 1019):

@@ -108,10 +108,10 @@ __attribute__((target("avx512f"))) inline __m512 max3(const __m512* v) {
                        _mm512_abs_ps(v[2]));
 }
 
-// candidates8 on all sixteen lanes: the same operations, in the same order, on 16-wide registers.
-__attribute__((target("avx512f"))) uint32_t block_candidates_avx512(const TriangleBlock& b,
-                                                                    const Ray& r, float tmin,
-                                                                    float tmax) {
+// candidates8 on all sixteen lanes: the same operations, in the same order, on 16-wide registers;
+// also the lanes whose answer is known without the scalar test (BlockHits).
+__attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b, const Ray& r,
+                                                          float tmin, float tmax, BlockHits& out) {
   const __m512 ox = _mm512_set1_ps(r.o[r.kx]), oy = _mm512_set1_ps(r.o[r.ky]),
                oz = _mm512_set1_ps(r.o[r.kz]);
   const __m512 sx = _mm512_set1_ps(r.sx), sy = _mm512_set1_ps(r.sy), sz = _mm512_set1_ps(r.sz);
@@ -155,12 +155,28 @@ __attribute__((target("avx512f"))) uint32_t block_candidates_avx512(const Triang
                     _mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(2e-5f), m), m), m)),
       abs_det);
   const __m512 abs_t = _mm512_abs_ps(t);
-  const __mmask16 t_ok = (_mm512_cmp_ps_mask(t, _mm512_set1_ps(tmin), _CMP_GE_OQ) &
-                          _mm512_cmp_ps_mask(t, _mm512_set1_ps(tmax), _CMP_LE_OQ)) |
-                         _mm512_cmp_ps_mask(abs_t, inf, _CMP_NLT_UQ) |
-                         _mm512_cmp_ps_mask(abs_t, bound, _CMP_NGT_UQ);
-  const __mmask16 accept = __mmask16(~(any_neg & any_pos) & det_ok & t_ok);
-  return uint32_t(accept | any_zero) & ((1u << b.n) - 1u);
+  const __mmask16 in_range = _mm512_cmp_ps_mask(t, _mm512_set1_ps(tmin), _CMP_GE_OQ) &
+                             _mm512_cmp_ps_mask(t, _mm512_set1_ps(tmax), _CMP_LE_OQ);
+  const __mmask16 not_finite = _mm512_cmp_ps_mask(abs_t, inf, _CMP_NLT_UQ);
+  const __mmask16 near_zero = _mm512_cmp_ps_mask(abs_t, bound, _CMP_NGT_UQ);
+  const __mmask16 inside = __mmask16(~(any_neg & any_pos) & det_ok);
+  const uint32_t used = (1u << b.n) - 1u;
+  // Sure: no edge function of zero (no double edge functions), t finite and beyond its error
+  // bound (no double t), inside and in range: the scalar test would accept with this t and u, v =
+  // e1 / det, e2 / det, computed by the same operations.
+  out.sure = uint32_t(inside & in_range & ~not_finite & ~near_zero & ~any_zero) & used;
+  out.unsure =
+      uint32_t((inside & (in_range | not_finite | near_zero)) | any_zero) & used & ~out.sure;
+  _mm512_store_ps(out.t, t);
+  _mm512_store_ps(out.e1, e1);
+  _mm512_store_ps(out.e2, e2);
+  _mm512_store_ps(out.det, det);
+}
+
+uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax) {
+  BlockHits h;
+  block_hits_avx512(b, r, tmin, tmax, h);
+  return h.sure | h.unsure;
 }
 #pragma GCC diagnostic pop
 
@@ -177,6 +193,9 @@ uint32_t block_candidates(const TriangleBlock& b, const Ray&, float, float) {
 }
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray&, float, float) {
   return (1u << b.n) - 1u;  // never called; every lane is a candidate
+}
+void block_hits_avx512(const TriangleBlock& b, const Ray&, float, float, BlockHits& out) {
+  out.sure = 0, out.unsure = (1u << b.n) - 1u;  // never called; every lane is for the scalar test
 }
 
 #endif

@@ -47,4 +47,15 @@ uint32_t block_candidates(const TriangleBlock& b, const Ray& r, float tmin, floa
 // The same mask, sixteen lanes per instruction. Only call when avx512_available().
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax);
 
+// block_candidates_avx512's mask in two parts. Lanes in `sure` are ones intersect_triangle(r, ...,
+// tmin, tmax) accepts without its double-precision fallbacks: its hit is t[l], u = e1[l] / det[l],
+// v = e2[l] / det[l], bit for bit. Lanes in `unsure` need the scalar test.
+struct BlockHits {
+  alignas(64) float t[TriangleBlock::lanes], e1[TriangleBlock::lanes], e2[TriangleBlock::lanes],
+      det[TriangleBlock::lanes];
+  uint32_t sure, unsure;
+};
+void block_hits_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax,
+                       BlockHits& out);
+
 }  // namespace dacrt

@@ -30,6 +30,12 @@ struct DacrtParams {
   // camera in a room), α is 1 on both sides and no split looks cheaper than a leaf. Nodes with
   // more triangles than this split anyway, by the cheapest candidate.
   int max_leaf_triangles = 64;
+  // The cost of a small node's leaf (and of its children as leaves) counts its triangle tests in
+  // whole blocks of this many: the vector tests take 16 triangles at a time (TriangleBlock), so a
+  // leaf of 20 costs what one of 32 does, and splitting 32 triangles in two pays only if few rays
+  // enter both halves. 1: one by one, the paper's model. The same on every CPU, so the recursion
+  // does not depend on the vector width.
+  int leaf_lanes = 16;
   int sample_size = 100;        // rays drawn to estimate α
   int sample_threshold = 1000;  // sample only above this many active rays
   // At or below sample_threshold: `sah` splits by the surface area heuristic, orders the children

@@ -11,7 +11,7 @@ const std::set<std::string, std::less<>>& DacrtParams::keys() {
       "filter_skip",    "cost_traversal", "cost_intersect",
       "seed",           "max_depth",      "max_leaf_triangles",
       "small_nodes",    "simd",           "task_rays",
-      "chunks",         "top_triangles"};
+      "chunks",         "top_triangles",  "leaf_lanes"};
   return k;
 }
 
@@ -23,6 +23,7 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.leaf_work = o.get("leaf_work", p.leaf_work);
   p.max_leaf_triangles = o.get("max_leaf_triangles", p.max_leaf_triangles);
   p.leaf_triangles = o.get("leaf_triangles", p.leaf_triangles);
+  p.leaf_lanes = o.get("leaf_lanes", p.leaf_lanes);
   p.sample_size = o.get("sample_size", p.sample_size);
   p.sample_threshold = o.get("sample_threshold", p.sample_threshold);
   std::string skip = o.get("filter_skip", std::string("paper"));
@@ -43,8 +44,11 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
     throw Error("option simd must be auto, avx2 or none");
   p.simd = simd == "auto" ? Simd::avx512 : simd == "avx2" ? Simd::avx2 : Simd::none;
   if (p.bins < 2 || p.bins > 256) throw Error("option bins must be in [2, 256]");
-  if (p.leaf_rays < 1 || p.leaf_triangles < 1 || p.leaf_work < 1 || p.max_leaf_triangles < 1)
-    throw Error("options leaf_rays, leaf_triangles, leaf_work and max_leaf_triangles must be >= 1");
+  if (p.leaf_rays < 1 || p.leaf_triangles < 1 || p.leaf_work < 1 || p.max_leaf_triangles < 1 ||
+      p.leaf_lanes < 1)
+    throw Error(
+        "options leaf_rays, leaf_triangles, leaf_work, max_leaf_triangles and leaf_lanes must be "
+        ">= 1");
   if (p.sample_size < 1 || p.sample_threshold < p.sample_size)
     throw Error("option sample_size must be >= 1 and <= sample_threshold");
   if (p.max_depth < 1) throw Error("option max_depth must be at least 1");

@@ -177,9 +177,15 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     samples = alpha_samples(rb, re);
     sample_splits(&left_box[1], &right_box[1], K - 1, rb, samples, counts);
   }
+  // The triangle tests of a leaf of n triangles, in whole blocks of leaf_lanes, for nodes of up to
+  // two blocks (the last splits before the leaves).
+  const uint32_t lanes = uint32_t(p.leaf_lanes);
+  auto tests = [lanes, small = nt <= 2 * lanes](uint32_t n) {
+    return small ? double((n + lanes - 1) / lanes * lanes) : double(n);
+  };
   auto alpha_cost = [&](uint32_t hit_l, uint32_t hit_r, int split) {
-    return p.cost_traversal + p.cost_intersect * (double(hit_l) / samples * left_n[split] +
-                                                  double(hit_r) / samples * right_n[split]);
+    return p.cost_traversal + p.cost_intersect * (double(hit_l) / samples * tests(left_n[split]) +
+                                                  double(hit_r) / samples * tests(right_n[split]));
   };
   double best_cost = INFINITY, best_area_cost = INFINITY;
   int best = 0;
@@ -197,8 +203,8 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     if (!left_n[split] || !right_n[split]) continue;
     double area_l = area_ratio(left_box[split]);
     double area_r = area_ratio(right_box[split]);
-    double area_cost =
-        p.cost_traversal + p.cost_intersect * (area_l * left_n[split] + area_r * right_n[split]);
+    double area_cost = p.cost_traversal + p.cost_intersect * (area_l * tests(left_n[split]) +
+                                                              area_r * tests(right_n[split]));
     double cost =
         all_splits ? alpha_cost(counts.left[split - 1], counts.right[split - 1], split) : area_cost;
     if (cost < best_cost || (cost == best_cost && area_cost < best_area_cost))
@@ -214,7 +220,7 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     // almost never pays for few triangles).
     order_by_direction(rb, nr, axis, first_l, first_r);
   }
-  const double leaf_cost = p.cost_intersect * nt;
+  const double leaf_cost = p.cost_intersect * tests(nt);
   if (best_cost >= leaf_cost && nt <= uint32_t(p.max_leaf_triangles)) return {};
 
   TriangleRef* tri_mid = block_partition_by(tris + tb, tris + te,

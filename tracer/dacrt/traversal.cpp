@@ -71,16 +71,28 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
         const TriangleBlock& block = blocks[b];
         stats.triangle_tests += block.n;
         // Candidates, then the scalar test on each, in lane order (the tie rule makes the order
-        // irrelevant for the answer).
-        const uint32_t candidates = wide ? block_candidates_avx512(block, ray, ref.tmin, ref.far)
-                                         : block_candidates(block, ray, ref.tmin, ref.far);
+        // irrelevant for the answer). With AVX-512 the lanes whose answer the vector test already
+        // knows skip the scalar test: their t, u and v are its own, bit for bit.
+        uint32_t sure = 0, candidates;
+        BlockHits bh;
+        if (wide) {
+          block_hits_avx512(block, ray, ref.tmin, ref.far, bh);
+          sure = bh.sure, candidates = bh.sure | bh.unsure;
+        } else {
+          candidates = block_candidates(block, ray, ref.tmin, ref.far);
+        }
         for (uint32_t m = candidates; m && ref.far >= ref.tmin; m &= m - 1) {
           const int l = std::countr_zero(m);
           const uint32_t tri = block.id[l];
           TriangleHit h;
-          if (intersect_triangle(ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2),
-                                 ref.tmin, ref.far, h))
+          if (sure >> l & 1u) {
+            if (!(bh.t[l] <= ref.far)) continue;  // a hit found since is nearer
+            h = {bh.t[l], bh.e1[l] / bh.det[l], bh.e2[l] / bh.det[l]};
             record(ref, tri, h);
+          } else if (intersect_triangle(ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2),
+                                        ref.tmin, ref.far, h)) {
+            record(ref, tri, h);
+          }
         }
       }
     }
