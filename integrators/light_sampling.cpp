@@ -2,6 +2,10 @@
 // and punctual lights as shadow rays.
 #include "integrators/light_sampling.h"
 
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/constants.hpp>
+
 #include "integrators/spherical_triangle.h"
 #include "materials/surface.h"
 #include "tracer/ray.h"
@@ -27,8 +31,18 @@ LightSampling::LightSampling(const Scene& scene, const EnvironmentMap* map,
 double LightSampling::sampled_solid_angle(const glm::vec3& o, uint32_t tri) const {
   if (triangles_ == TriangleSampling::area) return 0.0;
   const Geometry& g = scene_.geometry;
-  const double omega =
-      triangle_solid_angle(glm::dvec3(o), corner(g, tri, 0), corner(g, tri, 1), corner(g, tri, 2));
+  // Most points see most emitters under far less than min_solid_angle: a ball around the triangle
+  // (out to its farthest corner from a centre) subtends a cap of 2π (1 − √(1 − r²/D²)) < 2π r²/D²,
+  // which bounds the triangle's Ω; below the threshold the exact Ω (normalisations and an atan2
+  // in double) is not needed. The answer is the same either way.
+  const glm::dvec3 c0 = corner(g, tri, 0), c1 = corner(g, tri, 1), c2 = corner(g, tri, 2);
+  const glm::dvec3 centre = (c0 + c1 + c2) * (1.0 / 3.0);
+  const double r2 =
+      std::max({glm::dot(c0 - centre, c0 - centre), glm::dot(c1 - centre, c1 - centre),
+                glm::dot(c2 - centre, c2 - centre)});
+  const glm::dvec3 to = centre - glm::dvec3(o);
+  if (2.0 * glm::pi<double>() * (1.0 + 1e-9) * r2 <= min_solid_angle * glm::dot(to, to)) return 0.0;
+  const double omega = triangle_solid_angle(glm::dvec3(o), c0, c1, c2);
   return omega > min_solid_angle && omega < max_solid_angle ? omega : 0.0;
 }
 

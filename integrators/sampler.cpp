@@ -53,12 +53,13 @@ struct PatternSeeds {
   uint32_t index, component[2];
 };
 // One pattern per (seed, pixel, depth mod 2^24, slot). mix64 is a bijection: distinct keys,
-// distinct patterns. The second component's seed is a 32-bit hash (Wellons' lowbias32) of the
-// first's.
-inline PatternSeeds pattern_seeds(uint64_t seed, uint32_t pixel, uint32_t depth, uint32_t slot) {
-  // (The additive constants keep seed 0, pixel 0, depth 0, slot 0 off mix64's fixed point 0.)
+// distinct patterns. `seed_key` is the seed mixed once (sobol_seed_key). The second component's
+// seed is a 32-bit hash (Wellons' lowbias32) of the first's.
+inline PatternSeeds pattern_seeds(uint64_t seed_key, uint32_t pixel, uint32_t depth,
+                                  uint32_t slot) {
+  // (The additive constant keeps seed 0, pixel 0, depth 0, slot 0 off mix64's fixed point 0.)
   const uint64_t key = uint64_t(pixel) << 32 | uint64_t(depth & 0xffffff) << 8 | slot;
-  const uint64_t h = mix64(mix64(seed + 0x9e3779b97f4a7c15ull) ^ (key + 0xd1b54a32d192ed03ull));
+  const uint64_t h = mix64(seed_key ^ (key + 0xd1b54a32d192ed03ull));
   uint32_t c1 = uint32_t(h >> 32);
   c1 ^= c1 >> 16;
   c1 *= 0x7feb352du;
@@ -92,17 +93,22 @@ std::string sampler_name(SamplerKind kind) {
   return kind == SamplerKind::independent ? "independent" : "sobol";
 }
 
-float sobol_number(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth, Dimension dim) {
+uint64_t sobol_seed_key(uint64_t seed) {
+  return mix64(seed + 0x9e3779b97f4a7c15ull);
+}
+
+float sobol_number_keyed(uint64_t seed_key, uint32_t pixel, uint32_t index, uint32_t depth,
+                         Dimension dim) {
   const DimensionSlot slot = dimension_slots[dim];
-  const PatternSeeds k = pattern_seeds(seed, pixel, depth, slot.slot);
+  const PatternSeeds k = pattern_seeds(seed_key, pixel, depth, slot.slot);
   const uint32_t r = laine_karras(reverse_bits(index), k.index);
   return slot.component == 0 ? component0(r, k.component[0]) : component1(r, k.component[1]);
 }
 
-std::array<float, 2> sobol_pair(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth,
-                                Dimension first) {
+std::array<float, 2> sobol_pair_keyed(uint64_t seed_key, uint32_t pixel, uint32_t index,
+                                      uint32_t depth, Dimension first) {
   const DimensionSlot slot = dimension_slots[first];
-  const PatternSeeds k = pattern_seeds(seed, pixel, depth, slot.slot);
+  const PatternSeeds k = pattern_seeds(seed_key, pixel, depth, slot.slot);
   const uint32_t r = laine_karras(reverse_bits(index), k.index);
   return {component0(r, k.component[0]), component1(r, k.component[1])};
 }

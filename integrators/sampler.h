@@ -33,24 +33,53 @@ std::vector<std::string> sampler_names();                      // "independent",
 std::string sampler_name(SamplerKind kind);                    // one of those
 bool parse_sampler(std::string_view name, SamplerKind& kind);  // false: no such sampler
 
-// The number of `dim` for sample `index` of `pixel` at path depth `depth`, in [0, 1).
-float sobol_number(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth, Dimension dim);
+// The seed as the Sobol patterns take it: mixed once per render, not for every number.
+uint64_t sobol_seed_key(uint64_t seed);
+// The number of `dim` for sample `index` of `pixel` at path depth `depth`, in [0, 1), from the
+// seed's key.
+float sobol_number_keyed(uint64_t seed_key, uint32_t pixel, uint32_t index, uint32_t depth,
+                         Dimension dim);
+// Both numbers of the pair that starts at `first` (a pair's component 0 in dimension_slots), the
+// same as two sobol_number_keyed calls; a pair shares its pattern's seeds and index shuffle.
+std::array<float, 2> sobol_pair_keyed(uint64_t seed_key, uint32_t pixel, uint32_t index,
+                                      uint32_t depth, Dimension first);
+
+// A sampler of one render: its kind and seed (and the seed's key).
+struct Sampler {
+  SamplerKind kind = SamplerKind::sobol;
+  uint64_t seed = 0, key = sobol_seed_key(0);
+  Sampler() = default;
+  Sampler(SamplerKind k, uint64_t s) : kind(k), seed(s), key(sobol_seed_key(s)) {}
+
+  float number(uint32_t pixel, uint32_t index, uint32_t depth, Dimension dim) const {
+    if (kind == SamplerKind::independent || dim >= dimension_count)
+      return uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(dim));
+    return sobol_number_keyed(key, pixel, index, depth, dim);
+  }
+  std::array<float, 2> pair(uint32_t pixel, uint32_t index, uint32_t depth, Dimension first) const {
+    if (kind == SamplerKind::independent)
+      return {uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(first)),
+              uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(first) + 1)};
+    return sobol_pair_keyed(key, pixel, index, depth, first);
+  }
+};
+
+// The same, for one number or pair at a time (the seed mixed on each call).
+inline float sobol_number(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth,
+                          Dimension dim) {
+  return sobol_number_keyed(sobol_seed_key(seed), pixel, index, depth, dim);
+}
+inline std::array<float, 2> sobol_pair(uint64_t seed, uint32_t pixel, uint32_t index,
+                                       uint32_t depth, Dimension first) {
+  return sobol_pair_keyed(sobol_seed_key(seed), pixel, index, depth, first);
+}
 inline float sample_number(SamplerKind kind, uint64_t seed, uint32_t pixel, uint32_t index,
                            uint32_t depth, Dimension dim) {
-  if (kind == SamplerKind::independent || dim >= dimension_count)
-    return uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(dim));
-  return sobol_number(seed, pixel, index, depth, dim);
+  return Sampler(kind, seed).number(pixel, index, depth, dim);
 }
-// Both numbers of the pair that starts at `first` (a pair's component 0 in dimension_slots), the
-// same as two sample_number calls; a pair shares its pattern's seeds and index shuffle.
-std::array<float, 2> sobol_pair(uint64_t seed, uint32_t pixel, uint32_t index, uint32_t depth,
-                                Dimension first);
 inline std::array<float, 2> sample_pair(SamplerKind kind, uint64_t seed, uint32_t pixel,
                                         uint32_t index, uint32_t depth, Dimension first) {
-  if (kind == SamplerKind::independent)
-    return {uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(first)),
-            uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(first) + 1)};
-  return sobol_pair(seed, pixel, index, depth, first);
+  return Sampler(kind, seed).pair(pixel, index, depth, first);
 }
 
 }  // namespace dacrt

@@ -52,7 +52,11 @@ void Wavefront::Paths::resize(size_t n, bool first_hits) {
 }
 
 Wavefront::Wavefront(const Scene& scene, Backend& backend, const RenderSettings& settings)
-    : scene_(scene), backend_(backend), s_(settings), first_hits_(settings.aovs.first_hit()) {
+    : scene_(scene),
+      backend_(backend),
+      s_(settings),
+      sampler_(settings.sampler, settings.seed),
+      first_hits_(settings.aovs.first_hit()) {
   if (s_.camera < 0 || size_t(s_.camera) >= scene.cameras.size())
     throw Error("camera " + std::to_string(s_.camera) + " does not exist (the scene has " +
                 std::to_string(scene.cameras.size()) + ")");

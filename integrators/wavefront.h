@@ -51,14 +51,12 @@ class Wavefront : public Integrator {
 
   // The path's number of `dim` at its current depth, from the settings' sampler.
   float random(uint32_t path, Dimension dim) const {
-    return sample_number(s_.sampler, s_.seed, paths_.pixel[path], paths_.sample[path],
-                         paths_.depth[path], dim);
+    return sampler_.number(paths_.pixel[path], paths_.sample[path], paths_.depth[path], dim);
   }
   // Both numbers of the pair that starts at `first` (bsdf_u, pixel_x…): random(path, first) and
   // random(path, first + 1), computed together.
   std::array<float, 2> random_pair(uint32_t path, Dimension first) const {
-    return sample_pair(s_.sampler, s_.seed, paths_.pixel[path], paths_.sample[path],
-                       paths_.depth[path], first);
+    return sampler_.pair(paths_.pixel[path], paths_.sample[path], paths_.depth[path], first);
   }
 
   // A hit as shading sees it: the point, the normals on the side the ray arrived from (the
@@ -84,6 +82,7 @@ class Wavefront : public Integrator {
   const Scene& scene_;
   Backend& backend_;
   const RenderSettings s_;
+  const Sampler sampler_;  // s_'s sampler and seed
   RenderStats stats_;
   bool first_hits_;  // capture first-hit values: the film or the integrator needs them
 

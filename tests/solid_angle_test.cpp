@@ -11,6 +11,7 @@
 #include "chi2.h"
 #include "integrators/light_sampling.h"
 #include "integrators/spherical_triangle.h"
+#include "test_geometry.h"
 #include "util/random.h"
 
 using namespace dacrt;
@@ -203,6 +204,39 @@ TEST_CASE("solid angle: next-event estimation's pdf towards a big near emitter i
     const glm::vec3 far(0.f, -300.f, 0.f);
     CHECK(lights.sampled_solid_angle(far, tri) == 0.0);
   }
+}
+
+// sampled_solid_angle skips the exact Ω where a ball around the triangle already subtends less
+// than min_solid_angle: the decision must be the exact one's, from points near and far.
+TEST_CASE("solid angle: the bounding-ball shortcut decides as the exact solid angle does") {
+  const NearLight near;
+  const LightSampling lights(near.scene, nullptr);
+  const Geometry& g = near.scene.geometry;
+  Pcg32 rng(17);
+  int large = 0, small = 0;
+  for (int i = 0; i < 200000; ++i) {
+    // Distances from 0.01 to 100 from the quad's centre, log-uniform, in every direction.
+    const double r = std::pow(10.0, -2.0 + 4.0 * double(rng.uniform()));
+    const glm::vec3 o = glm::vec3(0.25f, 0.2f, 0.1f) + float(r) * test::random_direction(rng);
+    for (uint32_t tri = 0; tri < 2; ++tri) {
+      const double omega =
+          triangle_solid_angle(glm::dvec3(o), glm::dvec3(g.vertex(tri, 0)),
+                               glm::dvec3(g.vertex(tri, 1)), glm::dvec3(g.vertex(tri, 2)));
+      const bool sampled =
+          omega > LightSampling::min_solid_angle && omega < LightSampling::max_solid_angle;
+      const double got = lights.sampled_solid_angle(o, tri);
+      if (sampled) {
+        ++large;
+        REQUIRE(got == omega);
+      } else {
+        ++small;
+        REQUIRE(got == 0.0);
+      }
+    }
+  }
+  // Both sides of the threshold, many times over.
+  CHECK(large > 10000);
+  CHECK(small > 10000);
 }
 
 TEST_CASE(
