@@ -11,6 +11,7 @@
 // point offset by a rounding error's width).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <glm/glm.hpp>
 
@@ -96,17 +97,27 @@ class LightSampling {
   }
 
   // One next-event sample at point p (on the surface, before offsetting) of shading point x;
-  // `random(dimension)` gives the path's numbers. False when the sample carries no light.
-  template <class Random>
-  bool sample(const glm::vec3& p, const ShadingPoint& x, Random&& random, ShadowRay& out) const {
+  // `random(dimension)` gives the path's numbers, `random_pair(first)` those of first and first + 1
+  // together (the same numbers). False when the sample carries no light.
+  template <class Random, class RandomPair>
+  bool sample(const glm::vec3& p, const ShadingPoint& x, Random&& random, RandomPair&& random_pair,
+              ShadowRay& out) const {
     // Separate numbers for the source and the emitter: rescaling one would lose the low bits
     // the alias table needs for its probabilities to be exact.
-    if (map_share_ > 0.f && (map_share_ >= 1.f || random(light_source) < map_share_))
-      return environment(x,
-                         {random(environment_u), random(environment_v), random(environment_pixel_u),
-                          random(environment_pixel_v)},
-                         out);
-    return emitter(p, x, random(light_pick), random(light_u), random(light_v), out);
+    if (map_share_ > 0.f && (map_share_ >= 1.f || random(light_source) < map_share_)) {
+      const auto [u1, u2] = random_pair(environment_u);
+      const auto [u3, u4] = random_pair(environment_pixel_u);
+      return environment(x, {u1, u2, u3, u4}, out);
+    }
+    const auto [u1, u2] = random_pair(light_u);
+    return emitter(p, x, random(light_pick), u1, u2, out);
+  }
+  template <class Random>
+  bool sample(const glm::vec3& p, const ShadingPoint& x, Random&& random, ShadowRay& out) const {
+    auto pair = [&](Dimension first) {
+      return std::array<float, 2>{random(first), random(Dimension(first + 1))};
+    };
+    return sample(p, x, random, pair, out);
   }
 
  private:

@@ -137,7 +137,8 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   auto numbers = [&](Dimension dim) { return random(path, dim); };
   if (!lights_.empty()) {
     ShadowRay& shadow = scratch_shadow_[q];
-    if (lights_.sample(p, x, numbers, shadow)) {
+    auto pairs = [&](Dimension first) { return random_pair(path, first); };
+    if (lights_.sample(p, x, numbers, pairs, shadow)) {
       shadow.contribution *= beta;
       has_shadow_[q] = carries_light(shadow.contribution);
     }
@@ -146,7 +147,9 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   // BSDF sampling: reflection keeps to the arrival side, transmission crosses to the other.
   ended_[path] = 1;  // unless it bounces
   const auto [u1, u2] = random_pair(path, bsdf_u);
-  const auto s = x.brdf.sample(x.wo, random(path, bsdf_lobe), u1, u2);
+  // (A Lambert surface has one lobe: its number is not drawn.)
+  const float u_lobe = x.brdf.lambertian() ? 0.f : random(path, bsdf_lobe);
+  const auto s = x.brdf.sample(x.wo, u_lobe, u1, u2);
   if (!s) return;
   const glm::vec3 wi = x.frame.to_world(s->wi);
   const glm::vec3* origin = x.origin_towards(wi, s->wi);
