@@ -34,14 +34,18 @@ double LightSampling::sampled_solid_angle(const glm::vec3& o, uint32_t tri) cons
   // Most points see most emitters under far less than min_solid_angle: a ball around the triangle
   // (out to its farthest corner from a centre) subtends a cap of 2π (1 − √(1 − r²/D²)) < 2π r²/D²,
   // which bounds the triangle's Ω; below the threshold the exact Ω (normalisations and an atan2
-  // in double) is not needed. The answer is the same either way.
+  // in double) is not needed. In float, with a margin far above its rounding; the answer is the
+  // same either way.
+  const glm::vec3 &v0 = g.vertex(tri, 0), &v1 = g.vertex(tri, 1), &v2 = g.vertex(tri, 2);
+  const glm::vec3 centre = (v0 + v1 + v2) * (1.f / 3.f);
+  const float r2 = std::max({glm::dot(v0 - centre, v0 - centre), glm::dot(v1 - centre, v1 - centre),
+                             glm::dot(v2 - centre, v2 - centre)});
+  const glm::vec3 to = centre - o;
+  const float d2 = glm::dot(to, to);
+  if (r2 < INFINITY && d2 < INFINITY &&
+      2.f * glm::pi<float>() * 1.001f * r2 <= float(min_solid_angle) * d2)
+    return 0.0;
   const glm::dvec3 c0 = corner(g, tri, 0), c1 = corner(g, tri, 1), c2 = corner(g, tri, 2);
-  const glm::dvec3 centre = (c0 + c1 + c2) * (1.0 / 3.0);
-  const double r2 =
-      std::max({glm::dot(c0 - centre, c0 - centre), glm::dot(c1 - centre, c1 - centre),
-                glm::dot(c2 - centre, c2 - centre)});
-  const glm::dvec3 to = centre - glm::dvec3(o);
-  if (2.0 * glm::pi<double>() * (1.0 + 1e-9) * r2 <= min_solid_angle * glm::dot(to, to)) return 0.0;
   const double omega = triangle_solid_angle(glm::dvec3(o), c0, c1, c2);
   return omega > min_solid_angle && omega < max_solid_angle ? omega : 0.0;
 }

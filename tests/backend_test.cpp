@@ -535,3 +535,25 @@ TEST_CASE("dacrt costs small leaves in whole blocks of 16 triangles: the Cornell
   zero.set("leaf_lanes", "0");
   CHECK_THROWS_WITH_AS(Backend::create("dacrt", g, zero), doctest::Contains("leaf_lanes"), Error);
 }
+
+TEST_CASE("dead rays spread over many blocks of a large batch: the live ones keep their hits") {
+  // DACRT builds its ray records block by block (16384 rays) and moves the blocks together when
+  // some rays are not live (NaN, empty interval): every ray must keep its own answer.
+  const Geometry g = random_soup(500, 81);
+  RayBatch rays = random_rays(g, 70000, 82, RayType::bounce);
+  for (size_t i = 0; i < rays.size(); i += 7) rays.tmin[i] = std::nanf("");
+  for (size_t i = 3; i < rays.size(); i += 11) rays.tmax[i] = -1.f;
+  HitBatch reference, hits;
+  Backend::create("brute", g)->intersect(rays, reference);
+  for (const char* name : {"dacrt", "dacrt-naive"}) {
+    INFO(name);
+    Backend::create(name, g)->intersect(rays, hits);
+    CHECK(hits.prim == reference.prim);
+    CHECK(hits.t == reference.t);
+    size_t dead_hits = 0, live_hits = 0;
+    for (size_t i = 0; i < rays.size(); ++i)
+      (i % 7 == 0 || i % 11 == 3 ? dead_hits : live_hits) += hits.prim[i] != HitBatch::miss;
+    CHECK(dead_hits == 0);
+    CHECK(live_hits > 2000);  // (3181 of the 52 000 live rays hit the soup)
+  }
+}

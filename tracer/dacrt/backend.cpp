@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include <chrono>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <numeric>
@@ -79,21 +80,16 @@ class Dacrt final : public Backend {
  private:
   void trace(const RayBatch& batch, HitBatch* hits, uint8_t* occluded, const HitFilter* filter) {
     const size_t n = batch.size();
-    // Records for the live rays, in batch order; the rest never enter the recursion. Built in
-    // parallel: live rays counted per block, then each block writes at its offset.
+    // Records for the live rays, in batch order; the rest never enter the recursion. Built in one
+    // parallel pass: each block writes its live rays from its own start, and only if some rays
+    // were not live are the blocks moved together after (rare: NaN or empty rays).
     auto live = [&](size_t i) {
       return Ray::valid(batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i]);
     };
     constexpr size_t block = 16384;
     const size_t blocks = (n + block - 1) / block;
-    std::vector<size_t> offset(blocks + 1, 0);
-    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
-      for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) offset[b + 1] += live(i);
-    });
-    std::partial_sum(offset.begin(), offset.end(), offset.begin());
     // The ray and triangle records are kept from call to call (no page faults, nothing zeroed,
     // triangles encoded once); a call that finds them in use by a concurrent one makes its own.
-    const size_t count = offset[blocks];
     std::unique_lock buffer_lock(buffer_mutex_, std::try_to_lock);
     const bool own_buffers = buffer_lock.owns_lock();
     Array<RayRef> own_rays;
@@ -101,24 +97,32 @@ class Dacrt final : public Backend {
     RayRef* refs;
     std::vector<Triangles>* triangles = &own_triangles;
     if (own_buffers) {
-      if (ray_buffer_.size() < count) {
+      if (ray_buffer_.size() < n) {
         ray_buffer_ = {};  // freed before the larger one is allocated
-        ray_buffer_.resize(count);
+        ray_buffer_.resize(n);
       }
       refs = ray_buffer_.data();
       triangles = &triangles_;
     } else {
-      own_rays.resize(count);
+      own_rays.resize(n);
       refs = own_rays.data();
     }
+    std::vector<size_t> live_in(blocks, 0);
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
-      size_t out = offset[b];
+      size_t out = b * block;
       for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
         if (!live(i)) continue;
-        const glm::vec3 d = batch.direction(i);
-        refs[out++] = {batch.origin(i), d, batch.tmin[i], batch.tmax[i], uint32_t(i)};
+        refs[out++] = {batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i],
+                       uint32_t(i)};
       }
+      live_in[b] = out - b * block;
     });
+    size_t count = 0;
+    for (size_t b = 0; b < blocks; ++b) {
+      if (count != b * block)
+        std::memmove(refs + count, refs + b * block, live_in[b] * sizeof(RayRef));
+      count += live_in[b];
+    }
     // Large batches are cut into chunks that trace at once, each with its own triangle records:
     // right from the root every thread has work. Inside a chunk, large nodes hand subtrees to
     // other threads (Traversal::fork), which also evens out chunks that take unequal time.
@@ -154,7 +158,7 @@ class Dacrt final : public Backend {
       total += t.stats;
     });
     total.rays = n;
-    uint64_t bytes = (own_buffers ? ray_buffer_.size() : count) * sizeof(RayRef) +
+    uint64_t bytes = (own_buffers ? ray_buffer_.size() : own_rays.size()) * sizeof(RayRef) +
                      triangles->size() * geometry_.size() * sizeof(TriangleRef) +
                      (top ? top_.nodes.capacity() * sizeof(TopLevels::Node) : 0);
     std::lock_guard lock(stats_mutex_);
