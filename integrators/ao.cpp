@@ -44,7 +44,7 @@ class AmbientOcclusion final : public Wavefront {
         has_shadow_[q] = 1;
       }
     });
-    push_rays(rays, queue_);
+    push_rays(rays, &queue_);
   }
 
   float distance_;

@@ -6,7 +6,8 @@
 // combined with BSDF sampling by multiple importance sampling (integrators/light_sampling.h).
 // Scenes without emitters trace no shadow rays. Runs on the wavefront loop (integrators/
 // wavefront.h): the stages below are its shading stage.
-//   escaped → emitted → roulette → materials (NEE pushes shadow rays, BSDF sampling bounce rays)
+//   escaped → emitted → roulette → material (NEE pushes shadow rays, BSDF sampling bounce rays),
+//   all four in one pass over the batch
 #include "integrators/path.h"
 
 #include <tbb/parallel_for.h>
@@ -29,95 +30,78 @@ PathTracer::PathTracer(const Scene& scene, Backend& backend, const RenderSetting
   for (const Material& m : scene.materials) emitters_ |= m.emissive();
 }
 
-// Stages 3–6 on one traced batch: escaped, emitted, roulette, materials. Paths that end are
-// flagged for the film; shadow and bounce rays are appended to their queues.
+// Stages 3–6 on one traced batch, in one pass over its rays: a ray that missed sees the
+// environment (escaped); one that hit adds what it hit emits (emitted), its path may end by
+// roulette, and else the material there scatters it (material). Paths that end are flagged for the
+// film; shadow and bounce rays go to their queues in ray order.
 void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
   const size_t n = rays.size();
-  select_rays(hits, n, false);
-  escaped(rays, queue_);
-  select_rays(hits, n, true);
-  if (emitters_) emitted(rays, hits, queue_);
-  roulette(rays, queue_);
-  materials(rays, hits, queue_);
-}
-
-// Stage 3: rays that left the scene see the environment; their paths end.
-void PathTracer::escaped(const RayBatch& rays, const Array<uint32_t>& queue) {
-  tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
-    const uint32_t i = queue[q], path = rays.path[i];
-    ended_[path] = 1;
-    if (!scene_.environment_map) {
-      paths_.radiance[path] += paths_.throughput[path] * scene_.environment;
-    } else if (map_) {
-      // Also reachable by next-event estimation, after the first bounce: MIS.
-      const glm::vec3 d = rays.direction(i);
-      const float weight =
-          paths_.depth[path] > 0 ? lights_.environment_weight(paths_.bsdf_pdf[path], d) : 1.f;
-      paths_.radiance[path] += paths_.throughput[path] * map_->radiance(d) * weight;
-    }
-  });
-}
-
-// Stage 4: emitters hit add their emission (weighed against next-event estimation after the
-// camera ray).
-void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, const Array<uint32_t>& queue) {
-  const Geometry& g = scene_.geometry;
-  tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
-    const uint32_t i = queue[q], path = rays.path[i], tri = hits.prim[i];
-    const Material& m = scene_.materials[g.material[tri]];
-    if (!m.emissive()) return;
-    const glm::vec3 d = rays.direction(i);
-    glm::vec3 ng = g.normal(tri);
-    const float area2 = glm::length(ng);
-    const float cos = glm::dot(ng, d) / area2;
-    if (!(cos < 0.f || m.double_sided)) return;
-    float weight = 1.f;
-    if (paths_.depth[path] > 0)
-      weight = lights_.emitter_weight(paths_.bsdf_pdf[path], tri, rays.origin(i), hits.t[i],
-                                      std::abs(cos), 0.5f * area2);
-    paths_.radiance[path] +=
-        paths_.throughput[path] * emission_at(scene_, tri, hits.u[i], hits.v[i]) * weight;
-  });
-}
-
-// Stage 5: paths at the depth limit end, and from roulette_depth on Russian roulette ends
-// paths of low throughput (the survivors' throughput grows to compensate). `queue` keeps the
-// survivors.
-void PathTracer::roulette(const RayBatch& rays, Array<uint32_t>& queue) {
-  Array<uint8_t>& keep = flags_;
-  keep.resize(queue.size());
-  tbb::parallel_for(size_t(0), queue.size(), [&](size_t q) {
-    const uint32_t path = rays.path[queue[q]];
-    const int depth = int(paths_.depth[path]);
-    keep[q] = depth < s_.max_depth;
-    if (keep[q] && depth >= s_.roulette_depth) {
-      glm::vec3& beta = paths_.throughput[path];
-      const float p = std::min(1.f, std::max({beta.x, beta.y, beta.z}));
-      keep[q] = random(path, Dimension::roulette) < p;
-      if (keep[q]) beta /= p;
-    }
-    if (!keep[q]) ended_[path] = 1;
-  });
-  // Out of place: blocks compacting in parallel would overwrite each other's input.
-  select(
-      queue.size(), [&](size_t q) { return keep[q] != 0; }, survivors_);
-  tbb::parallel_for(size_t(0), survivors_.size(),
-                    [&](size_t k) { survivors_[k] = queue[survivors_[k]]; });
-  queue.swap(survivors_);
-}
-
-// Stage 6: the material at each surviving hit; next-event estimation writes a shadow ray, BSDF
-// sampling a bounce ray, each in the hit's slot of scratch queues, compacted after.
-void PathTracer::materials(const RayBatch& rays, const HitBatch& hits,
-                           const Array<uint32_t>& queue) {
-  const size_t n = queue.size();
   scratch_rays(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](auto range) {
-    for (size_t q = range.begin(); q != range.end(); ++q) material(rays, hits, queue[q], q);
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      if (!hits.hit(i)) {
+        escaped(rays, uint32_t(i));
+        continue;
+      }
+      if (emitters_) emitted(rays, hits, uint32_t(i));
+      if (survives(rays.path[i])) material(rays, hits, uint32_t(i), i);
+    }
   });
-  push_rays(rays, queue);
+  push_rays(rays, nullptr);
 }
 
+// Stage 3: a ray that left the scene sees the environment; its path ends.
+void PathTracer::escaped(const RayBatch& rays, uint32_t i) {
+  const uint32_t path = rays.path[i];
+  ended_[path] = 1;
+  if (!scene_.environment_map) {
+    paths_.radiance[path] += paths_.throughput[path] * scene_.environment;
+  } else if (map_) {
+    // Also reachable by next-event estimation, after the first bounce: MIS.
+    const glm::vec3 d = rays.direction(i);
+    const float weight =
+        paths_.depth[path] > 0 ? lights_.environment_weight(paths_.bsdf_pdf[path], d) : 1.f;
+    paths_.radiance[path] += paths_.throughput[path] * map_->radiance(d) * weight;
+  }
+}
+
+// Stage 4: an emitter hit adds its emission (weighed against next-event estimation after the
+// camera ray).
+void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i) {
+  const Geometry& g = scene_.geometry;
+  const uint32_t path = rays.path[i], tri = hits.prim[i];
+  const Material& m = scene_.materials[g.material[tri]];
+  if (!m.emissive()) return;
+  const glm::vec3 d = rays.direction(i);
+  glm::vec3 ng = g.normal(tri);
+  const float area2 = glm::length(ng);
+  const float cos = glm::dot(ng, d) / area2;
+  if (!(cos < 0.f || m.double_sided)) return;
+  float weight = 1.f;
+  if (paths_.depth[path] > 0)
+    weight = lights_.emitter_weight(paths_.bsdf_pdf[path], tri, rays.origin(i), hits.t[i],
+                                    std::abs(cos), 0.5f * area2);
+  paths_.radiance[path] +=
+      paths_.throughput[path] * emission_at(scene_, tri, hits.u[i], hits.v[i]) * weight;
+}
+
+// Stage 5: a path at the depth limit ends, and from roulette_depth on Russian roulette ends paths
+// of low throughput (the survivors' throughput grows to compensate). True if the path goes on.
+bool PathTracer::survives(uint32_t path) {
+  const int depth = int(paths_.depth[path]);
+  bool keep = depth < s_.max_depth;
+  if (keep && depth >= s_.roulette_depth) {
+    glm::vec3& beta = paths_.throughput[path];
+    const float p = std::min(1.f, std::max({beta.x, beta.y, beta.z}));
+    keep = random(path, Dimension::roulette) < p;
+    if (keep) beta /= p;
+  }
+  if (!keep) ended_[path] = 1;
+  return keep;
+}
+
+// Stage 6: the material at a surviving hit; next-event estimation writes a shadow ray, BSDF
+// sampling a bounce ray, each in the ray's slot q of the scratch queues.
 void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q) {
   const uint32_t path = rays.path[i];
   const glm::vec3 d = rays.direction(i);

@@ -12,17 +12,14 @@ class PathTracer final : public Wavefront {
 
  private:
   void shade(const RayBatch& rays, const HitBatch& hits) override;
-  void escaped(const RayBatch& rays, const Array<uint32_t>& queue);
-  void emitted(const RayBatch& rays, const HitBatch& hits, const Array<uint32_t>& queue);
-  void roulette(const RayBatch& rays, Array<uint32_t>& queue);
-  void materials(const RayBatch& rays, const HitBatch& hits, const Array<uint32_t>& queue);
+  void escaped(const RayBatch& rays, uint32_t i);
+  void emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i);
+  bool survives(uint32_t path);
   void material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q);
 
   const EnvironmentMap* map_;  // null: uniform (or black) environment, reached by BSDF sampling
   const LightSampling lights_;
   bool emitters_ = false;  // any emissive material: the emitted stage runs
-  Array<uint32_t> survivors_;
-  Array<uint8_t> flags_;
 };
 
 }  // namespace dacrt

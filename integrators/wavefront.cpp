@@ -262,8 +262,9 @@ void Wavefront::scratch_rays(size_t n) {
   has_next_.assign(n, 0);
 }
 
-void Wavefront::push_rays(const RayBatch& rays, const Array<uint32_t>& queue, float shadow_tmin) {
-  const size_t n = queue.size();
+void Wavefront::push_rays(const RayBatch& rays, const Array<uint32_t>* queue, float shadow_tmin) {
+  const size_t n = queue ? queue->size() : rays.size();
+  auto path = [&](size_t q) { return rays.path[queue ? (*queue)[q] : q]; };
   // Appended after what the queues hold (sized for all, then cut to what was written).
   const size_t shadows = shadow_.size(), nexts = next_.size();
   shadow_.resize(shadows + n);
@@ -273,14 +274,14 @@ void Wavefront::push_rays(const RayBatch& rays, const Array<uint32_t>& queue, fl
       n, [&](size_t q) { return has_shadow_[q] != 0; },
       [&](size_t q, size_t k) {
         const ShadowRay& s = scratch_shadow_[q];
-        shadow_.set(shadows + k, s.origin, s.direction, shadow_tmin, s.tmax, rays.path[queue[q]]);
+        shadow_.set(shadows + k, s.origin, s.direction, shadow_tmin, s.tmax, path(q));
         shadow_contribution_[shadows + k] = s.contribution;
       });
   const size_t new_nexts = compact(
       n, [&](size_t q) { return has_next_[q] != 0; },
       [&](size_t q, size_t k) {
         const ShadowRay& s = scratch_next_[q];  // a bounce ray: origin and direction
-        next_.set(nexts + k, s.origin, s.direction, 0.f, INFINITY, rays.path[queue[q]]);
+        next_.set(nexts + k, s.origin, s.direction, 0.f, INFINITY, path(q));
       });
   shadow_.resize(shadows + new_shadows);
   shadow_contribution_.resize(shadows + new_shadows);

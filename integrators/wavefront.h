@@ -76,8 +76,9 @@ class Wavefront : public Integrator {
   // Shadow and bounce rays of the n queued rays: each shading task writes its ray (if any) into
   // scratch_shadow_[q] / scratch_next_[q] and sets has_shadow_[q] / has_next_[q]; push_rays then
   // appends them, in queue order, to shadow_ (with shadow_contribution_) and next_.
+  // With queue null, slot q is ray q of `rays` (a stage over the whole batch).
   void scratch_rays(size_t n);
-  void push_rays(const RayBatch& rays, const Array<uint32_t>& queue, float shadow_tmin = 0.f);
+  void push_rays(const RayBatch& rays, const Array<uint32_t>* queue, float shadow_tmin = 0.f);
 
   const Scene& scene_;
   Backend& backend_;
