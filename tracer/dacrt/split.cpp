@@ -178,9 +178,10 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
     sample_splits(&left_box[1], &right_box[1], K - 1, rb, samples, counts);
   }
   // The triangle tests of a leaf of n triangles, in whole blocks of leaf_lanes, for nodes of up to
-  // two blocks (the last splits before the leaves).
+  // two blocks (the last splits before the leaves) whose α is sampled: with many rays, whether
+  // they enter both halves is known. (Costing the SAH's small nodes so made sponza 3 % slower.)
   const uint32_t lanes = uint32_t(p.leaf_lanes);
-  auto tests = [lanes, small = nt <= 2 * lanes](uint32_t n) {
+  auto tests = [lanes, small = all_splits && nt <= 2 * lanes](uint32_t n) {
     return small ? double((n + lanes - 1) / lanes * lanes) : double(n);
   };
   auto alpha_cost = [&](uint32_t hit_l, uint32_t hit_r, int split) {
