@@ -99,9 +99,8 @@ bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pic
   const float dist2 = glm::dot(to, to);
   if (!(dist2 > 0.f)) return false;
   const glm::vec3 wi = to / std::sqrt(dist2);
-  glm::vec3 nl = g.normal(ls.triangle);
-  const float light_area = 0.5f * glm::length(nl);
-  nl = glm::normalize(nl);
+  const glm::vec3 nl = g.unit_normal(ls.triangle);
+  const float light_area = g.area(ls.triangle);
   float cos_light = -glm::dot(wi, nl);
   if (light.double_sided) cos_light = std::abs(cos_light);
   const glm::vec3 wi_local = x.frame.to_local(wi);
@@ -110,9 +109,13 @@ bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pic
   const float light_pdf =
       omega > 0.0 ? float(double(ls.pmf) / omega) : ls.pmf * dist2 / (cos_light * light_area);
   const float weight = power_heuristic(light_pdf, x.brdf.pdf(x.wo, wi_local));
-  // The segment runs between the two offset points, so neither surface can occlude it.
-  const glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);
-  out = {*origin, target - *origin, 1.f,
+  // The segment runs between the two offset points, so neither surface can occlude it, and ends
+  // short of the emitter by shadow_epsilon of its length (the t of a hit there rounds).
+  const SpawnPoint end =
+      spawn_point(g.vertex(ls.triangle, 0), g.vertex(ls.triangle, 1), g.vertex(ls.triangle, 2),
+                  ls.barycentric.x, ls.barycentric.y);
+  const glm::vec3 target = offset_ray_origin(end, glm::dot(nl, wi) < 0.f ? nl : -nl);
+  out = {*origin, target - *origin, 1.f - shadow_epsilon,
          x.brdf.eval(x.wo, wi_local) * emission * (std::abs(wi_local.z) * weight / light_pdf)};
   return carries_light(out.contribution);
 }
