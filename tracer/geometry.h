@@ -54,8 +54,8 @@ struct Geometry {
     const glm::dvec3 n = normal_double(tri);
     return glm::vec3(n / std::sqrt(glm::dot(n, n)));
   }
-  // Its area, at any scale (+inf beyond float's range: a triangle wider than ~2.6e19 each way).
-  float area(size_t tri) const { return float(0.5 * glm::length(normal_double(tri))); }
+  // Its area, at any scale (in float it would overflow beyond ~1e19 and underflow below ~1e-19).
+  double area(size_t tri) const { return 0.5 * glm::length(normal_double(tri)); }
 
   Box bounds() const {
     Box b;

@@ -113,10 +113,11 @@ struct SpawnPoint {
 //   the edge is at least the move times h / 3D, h the height, D the diameter: 1/6 for the
 //   isosceles right triangles of a quad mesh).
 // - The error is γ₁ |p| (the last addition) + γ₄ (|u (b - a)| + |v (c - a)|) (the edges, the
-//   products, their sum), a little rounded up, plus 2^-18 (|b - a| + |c - a|): our triangle test
-//   decides the sign of a t near 0 in double, so any point strictly on the right side of the
-//   plane is enough for it, but Embree's test rounds t by a few ulps of the triangle's size (its
-//   edges, and the origin's distance to a corner).
+//   products, their sum), a little rounded up, plus a margin of 2^-18 of the triangle's largest
+//   edge component, in every component: a triangle test rounds t near 0 by a few ulps of the
+//   triangle's size (Embree's in float; ours in double, 2^-50 or so), and the error bound alone
+//   is 0 across a plane of constant coordinate (y = 0 for a floor at the origin: the offset was
+//   then one denormal, and the double t's rounding let shadow rays find the floor again).
 template <typename Vec>
 SpawnPoint spawn_point(const Vec& a, const Vec& b, const Vec& c, float u_in, float v_in) {
   using Real = typename Vec::value_type;
@@ -125,14 +126,16 @@ SpawnPoint spawn_point(const Vec& a, const Vec& b, const Vec& c, float u_in, flo
   const Real du = Real(1) / Real(3) - u, dv = Real(1) / Real(3) - v;
   const Vec m = glm::max(glm::max(glm::abs(a), glm::abs(b)), glm::abs(c));
   const Real move = Real(16 * 0x1p-24) * std::max({m.x, m.y, m.z});
-  const Real distance = glm::length(du * e1 + dv * e2);
+  const Vec to_centroid = glm::abs(du * e1 + dv * e2);  // max norm: no square to overflow
+  const Real distance = std::max({to_centroid.x, to_centroid.y, to_centroid.z});
   if (distance > Real(0)) {  // 0 or NaN: degenerate, no move
     const Real k = std::min(Real(0.5), move / distance);
     u += k * du, v += k * dv;
   }
   const glm::vec3 p(a + (u * e1 + v * e2));
-  const Vec error = Real(4.1 * 0x1p-24) * (glm::abs(u * e1) + glm::abs(v * e2)) +
-                    Real(0x1p-18) * (glm::abs(e1) + glm::abs(e2));
+  const Vec span = glm::max(glm::abs(e1), glm::abs(e2));
+  const Real margin = Real(0x1p-18) * std::max({span.x, span.y, span.z});
+  const Vec error = Real(4.1 * 0x1p-24) * (glm::abs(u * e1) + glm::abs(v * e2)) + margin;
   return {p, 1.01f * 0x1p-24f * glm::abs(p) + glm::vec3(error)};
 }
 
