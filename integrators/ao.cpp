@@ -37,7 +37,7 @@ class AmbientOcclusion final : public Wavefront {
         const glm::vec3 wi = Frame(h.ns).to_world(sample_cosine_hemisphere(u1, u2));
         if (!(glm::dot(wi, h.ng) > 0.f)) continue;  // below the surface: occluded by it
         ShadowRay& s = scratch_shadow_[q];
-        s.origin = offset_ray_origin(h.p, h.ng);
+        s.origin = offset_ray_origin({h.p, h.p_error}, h.ng);
         s.direction = wi;
         s.tmax = distance_;
         s.contribution = glm::vec3(1.f);

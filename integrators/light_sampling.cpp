@@ -99,24 +99,26 @@ bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pic
   // An alpha-tested emitter shines only as much as it stops rays there.
   if (light.alpha_mode != Material::AlphaMode::opaque)
     emission *= coverage_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
-  const glm::vec3 to = ls.point - p;
-  const float dist2 = glm::dot(to, to);
-  if (!(dist2 > 0.f)) return false;
-  const glm::vec3 wi = to / std::sqrt(dist2);
-  glm::vec3 nl = g.normal(ls.triangle);
-  const float light_area = 0.5f * glm::length(nl);
-  nl = glm::normalize(nl);
+  // In double: the squared distance over- or underflows float in scenes scaled by 1e±30.
+  const glm::dvec3 to = glm::dvec3(ls.point) - glm::dvec3(p);
+  const double dist2 = glm::dot(to, to);
+  if (!(dist2 > 0.0)) return false;
+  const glm::vec3 wi(to / std::sqrt(dist2));
+  const glm::vec3 nl = g.unit_normal(ls.triangle);
   float cos_light = -glm::dot(wi, nl);
   if (light.double_sided) cos_light = std::abs(cos_light);
   const glm::vec3 wi_local = x.frame.to_local(wi);
   const glm::vec3* origin = x.origin_towards(wi, wi_local);
   if (cos_light <= 0.f || !origin) return false;
-  const float light_pdf =
-      omega > 0.0 ? float(double(ls.pmf) / omega) : ls.pmf * dist2 / (cos_light * light_area);
+  const float light_pdf = float(omega > 0.0 ? double(ls.pmf) / omega
+                                            : ls.pmf * (dist2 / (cos_light * g.area(ls.triangle))));
   const float weight = power_heuristic(light_pdf, x.brdf.pdf(x.wo, wi_local));
-  // The segment runs between the two offset points, so neither surface can occlude it.
-  const glm::vec3 target = offset_ray_origin(ls.point, glm::dot(nl, wi) < 0.f ? nl : -nl);
-  out = {*origin, target - *origin, 1.f,
+  // The segment runs between the two offset points, so neither surface can occlude it, and ends
+  // short of the emitter by shadow_epsilon of its length (the t of a hit there rounds).
+  const SpawnPoint end = spawn_point(g.vertex(ls.triangle, 0), g.vertex(ls.triangle, 1),
+                                     g.vertex(ls.triangle, 2), ls.barycentric.x, ls.barycentric.y);
+  const glm::vec3 target = offset_ray_origin(end, glm::dot(nl, wi) < 0.f ? nl : -nl);
+  out = {*origin, target - *origin, 1.f - shadow_epsilon,
          x.brdf.eval(x.wo, wi_local) * emission * (std::abs(wi_local.z) * weight / light_pdf)};
   return carries_light(out.contribution);
 }
@@ -127,9 +129,10 @@ bool LightSampling::punctual(const glm::vec3& p, const PunctualLight& light, flo
                              const ShadingPoint& x, ShadowRay& out) const {
   const bool directional = light.type == PunctualLight::Type::directional;
   const glm::vec3 to = directional ? light.direction : p - light.position;  // light → point
-  const float dist = glm::length(to);
-  if (!(dist > 0.f)) return false;
-  const glm::vec3 wi = -to / dist;
+  const glm::dvec3 to_double(to);  // its squared length over- or underflows float beyond 1e±19
+  const double dist = std::sqrt(glm::dot(to_double, to_double));
+  if (!(dist > 0.0)) return false;
+  const glm::vec3 wi(-to_double / dist);
   const glm::vec3 wi_local = x.frame.to_local(wi);
   const glm::vec3* origin = x.origin_towards(wi, wi_local);
   if (!origin) return false;

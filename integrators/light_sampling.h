@@ -81,14 +81,15 @@ class LightSampling {
   double sampled_solid_angle(const glm::vec3& o, uint32_t tri) const;
   // Next-event estimation's solid-angle density towards triangle `tri` from point o, the
   // triangle being met at distance t, at cosine `cos_light` to its normal; `area` its area.
-  float emitter_pdf(const glm::vec3& o, uint32_t tri, float t, float cos_light, float area) const {
+  // (t² / area in double: at a glTF node scale of 1e30 or 1e-30 both over- or underflow float.)
+  float emitter_pdf(const glm::vec3& o, uint32_t tri, float t, float cos_light, double area) const {
     const float pmf = (1.f - map_share_) * lights_.pmf(tri);
     const double omega = sampled_solid_angle(o, tri);
-    return omega > 0.0 ? float(double(pmf) / omega) : pmf * t * t / (cos_light * area);
+    return float(omega > 0.0 ? double(pmf) / omega : pmf * (double(t) * t / (cos_light * area)));
   }
   // MIS weight of emission found by BSDF sampling (solid-angle pdf bsdf_pdf) along a ray from o.
   float emitter_weight(float bsdf_pdf, uint32_t tri, const glm::vec3& o, float t, float cos_light,
-                       float area) const {
+                       double area) const {
     return power_heuristic(bsdf_pdf, emitter_pdf(o, tri, t, cos_light, area));
   }
   // ... and of the environment map, along direction d.

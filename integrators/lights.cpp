@@ -41,7 +41,10 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
     power.push_back(p);
   }
   const Box bounds = scene.bounds();
-  const double radius = bounds.empty() ? 1.0 : 0.5 * glm::length(bounds.extent());
+  // In double: in float the extent (of a triangle spanning ±3e38) or its squared length (in
+  // scenes scaled by 1e±30) over- or underflows, and a sun's power with it.
+  const double radius =
+      bounds.empty() ? 1.0 : 0.5 * glm::length(glm::dvec3(bounds.hi) - glm::dvec3(bounds.lo));
   for (const PunctualLight& l : scene.lights) {
     const double i = luminance(l.intensity);
     switch (l.type) {

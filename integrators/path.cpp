@@ -73,14 +73,12 @@ void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i)
   const Material& m = scene_.materials[g.material[tri]];
   if (!m.emissive()) return;
   const glm::vec3 d = rays.direction(i);
-  glm::vec3 ng = g.normal(tri);
-  const float area2 = glm::length(ng);
-  const float cos = glm::dot(ng, d) / area2;
+  const float cos = glm::dot(g.unit_normal(tri), d);
   if (!(cos < 0.f || m.double_sided)) return;
   float weight = 1.f;
   if (paths_.depth[path] > 0)
     weight = lights_.emitter_weight(paths_.bsdf_pdf[path], tri, rays.origin(i), hits.t[i],
-                                    std::abs(cos), 0.5f * area2);
+                                    std::abs(cos), g.area(tri));
   paths_.radiance[path] +=
       paths_.throughput[path] * emission_at(scene_, tri, hits.u[i], hits.v[i]) * weight;
 }
@@ -114,8 +112,8 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
                        frame,
                        GltfBrdf(surface.brdf),
                        frame.to_local(-d),
-                       offset_ray_origin(p, ng),
-                       transmits ? offset_ray_origin(p, -ng) : p,
+                       offset_ray_origin({p, h.p_error}, ng),
+                       transmits ? offset_ray_origin({p, h.p_error}, -ng) : p,
                        transmits};
   glm::vec3& beta = paths_.throughput[path];
   auto numbers = [&](Dimension dim) { return random(path, dim); };

@@ -214,12 +214,11 @@ Wavefront::Hit Wavefront::hit_at(const RayBatch& rays, const HitBatch& hits, uin
   const glm::vec3 d = rays.direction(i);
   const Geometry& g = scene_.geometry;
   const uint32_t tri = hits.prim[i];
-  glm::vec3 ng = g.normal(tri);
-  ng /= glm::length(ng);
+  const glm::vec3 ng = g.unit_normal(tri);
   const bool front = glm::dot(ng, d) < 0.f;
   const float u = hits.u[i], v = hits.v[i];
-  Hit h{(1.f - u - v) * g.vertex(tri, 0) + u * g.vertex(tri, 1) + v * g.vertex(tri, 2), ng, ng,
-        surface_at(scene_, tri, u, v, ng)};
+  const SpawnPoint at = spawn_point(g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2), u, v);
+  Hit h{at.p, ng, ng, surface_at(scene_, tri, u, v, ng), at.error};
   if (!front) h.ng = -h.ng;
   h.ns = h.surface.normal;
   if (glm::dot(h.ns, h.ng) < 0.f) h.ns = -h.ns;

@@ -65,6 +65,7 @@ class Wavefront : public Integrator {
   struct Hit {
     glm::vec3 p, ng, ns;
     SurfacePoint surface;
+    glm::vec3 p_error;  // p's error bound (spawn_point), for offset_ray_origin
   };
   Hit hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const;
   // What ray i saw (depth: along the camera's view axis).

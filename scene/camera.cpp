@@ -15,17 +15,21 @@ Camera frame_bounds(const Box& bounds, float aspect, float yfov) {
   cam.name = "framed";
   cam.yfov = yfov;
   cam.aspect = aspect;
-  glm::vec3 center = bounds.empty() ? glm::vec3(0.f) : bounds.center();
-  float radius = bounds.empty() ? 1.f : 0.5f * glm::length(bounds.extent());
-  if (!(radius > 0.f)) radius = 1.f;
+  // In double: in float the extent's length (a sum of squares) overflows for scenes beyond ~1e19
+  // and underflows below ~1e-19, and so does lookAt's normalisation (glTF node scales of 1e30 and
+  // 1e-30, tests/stress_test.cpp).
+  const glm::dvec3 lo(bounds.lo), hi(bounds.hi);
+  const glm::dvec3 center = bounds.empty() ? glm::dvec3(0.0) : 0.5 * lo + 0.5 * hi;
+  double radius = bounds.empty() ? 1.0 : 0.5 * glm::length(hi - lo);
+  if (!(radius > 0.0) || !std::isfinite(radius)) radius = 1.0;
   // Fit the bounding sphere in the narrower of the two fields of view.
-  float half = 0.5f * yfov;
+  double half = 0.5 * yfov;
   if (aspect > 0.f && aspect < 1.f) half = std::atan(std::tan(half) * aspect);
-  float distance = radius / std::sin(half);
-  glm::vec3 dir = glm::normalize(glm::vec3(0.f, 0.25f, 1.f));
-  glm::vec3 eye = center + distance * dir;
+  const double distance = radius / std::sin(half);
+  const glm::dvec3 dir = glm::normalize(glm::dvec3(0.0, 0.25, 1.0));
+  const glm::dvec3 eye = center + distance * dir;
   cam.aimed_up = glm::vec3(0.f, 1.f, 0.f);
-  cam.to_world = glm::inverse(glm::lookAt(eye, center, *cam.aimed_up));
+  cam.to_world = glm::mat4(glm::inverse(glm::lookAt(eye, center, glm::dvec3(0.0, 1.0, 0.0))));
   cam.znear = 0.f;
   return cam;
 }

@@ -28,20 +28,22 @@ std::vector<std::string> Scene::unused_work() const {
 
 glm::vec3 PunctualLight::irradiance_towards(const glm::vec3& to) const {
   if (type == Type::directional) return intensity;
-  const float d2 = glm::dot(to, to);
-  if (!(d2 > 0.f)) return glm::vec3(0.f);
-  float falloff = 1.f / d2;
+  // In double: d² and 1 / d² over- or underflow float in scenes scaled by 1e±19 and beyond.
+  const glm::dvec3 to_double(to);
+  const double d2 = glm::dot(to_double, to_double);
+  if (!(d2 > 0.0)) return glm::vec3(0.f);
+  double falloff = 1.0 / d2;
   if (range > 0.f) {  // KHR_lights_punctual's recommended window: clamp(1 − (d/range)⁴, 0, 1)
-    const float r = d2 / (range * range);
-    falloff *= std::clamp(1.f - r * r, 0.f, 1.f);
+    const double r = d2 / (double(range) * range);
+    falloff *= std::clamp(1.0 - r * r, 0.0, 1.0);
   }
   if (type == Type::spot) {
-    const float cd = glm::dot(direction, to) / std::sqrt(d2);
+    const float cd = float(glm::dot(glm::dvec3(direction), to_double) / std::sqrt(d2));
     const float scale = 1.f / std::max(1e-3f, cos_inner - cos_outer);
     const float t = std::clamp((cd - cos_outer) * scale, 0.f, 1.f);
     falloff *= t * t;
   }
-  return intensity * falloff;
+  return glm::vec3(glm::dvec3(intensity) * falloff);
 }
 
 }  // namespace dacrt

@@ -68,10 +68,14 @@ TEST_CASE("a ray spawned from a hit never hits its own triangle again") {
   // Scale and placement: tiny, unit and large triangles near the origin, and far from it (where a
   // float's ulp is 1/128, so the triangles there must stay much larger than that). Ordinary
   // triangles and long slivers (where the test's t is least accurate).
+  // Origins from spawn_point and offset_ray_origin, as the integrators spawn them; scales of
+  // 1e±30 too, where the float normal and the float edge functions over- or underflow.
   for (bool thin : {false, true}) {
-    for (auto [scale, offset] : {std::pair{1e-3f, glm::vec3(0.f)}, std::pair{1.f, glm::vec3(0.f)},
-                                 std::pair{1e4f, glm::vec3(0.f)}, std::pair{1.f, glm::vec3(1e5f)},
-                                 std::pair{1e3f, glm::vec3(-1e5f, 1e5f, 3e5f)}}) {
+    for (auto [scale, offset] :
+         {std::pair{1e-3f, glm::vec3(0.f)}, std::pair{1.f, glm::vec3(0.f)},
+          std::pair{1e4f, glm::vec3(0.f)}, std::pair{1.f, glm::vec3(1e5f)},
+          std::pair{1e3f, glm::vec3(-1e5f, 1e5f, 3e5f)}, std::pair{1e-30f, glm::vec3(0.f)},
+          std::pair{1e30f, glm::vec3(0.f)}}) {
       Geometry g = thin ? slivers(500, 34) : random_soup(500, 31);
       for (size_t i = 0; i < g.size(); ++i)
         for (int c = 0; c < 3; ++c)
@@ -92,15 +96,16 @@ TEST_CASE("a ray spawned from a hit never hits its own triangle again") {
       for (size_t i = 0; i < probe.size(); ++i) {
         if (!hits.hit(i)) continue;
         uint32_t tri = hits.prim[i];
-        glm::vec3 p = (1.f - hits.u[i] - hits.v[i]) * g.vertex(tri, 0) +
-                      hits.u[i] * g.vertex(tri, 1) + hits.v[i] * g.vertex(tri, 2);
-        glm::vec3 n = glm::normalize(g.normal(tri));
+        const SpawnPoint p =
+            spawn_point(g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2), hits.u[i], hits.v[i]);
+        glm::vec3 n = g.unit_normal(tri);
         glm::vec3 d = random_direction(rng);
         if (glm::dot(d, n) < 0.f) n = -n;  // leave on the side the new ray goes to
         if (std::abs(glm::dot(d, n)) < 1e-3f) continue;
         spawned.push(offset_ray_origin(p, n), d, 0.f, INFINITY, uint32_t(spawned.size()));
         from.push_back(tri);
       }
+      INFO((thin ? "slivers" : "soup") << ", scale " << scale);
       REQUIRE(spawned.size() > 5000);
       for (const char* name : {"dacrt", "brute"}) {
         HitBatch again;
@@ -360,4 +365,31 @@ TEST_CASE("a ray in a triangle's plane never hits it at a t outside the triangle
     CHECK(got.prim[0] == expect.prim[0]);
     CHECK(got.t[0] == expect.t[0]);
   }
+}
+
+// Normals and areas at any scale: the float cross product of the edges overflows beyond ~1e19 and
+// underflows below ~1e-19 (NaN normals in shading, zero or infinite emitter areas); the edges of
+// a triangle spanning ±2e38 are infinite themselves.
+TEST_CASE("unit normals and areas of tiny, huge and FLT_MAX-wide triangles") {
+  const glm::dvec3 tilt = glm::normalize(glm::dvec3(0.3, -0.5, 0.8));
+  for (const double scale : {1e-36, 1e-30, 1e-20, 1.0, 1e20, 1e30, 1e38}) {
+    // A right triangle of legs `scale` in the plane of normal `tilt`.
+    const glm::dvec3 t1 = glm::normalize(glm::cross(tilt, glm::dvec3(1, 0, 0)));
+    const glm::dvec3 t2 = glm::cross(tilt, t1);
+    Geometry g;
+    g.add(glm::vec3(-scale * t1), glm::vec3(scale * t1), glm::vec3(scale * t2), 0);
+    INFO("scale " << scale);
+    const glm::vec3 n = g.unit_normal(0);
+    CHECK(std::abs(glm::length(glm::dvec3(n)) - 1.0) < 1e-6);
+    CHECK(glm::dot(glm::dvec3(n), tilt) > 1.0 - 1e-6);
+    CHECK(g.area(0) == doctest::Approx(scale * scale).epsilon(1e-5));
+  }
+  Geometry g;
+  g.add({-3e38f, -3e38f, -3e38f}, {3e38f, -3e38f, 3e38f}, {0.f, 3e38f, 0.f}, 0);
+  REQUIRE(!std::isfinite(glm::length(g.normal(0))));
+  const glm::dvec3 expected = glm::normalize(glm::cross(glm::dvec3(6, 0, 6), glm::dvec3(3, 6, 3)));
+  CHECK(glm::dot(glm::dvec3(g.unit_normal(0)), expected) > 1.0 - 1e-6);
+  CHECK(g.area(0) == doctest::Approx(0.5 * glm::length(glm::cross(glm::dvec3(6e38, 0, 6e38),
+                                                                  glm::dvec3(3e38, 6e38, 3e38))))
+                         .epsilon(1e-5));
 }

@@ -255,9 +255,13 @@ class Embree final : public Backend {
   }
 
   // Whether ray i goes to Embree at all, and its tnear. Embree must never see NaN or inf in the
-  // origin, direction or tnear, and its ray segment starts at 0 or later.
+  // origin, direction or tnear, and its ray segment starts at 0 or later. Nor an origin or
+  // direction component beyond its FLT_LARGE (1.844e18): its RayK::valid() asserts on them (a
+  // scene scaled by 1e19, tests/stress_test.cpp), so such rays miss here.
   static bool live(const RayBatch& rays, size_t i, float& tnear) {
     if (!Ray::valid(rays.origin(i), rays.direction(i), rays.tmin[i], rays.tmax[i])) return false;
+    const glm::vec3 o = glm::abs(rays.origin(i)), d = glm::abs(rays.direction(i));
+    if (std::max({o.x, o.y, o.z, d.x, d.y, d.z}) > 1.844e18f) return false;
     tnear = std::max(rays.tmin[i], 0.f);
     return std::isfinite(tnear) && tnear <= rays.tmax[i];
   }

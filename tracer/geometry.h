@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <vector>
@@ -41,7 +42,20 @@ struct Geometry {
     return glm::cross(vertex(tri, 1) - a, vertex(tri, 2) - a);
   }
 
-  float area(size_t tri) const { return 0.5f * glm::length(normal(tri)); }
+  // The cross product of the edges in double: finite and non-zero for every triangle of float
+  // corners that has an area (in float, it overflows for edges beyond ~1e19 and underflows below
+  // ~1e-19, and the edges of a triangle spanning ±2e38 are themselves infinite).
+  glm::dvec3 normal_double(size_t tri) const {
+    const glm::dvec3 a(vertex(tri, 0));
+    return glm::cross(glm::dvec3(vertex(tri, 1)) - a, glm::dvec3(vertex(tri, 2)) - a);
+  }
+  // The unit geometric normal, at any scale (NaN for a triangle of no area, which nothing hits).
+  glm::vec3 unit_normal(size_t tri) const {
+    const glm::dvec3 n = normal_double(tri);
+    return glm::vec3(n / std::sqrt(glm::dot(n, n)));
+  }
+  // Its area, at any scale (in float it would overflow beyond ~1e19 and underflow below ~1e-19).
+  double area(size_t tri) const { return 0.5 * glm::length(normal_double(tri)); }
 
   Box bounds() const {
     Box b;

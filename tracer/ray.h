@@ -82,11 +82,102 @@ struct Ray {
   }
 };
 
+// One float step towards +inf or -inf (pbrt-v4's NextFloatUp / NextFloatDown), for finite v.
+inline float next_float_up(float v) {
+  if (v == 0.f) return 0x1p-149f;  // -0 too
+  const uint32_t bits = std::bit_cast<uint32_t>(v);
+  return std::bit_cast<float>(v > 0.f ? bits + 1u : bits - 1u);
+}
+inline float next_float_down(float v) {
+  return -next_float_up(-v);
+}
+
+// A point of a surface for rays to leave from: the point and how far, per component, a ray's
+// origin must move off the surface: a bound on the point's distance from the exact point of the
+// triangle it stands for, plus a margin for intersectors less exact than ours.
+struct SpawnPoint {
+  glm::vec3 p, error;
+};
+
+// The point of triangle (a, b, c) at the barycentric weights (u, v) of b and c that a hit reports,
+// for spawning rays from (Pharr, Jakob and Humphreys, "Physically Based Rendering", 3rd ed.,
+// section 3.9, and pbrt-v4's error intervals).
+// - It is a + u (b - a) + v (c - a): the only rounding of the size of |p| is the last addition,
+//   half an ulp, where (1 - u - v) a + u b + v c rounds four products of the corners' size (and
+//   the weights' sum is not 1 after 1 - u - v rounds): several ulps of |p| off the plane.
+// - The weights first move towards the centroid's by a distance of 16 ulps of the corners'
+//   magnitude (at most half-way): a point on an edge is also on the neighbour's plane, within its
+//   rounding, and at an inside corner (a closed box's) a ray leaving along the neighbour or towards
+//   the light can start behind it and escape. 16 ulps off the edge, the rounding cannot put the
+//   point behind a neighbour at 90° or more unless the triangle is a sliver (the distance to
+//   the edge is at least the move times h / 3D, h the height, D the diameter: 1/6 for the
+//   isosceles right triangles of a quad mesh).
+// - The error is γ₁ |p| (the last addition) + γ₄ (|u (b - a)| + |v (c - a)|) (the edges, the
+//   products, their sum), a little rounded up, plus a margin of 2^-18 of the triangle's largest
+//   edge component, in every component: a triangle test rounds t near 0 by a few ulps of the
+//   triangle's size (Embree's in float; ours in double, 2^-50 or so), and the error bound alone
+//   is 0 across a plane of constant coordinate (y = 0 for a floor at the origin: the offset was
+//   then one denormal, and the double t's rounding let shadow rays find the floor again).
+template <typename Vec>
+SpawnPoint spawn_point(const Vec& a, const Vec& b, const Vec& c, float u_in, float v_in) {
+  using Real = typename Vec::value_type;
+  const Vec e1 = b - a, e2 = c - a;
+  Real u = Real(u_in), v = Real(v_in);
+  const Real du = Real(1) / Real(3) - u, dv = Real(1) / Real(3) - v;
+  const Vec m = glm::max(glm::max(glm::abs(a), glm::abs(b)), glm::abs(c));
+  const Real move = Real(16 * 0x1p-24) * std::max({m.x, m.y, m.z});
+  const Vec to_centroid = glm::abs(du * e1 + dv * e2);  // max norm: no square to overflow
+  const Real distance = std::max({to_centroid.x, to_centroid.y, to_centroid.z});
+  if (distance > Real(0)) {  // 0 or NaN: degenerate, no move
+    const Real k = std::min(Real(0.5), move / distance);
+    u += k * du, v += k * dv;
+  }
+  const glm::vec3 p(a + (u * e1 + v * e2));
+  const Vec span = glm::max(glm::abs(e1), glm::abs(e2));
+  const Real margin = Real(0x1p-18) * std::max({span.x, span.y, span.z});
+  const Vec error = Real(4.1 * 0x1p-24) * (glm::abs(u * e1) + glm::abs(v * e2)) + margin;
+  return {p, 1.01f * 0x1p-24f * glm::abs(p) + glm::vec3(error)};
+}
+
+// The same from float corners. A triangle whose edges overflow float (corners beyond ±1.7e38)
+// is done in double, from the same corners.
+inline SpawnPoint spawn_point(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, float u,
+                              float v) {
+  const glm::vec3 span = glm::abs(b - a) + glm::abs(c - a);
+  if (std::isfinite(span.x + span.y + span.z)) return spawn_point<glm::vec3>(a, b, c, u, v);
+  return spawn_point<glm::dvec3>(glm::dvec3(a), glm::dvec3(b), glm::dvec3(c), u, v);
+}
+
+// Moves a spawn point off its surface along the geometric normal `n` (unit, pointing to the side
+// the new ray leaves from), past the point's error bound: by dot(|n|, error) along n, then one
+// float step further away in every component where n is not 0, so that the rounding of the sum
+// cannot bring it back (pbrt-v4's OffsetRayOrigin). The point is then strictly on n's side of its
+// triangle's plane, at any scale and distance from the origin, by a few ulps of the corners: a
+// fixed number of ulps of |p| (Wächter and Binder below, 256 of them) was up to 2^-15 |p|, 3 units
+// at 10^5 from the origin, and rays spawned in a box 2 wide started outside it.
+inline glm::vec3 offset_ray_origin(const SpawnPoint& s, const glm::vec3& n) {
+  const float d = glm::dot(glm::abs(n), s.error);
+  glm::vec3 out = s.p + d * n;
+  for (int k = 0; k < 3; ++k) {
+    if (n[k] > 0.f) out[k] = next_float_up(out[k]);
+    if (n[k] < 0.f) out[k] = next_float_down(out[k]);
+  }
+  return out;
+}
+
+// How much of a shadow segment that ends at a point of a surface is left out at that end, as a
+// fraction of its length: the spawn offset puts the end strictly off the surface, but a triangle
+// test rounds t by a few ulps of t there (our test computes t exactly only near 0), so a segment
+// that stops a few ulps of its length before the surface may still find it. pbrt-v4's
+// ShadowEpsilon.
+constexpr float shadow_epsilon = 1e-4f;
+
 // Moves a point on a surface off it along the geometric normal `n` (pointing to the side the new
 // ray leaves from), by an amount that scales with the point's magnitude: a few ulps in integer
 // steps of the float representation far from the origin, a small fixed step near it.
 // After Wächter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection",
-// Ray Tracing Gems, chapter 6.
+// Ray Tracing Gems, chapter 6. For points whose triangle is not known (the benchmarks' rays):
+// the integrators use spawn_point and the offset above.
 inline glm::vec3 offset_ray_origin(const glm::vec3& p, const glm::vec3& n) {
   constexpr float near_origin = 1.f / 32.f;
   constexpr float float_scale = 1.f / 65536.f;

@@ -51,6 +51,31 @@ inline double exact_t(const Ray& r, const glm::vec3& p0, const glm::vec3& p1, co
   return std::clamp(t, lo, hi);  // NaN stays NaN
 }
 
+// The whole test in double from the float inputs, for a triangle whose float edge functions
+// overflow or underflow: corners beyond ~1e12 or within ~1e-12 of the ray's origin in the
+// sheared frame (a glTF node scale of 1e30 or 1e-30; a triangle spanning ±3e38, whose differences
+// to the origin overflow float). Double holds the products of any two float coordinates, so the
+// inside test is as watertight as the float one; the shear constants are the float ones, so it
+// places shared edges where the float test does. t is exact_t's.
+inline bool intersect_triangle_wide(const Ray& r, const glm::vec3& p0, const glm::vec3& p1,
+                                    const glm::vec3& p2, float tmin, float tmax, TriangleHit& hit) {
+  const glm::dvec3 o(r.o), a = glm::dvec3(p0) - o, b = glm::dvec3(p1) - o, c = glm::dvec3(p2) - o;
+  const double sx = r.sx, sy = r.sy;
+  const double ax = a[r.kx] - sx * a[r.kz], ay = a[r.ky] - sy * a[r.kz];
+  const double bx = b[r.kx] - sx * b[r.kz], by = b[r.ky] - sy * b[r.kz];
+  const double cx = c[r.kx] - sx * c[r.kz], cy = c[r.ky] - sy * c[r.kz];
+  const double e0 = cx * by - cy * bx, e1 = ax * cy - ay * cx, e2 = bx * ay - by * ax;
+  if ((e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0)) return false;
+  const double det = e0 + e1 + e2;
+  if (det == 0.0 || !std::isfinite(det)) return false;
+  const float t = float(exact_t(r, p0, p1, p2));
+  if (!(t >= tmin && t <= tmax)) return false;
+  hit.t = t;
+  hit.u = float(e1 / det);
+  hit.v = float(e2 / det);
+  return true;
+}
+
 // Accepts hits with tmin <= t <= tmax, from either side. Degenerate triangles never hit.
 inline bool intersect_triangle(const Ray& r, const glm::vec3& p0, const glm::vec3& p1,
                                const glm::vec3& p2, float tmin, float tmax, TriangleHit& hit) {
@@ -67,9 +92,13 @@ inline bool intersect_triangle(const Ray& r, const glm::vec3& p0, const glm::vec
     e1 = float(double(ax) * double(cy) - double(ay) * double(cx));
     e2 = float(double(bx) * double(ay) - double(by) * double(ax));
   }
-  if ((e0 < 0.f || e1 < 0.f || e2 < 0.f) && (e0 > 0.f || e1 > 0.f || e2 > 0.f)) return false;
   const float det = e0 + e1 + e2;
-  if (det == 0.f || !std::isfinite(det)) return false;
+  // det is twice the sheared triangle's area, of the size of its coordinates squared: out of
+  // [2^-80, inf), the float edge functions (or t's numerator, of their size cubed) over- or
+  // underflowed, or the triangle is degenerate. (NaN, from inf - inf, is out too.)
+  if (!(std::abs(det) >= 0x1p-80f && std::abs(det) < INFINITY))
+    return intersect_triangle_wide(r, p0, p1, p2, tmin, tmax, hit);
+  if ((e0 < 0.f || e1 < 0.f || e2 < 0.f) && (e0 > 0.f || e1 > 0.f || e2 > 0.f)) return false;
 
   const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
   const float t = (e0 * az + e1 * bz + e2 * cz) / det;

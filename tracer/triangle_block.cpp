@@ -64,7 +64,8 @@ __attribute__((target("avx2"))) uint32_t candidates8(const TriangleBlock& b, int
       _mm256_cmp_ps(e2, zero, _CMP_GT_OQ));
   const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
   const __m256 abs_det = _mm256_andnot_ps(_mm256_set1_ps(-0.f), det);
-  const __m256 det_ok = _mm256_and_ps(_mm256_cmp_ps(det, zero, _CMP_NEQ_OQ),
+  // As intersect_triangle: a det out of [2^-80, inf) is for its double test (a candidate).
+  const __m256 det_ok = _mm256_and_ps(_mm256_cmp_ps(abs_det, _mm256_set1_ps(0x1p-80f), _CMP_GE_OQ),
                                       _mm256_cmp_ps(abs_det, _mm256_set1_ps(INFINITY), _CMP_LT_OQ));
   const __m256 t =
       _mm256_div_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])),
@@ -88,7 +89,8 @@ __attribute__((target("avx2"))) uint32_t candidates8(const TriangleBlock& b, int
                    _mm256_cmp_ps(abs8(t), bound, _CMP_NGT_UQ));
   const __m256 accept =
       _mm256_and_ps(_mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), det_ok), t_ok);
-  return uint32_t(_mm256_movemask_ps(_mm256_or_ps(accept, any_zero)));
+  const __m256 wide = _mm256_xor_ps(det_ok, _mm256_castsi256_ps(_mm256_set1_epi32(-1)));
+  return uint32_t(_mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(accept, any_zero), wide)));
 }
 
 uint32_t block_candidates(const TriangleBlock& b, const Ray& r, float tmin, float tmax) {
@@ -140,8 +142,9 @@ __attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b
   const __m512 det = _mm512_add_ps(_mm512_add_ps(e0, e1), e2);
   const __m512 abs_det = _mm512_abs_ps(det);
   const __m512 inf = _mm512_set1_ps(INFINITY);
-  const __mmask16 det_ok =
-      _mm512_cmp_ps_mask(det, zero, _CMP_NEQ_OQ) & _mm512_cmp_ps_mask(abs_det, inf, _CMP_LT_OQ);
+  // As intersect_triangle: a det out of [2^-80, inf) is for its double test (unsure).
+  const __mmask16 det_ok = _mm512_cmp_ps_mask(abs_det, _mm512_set1_ps(0x1p-80f), _CMP_GE_OQ) &
+                           _mm512_cmp_ps_mask(abs_det, inf, _CMP_LT_OQ);
   const __m512 t =
       _mm512_div_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(e0, z[0]), _mm512_mul_ps(e1, z[1])),
                                   _mm512_mul_ps(e2, z[2])),
@@ -166,7 +169,8 @@ __attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b
   // e1 / det, e2 / det, computed by the same operations.
   out.sure = uint32_t(inside & in_range & ~not_finite & ~near_zero & ~any_zero) & used;
   out.unsure =
-      uint32_t((inside & (in_range | not_finite | near_zero)) | any_zero) & used & ~out.sure;
+      uint32_t((inside & (in_range | not_finite | near_zero)) | any_zero | __mmask16(~det_ok)) &
+      used & ~out.sure;
   _mm512_store_ps(out.t, t);
   _mm512_store_ps(out.e1, e1);
   _mm512_store_ps(out.e2, e2);
