@@ -345,8 +345,8 @@ TEST_CASE(
         const std::vector<Channel> image = render(name);
         REQUIRE(image.size() == reference.size());
         for (size_t c = 0; c < image.size(); ++c) {
-          INFO(name << ", " << std::string(integrator) << ", " << sampler_name(sampler) << ", "
-                    << reference[c].name);
+          INFO(std::string(name) << ", " << std::string(integrator) << ", " << sampler_name(sampler)
+                                 << ", " << reference[c].name);
           CHECK(image[c].name == reference[c].name);
           CHECK(image[c].values == reference[c].values);
         }
@@ -357,10 +357,11 @@ TEST_CASE(
 TEST_CASE("convergence suite: embree agrees with brute on the Cornell box glTF within noise") {
   // Two renders of the same distribution with other seeds: here the per-pixel z's mean is 0
   // exactly (swapping a and b flips each z), so Z is Σ z / √P, which weighs every pixel by its
-  // own noise (the lamp's edge pixels would otherwise swamp an image sum). 16 × 16 pixels, 2048
-  // samples a pixel on each side for `path`, 1024 for `direct`; independent sampler only (with
+  // own noise (the lamp's edge pixels would otherwise swamp an image sum). 16 × 16 pixels, 4096
+  // samples a pixel on each side for `path`, 2048 for `direct`; independent sampler only (with
   // sobol the variance layer overestimates). Measured over 3 sets at 1024 a side: Z sd 0.78 and
-  // 0.45, X / P 0.94 ± 0.04 and 1.01 ± 0.01 (path, direct).
+  // 0.45, X / P 0.94 ± 0.04 and 1.01 ± 0.01 (path, direct). A 1 % bias moves Z by ~6.6 (path)
+  // and ~10 (direct); embree missing 1 % of its closest hits gives Z ≈ −10 and −9.
   const std::vector<std::string> names = Backend::names();
   if (std::find(names.begin(), names.end(), "embree") == names.end()) {
     MESSAGE("skipped: this build has no embree backend");
@@ -373,12 +374,12 @@ TEST_CASE("convergence suite: embree agrees with brute on the Cornell box glTF w
   auto brute = Backend::create("brute", scene.geometry);
   auto embree = Backend::create("embree", scene.geometry);
   for (const char* integrator : {"path", "direct"}) {
-    const int renders = integrator == std::string("path") ? 128 : 64;
+    const int renders = integrator == std::string("path") ? 256 : 128;
     const Estimate a = average(scene, *embree, s, integrator, renders, 1000);
     const Estimate b = average(scene, *brute, s, integrator, renders, 2000);
     const Agreement g = agreement(a, b, Against::render);
     INFO(std::string(integrator) << ": " << g);
     CHECK(g.holds());
-    CHECK(g.sensitivity() >= 4.0);  // a 2 % bias would be seen
+    CHECK(g.sensitivity() >= 5.0);  // a 2 % bias would be seen
   }
 }
