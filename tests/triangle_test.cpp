@@ -105,7 +105,7 @@ TEST_CASE("a ray spawned from a hit never hits its own triangle again") {
         spawned.push(offset_ray_origin(p, n), d, 0.f, INFINITY, uint32_t(spawned.size()));
         from.push_back(tri);
       }
-      INFO((thin ? "slivers" : "soup") << ", scale " << scale);
+      INFO(std::string(thin ? "slivers" : "soup") << ", scale " << scale);
       REQUIRE(spawned.size() > 5000);
       for (const char* name : {"dacrt", "brute"}) {
         HitBatch again;

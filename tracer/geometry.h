@@ -50,12 +50,22 @@ struct Geometry {
     return glm::cross(glm::dvec3(vertex(tri, 1)) - a, glm::dvec3(vertex(tri, 2)) - a);
   }
   // The unit geometric normal, at any scale (NaN for a triangle of no area, which nothing hits).
+  // In float where the squared length is a normal float (per hit: double costs time), else in
+  // double.
   glm::vec3 unit_normal(size_t tri) const {
-    const glm::dvec3 n = normal_double(tri);
-    return glm::vec3(n / std::sqrt(glm::dot(n, n)));
+    const glm::vec3 n = normal(tri);
+    const float l2 = glm::dot(n, n);
+    if (l2 >= 0x1p-100f && l2 < 0x1p100f) return n / std::sqrt(l2);
+    const glm::dvec3 nd = normal_double(tri);
+    return glm::vec3(nd / std::sqrt(glm::dot(nd, nd)));
   }
   // Its area, at any scale (in float it would overflow beyond ~1e19 and underflow below ~1e-19).
-  double area(size_t tri) const { return 0.5 * glm::length(normal_double(tri)); }
+  double area(size_t tri) const {
+    const glm::vec3 n = normal(tri);
+    const float l2 = glm::dot(n, n);
+    if (l2 >= 0x1p-100f && l2 < 0x1p100f) return 0.5 * double(std::sqrt(l2));
+    return 0.5 * glm::length(normal_double(tri));
+  }
 
   Box bounds() const {
     Box b;
