@@ -110,8 +110,7 @@ bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pic
   const glm::vec3 wi_local = x.frame.to_local(wi);
   const glm::vec3* origin = x.origin_towards(wi, wi_local);
   if (cos_light <= 0.f || !origin) return false;
-  const float light_pdf = float(omega > 0.0 ? double(ls.pmf) / omega
-                                            : ls.pmf * (dist2 / (cos_light * g.area(ls.triangle))));
+  const float light_pdf = emitter_density(ls.pmf, omega, dist2, cos_light, g.area(ls.triangle));
   const float weight = power_heuristic(light_pdf, x.brdf.pdf(x.wo, wi_local));
   // The segment runs between the two offset points, so neither surface can occlude it, and ends
   // short of the emitter by shadow_epsilon of its length (the t of a hit there rounds).

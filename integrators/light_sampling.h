@@ -83,9 +83,8 @@ class LightSampling {
   // triangle being met at distance t, at cosine `cos_light` to its normal; `area` its area.
   // (t² / area in double: at a glTF node scale of 1e30 or 1e-30 both over- or underflow float.)
   float emitter_pdf(const glm::vec3& o, uint32_t tri, float t, float cos_light, double area) const {
-    const float pmf = (1.f - map_share_) * lights_.pmf(tri);
-    const double omega = sampled_solid_angle(o, tri);
-    return float(omega > 0.0 ? double(pmf) / omega : pmf * (double(t) * t / (cos_light * area)));
+    return emitter_density((1.f - map_share_) * lights_.pmf(tri), sampled_solid_angle(o, tri),
+                           double(t) * t, cos_light, area);
   }
   // MIS weight of emission found by BSDF sampling (solid-angle pdf bsdf_pdf) along a ray from o.
   float emitter_weight(float bsdf_pdf, uint32_t tri, const glm::vec3& o, float t, float cos_light,
@@ -122,6 +121,13 @@ class LightSampling {
   }
 
  private:
+  // The solid-angle density of an emitter picked with probability pmf: pmf / Ω where it is sampled
+  // by solid angle (omega > 0), else pmf · d² / (cos · A), for the point at squared distance dist2.
+  // Next-event estimation and the MIS weight of BSDF sampling both use it, so they agree.
+  static float emitter_density(float pmf, double omega, double dist2, float cos_light,
+                               double area) {
+    return float(omega > 0.0 ? double(pmf) / omega : pmf * (dist2 / (cos_light * area)));
+  }
   bool environment(const ShadingPoint& x, const glm::vec4& u, ShadowRay& out) const;
   bool emitter(const glm::vec3& p, const ShadingPoint& x, float pick, float u1, float u2,
                ShadowRay& out) const;

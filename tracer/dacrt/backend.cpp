@@ -11,7 +11,6 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
-#include <numeric>
 
 #include "tracer/dacrt/dacrt.h"
 #include "tracer/dacrt/top.h"
