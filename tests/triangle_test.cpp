@@ -253,6 +253,22 @@ TEST_CASE(
     Geometry grid = quad_grid(8);  // rays through its shared edges and vertices
     cases.push_back({"grid, axis-parallel", grid, axis_rays(grid, 3000, 93)});
     cases.push_back({"grid, from the surface", grid, surface_rays(grid, 3000, 94)});
+    // From 2^-30 to 2^-6 off the plane, both ways along the ray (tmin -inf): t crosses the float
+    // test's error bound, where float and double t differ, so a vector bound that is not the
+    // scalar one gives sure lanes with the wrong t.
+    RayBatch near;
+    near.type = RayType::bounce;
+    Pcg32 rng(97);
+    for (uint32_t i = 0; i < 3000; ++i) {
+      const uint32_t tri = rng.below(uint32_t(grid.size()));
+      float u = rng.uniform(), v = rng.uniform();
+      if (u + v > 1.f) u = 1.f - u, v = 1.f - v;
+      const glm::vec3 p = grid.vertex(tri, 0) + u * (grid.vertex(tri, 1) - grid.vertex(tri, 0)) +
+                          v * (grid.vertex(tri, 2) - grid.vertex(tri, 0));
+      const float off = std::ldexp(rng.uniform() < 0.5f ? -1.f : 1.f, -6 - int(rng.below(25)));
+      near.push(p + glm::vec3(0.f, 0.f, off), random_direction(rng), -INFINITY, INFINITY, i);
+    }
+    cases.push_back({"grid, near the surface", grid, near});
   }
   {
     Geometry thin = slivers(400, 95);
@@ -264,6 +280,7 @@ TEST_CASE(
         if (wide && (width == 8 || !avx512_available())) continue;
         INFO(std::string(c.name) << ", blocks of " << width << (wide ? ", AVX-512" : ", AVX2"));
         size_t accepted = 0, candidates = 0, dropped = 0, tested = 0, sure = 0, wrong_sure = 0;
+        size_t exact = 0, wrong_exact = 0;
         for (size_t j0 = 0; j0 < c.g.size(); j0 += width) {
           uint32_t ids[16];
           const int n = int(std::min<size_t>(width, c.g.size() - j0));
@@ -279,7 +296,9 @@ TEST_CASE(
             if (wide) {
               block_hits_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i], bh);
               CHECK((bh.sure & bh.unsure) == 0u);
-              CHECK((bh.sure | bh.unsure) == mask);
+              CHECK((bh.sure & bh.exact) == 0u);
+              CHECK((bh.exact & bh.unsure) == 0u);
+              CHECK((bh.sure | bh.exact | bh.unsure) == mask);
             }
             for (int l = 0; l < n; ++l) {
               TriangleHit h;
@@ -297,6 +316,18 @@ TEST_CASE(
                               std::bit_cast<uint32_t>(h.u) != std::bit_cast<uint32_t>(u) ||
                               std::bit_cast<uint32_t>(h.v) != std::bit_cast<uint32_t>(v);
               }
+              // An exact lane's answer (t in double) is the scalar test's, bit for bit.
+              if (bh.exact >> l & 1u) {
+                ++exact;
+                TriangleHit e;
+                const bool exact_hit = exact_lane_hit(
+                    bh, l, ray, c.g.vertex(ids[l], 0), c.g.vertex(ids[l], 1),
+                    c.g.vertex(ids[l], 2), c.rays.tmin[i], c.rays.tmax[i], e);
+                wrong_exact += exact_hit != hit ||
+                               (hit && (std::bit_cast<uint32_t>(h.t) != std::bit_cast<uint32_t>(e.t) ||
+                                        std::bit_cast<uint32_t>(h.u) != std::bit_cast<uint32_t>(e.u) ||
+                                        std::bit_cast<uint32_t>(h.v) != std::bit_cast<uint32_t>(e.v)));
+              }
             }
             CHECK((mask >> n) == 0u);  // unused lanes are never reported
           }
@@ -304,6 +335,11 @@ TEST_CASE(
         CHECK(dropped == 0);
         CHECK(accepted > 0);
         CHECK(wrong_sure == 0);
+        CHECK(wrong_exact == 0);
+        // Rays leaving a surface meet their own triangle at t within its error of 0: exact lanes.
+        const std::string name = c.name;
+        if (wide && (name == "grid, from the surface" || name == "grid, near the surface"))
+          CHECK(exact > 0);
         // On general triangles most hits skip the scalar test.
         if (wide && std::string(c.name) == "soup") CHECK(sure > accepted * 9 / 10);
         INFO("accepted " << accepted << ", candidates " << candidates << ", tested " << tested);
@@ -336,6 +372,7 @@ TEST_CASE("a lane whose edge function rounds to zero is never a sure hit of the 
   BlockHits bh{};
   block_hits_avx512(block, r, 0.f, INFINITY, bh);
   CHECK(bh.sure == 0u);
+  CHECK(bh.exact == 0u);
   CHECK(bh.unsure == 1u);
 }
 

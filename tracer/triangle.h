@@ -76,6 +76,21 @@ inline bool intersect_triangle_wide(const Ray& r, const glm::vec3& p0, const glm
   return true;
 }
 
+// The error bound of the float test's t (Pharr, Jakob and Humphreys, "Physically Based
+// Rendering", 3rd ed., section 3.9.6), times |det|: from the largest magnitudes of the sheared
+// corners' x, y and z and of the edge functions. A float t with |t| |det| above it has the sign
+// (and the range test) of the exact t; the factor 1 + 2^-20 covers the rounding of the product
+// |t| |det| and of this sum. The vector test (tracer/triangle_block.cpp) repeats these operations in
+// the same order.
+inline float t_error_times_det(float max_x, float max_y, float max_z, float max_e) {
+  constexpr auto gamma = [](int n) { return n * 0x1p-24f / (1.f - n * 0x1p-24f); };
+  const float delta_z = gamma(3) * max_z;
+  const float delta_x = gamma(5) * (max_x + max_z), delta_y = gamma(5) * (max_y + max_z);
+  const float delta_e = 2.f * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+  return (3.f * (1.f + 0x1p-20f)) *
+         (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e);
+}
+
 // Accepts hits with tmin <= t <= tmax, from either side. Degenerate triangles never hit.
 inline bool intersect_triangle(const Ray& r, const glm::vec3& p0, const glm::vec3& p1,
                                const glm::vec3& p2, float tmin, float tmax, TriangleHit& hit) {
@@ -106,24 +121,17 @@ inline bool intersect_triangle(const Ray& r, const glm::vec3& p0, const glm::vec
   // ray leaving a long sliver could hit it again at a tiny t), and a t that overflowed (corners
   // beyond ~1e12) is no t at all. Only then, t is computed again in double from the input
   // coordinates, and decides; inside or outside stays the float test's decision, so watertightness
-  // is untouched. The error bound is the one of Pharr, Jakob and Humphreys, "Physically Based
-  // Rendering", 3rd ed., section 3.9.6; it is evaluated for hits only.
+  // is untouched. The error bound (t_error_times_det) is evaluated for hits only.
   // The bound is evaluated before the range is checked: a t within its error of 0 may be out of
   // range while the exact one is not, and rejecting it then would make the answer depend on the
   // tmax a backend has reached (a fuzzing finding, tests/fuzz/disagree-2.gltf).
   bool exact = !std::isfinite(t);
   if (!exact) {
-    constexpr auto gamma = [](int n) { return n * 0x1p-24f / (1.f - n * 0x1p-24f); };
     const float max_z = std::max({std::abs(az), std::abs(bz), std::abs(cz)});
     const float max_x = std::max({std::abs(ax), std::abs(bx), std::abs(cx)});
     const float max_y = std::max({std::abs(ay), std::abs(by), std::abs(cy)});
-    const float delta_z = gamma(3) * max_z;
-    const float delta_x = gamma(5) * (max_x + max_z), delta_y = gamma(5) * (max_y + max_z);
-    const float delta_e = 2.f * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
     const float max_e = std::max({std::abs(e0), std::abs(e1), std::abs(e2)});
-    const float delta_t =
-        3.f * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) / std::abs(det);
-    exact = !(std::abs(t) > delta_t);
+    exact = !(std::abs(t) * std::abs(det) > t_error_times_det(max_x, max_y, max_z, max_e));
     if (!exact && !(t >= tmin && t <= tmax)) return false;
   }
   if (exact) {

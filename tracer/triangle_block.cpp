@@ -149,28 +149,41 @@ __attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b
       _mm512_div_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(e0, z[0]), _mm512_mul_ps(e1, z[1])),
                                   _mm512_mul_ps(e2, z[2])),
                     det);
-  // The error bound of candidates8.
-  const __m512 m = _mm512_max_ps(_mm512_max_ps(max3(x), max3(y)), max3(z));
+  // intersect_triangle's error bound of t, times |det| (t_error_times_det), in its order.
+  const __m512 max_x = max3(x), max_y = max3(y), max_z = max3(z);
   const __m512 max_e =
       _mm512_max_ps(_mm512_max_ps(_mm512_abs_ps(e0), _mm512_abs_ps(e1)), _mm512_abs_ps(e2));
-  const __m512 bound = _mm512_div_ps(
-      _mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(3e-6f), max_e), m),
-                    _mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(2e-5f), m), m), m)),
-      abs_det);
+  constexpr auto gamma = [](int n) { return n * 0x1p-24f / (1.f - n * 0x1p-24f); };
+  const __m512 g2 = _mm512_set1_ps(gamma(2)), g3 = _mm512_set1_ps(gamma(3)),
+               g5 = _mm512_set1_ps(gamma(5));
+  const __m512 delta_z = _mm512_mul_ps(g3, max_z);
+  const __m512 delta_x = _mm512_mul_ps(g5, _mm512_add_ps(max_x, max_z));
+  const __m512 delta_y = _mm512_mul_ps(g5, _mm512_add_ps(max_y, max_z));
+  const __m512 delta_e = _mm512_mul_ps(
+      _mm512_set1_ps(2.f),
+      _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(g2, max_x), max_y),
+                                  _mm512_mul_ps(delta_y, max_x)),
+                    _mm512_mul_ps(delta_x, max_y)));
+  const __m512 bound = _mm512_mul_ps(
+      _mm512_set1_ps(3.f * (1.f + 0x1p-20f)),
+      _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(g3, max_e), max_z),
+                                  _mm512_mul_ps(delta_e, max_z)),
+                    _mm512_mul_ps(delta_z, max_e)));
   const __m512 abs_t = _mm512_abs_ps(t);
   const __mmask16 in_range = _mm512_cmp_ps_mask(t, _mm512_set1_ps(tmin), _CMP_GE_OQ) &
                              _mm512_cmp_ps_mask(t, _mm512_set1_ps(tmax), _CMP_LE_OQ);
-  const __mmask16 not_finite = _mm512_cmp_ps_mask(abs_t, inf, _CMP_NLT_UQ);
-  const __mmask16 near_zero = _mm512_cmp_ps_mask(abs_t, bound, _CMP_NGT_UQ);
+  const __mmask16 finite = _mm512_cmp_ps_mask(abs_t, inf, _CMP_LT_OQ);
+  const __mmask16 beyond_error =
+      _mm512_cmp_ps_mask(_mm512_mul_ps(abs_t, abs_det), bound, _CMP_GT_OQ);
   const __mmask16 inside = __mmask16(~(any_neg & any_pos) & det_ok);
   const uint32_t used = (1u << b.n) - 1u;
-  // Sure: no edge function of zero (no double edge functions), t finite and beyond its error
-  // bound (no double t), inside and in range: the scalar test would accept with this t and u, v =
-  // e1 / det, e2 / det, computed by the same operations.
-  out.sure = uint32_t(inside & in_range & ~not_finite & ~near_zero & ~any_zero) & used;
-  out.unsure =
-      uint32_t((inside & (in_range | not_finite | near_zero)) | any_zero | __mmask16(~det_ok)) &
-      used & ~out.sure;
+  // With no edge function of zero (no double edge functions) and det in range, the scalar test
+  // takes the lane's float values: inside, a finite t beyond its error bound decides by its
+  // range (sure if in it), any other t is computed again in double (exact).
+  const uint32_t plain = uint32_t(inside & ~any_zero) & used;
+  out.sure = plain & uint32_t(finite & beyond_error & in_range);
+  out.exact = plain & ~uint32_t(finite & beyond_error);
+  out.unsure = uint32_t(any_zero | __mmask16(~det_ok)) & used;
   _mm512_store_ps(out.t, t);
   _mm512_store_ps(out.e1, e1);
   _mm512_store_ps(out.e2, e2);
@@ -180,7 +193,7 @@ __attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax) {
   BlockHits h;
   block_hits_avx512(b, r, tmin, tmax, h);
-  return h.sure | h.unsure;
+  return h.sure | h.exact | h.unsure;
 }
 #pragma GCC diagnostic pop
 
@@ -199,7 +212,7 @@ uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray&, float, floa
   return (1u << b.n) - 1u;  // never called; every lane is a candidate
 }
 void block_hits_avx512(const TriangleBlock& b, const Ray&, float, float, BlockHits& out) {
-  out.sure = 0, out.unsure = (1u << b.n) - 1u;  // never called; every lane is for the scalar test
+  out.sure = out.exact = 0, out.unsure = (1u << b.n) - 1u;  // never called; every lane is for the scalar test
 }
 
 #endif

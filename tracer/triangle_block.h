@@ -14,6 +14,7 @@
 
 #include "tracer/geometry.h"
 #include "tracer/ray.h"
+#include "tracer/triangle.h"
 
 namespace dacrt {
 
@@ -47,15 +48,30 @@ uint32_t block_candidates(const TriangleBlock& b, const Ray& r, float tmin, floa
 // The same mask, sixteen lanes per instruction. Only call when avx512_available().
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax);
 
-// block_candidates_avx512's mask in two parts. Lanes in `sure` are ones intersect_triangle(r, ...,
-// tmin, tmax) accepts without its double-precision fallbacks: its hit is t[l], u = e1[l] / det[l],
-// v = e2[l] / det[l], bit for bit. Lanes in `unsure` need the scalar test.
+// block_candidates_avx512's mask in three parts, by what intersect_triangle(r, ..., tmin, tmax)
+// would do with the lane:
+// - `sure`: it accepts, with its float t: the hit is t[l], u = e1[l] / det[l], v = e2[l] / det[l],
+//   bit for bit;
+// - `exact`: the lane is inside, and it decides with t in double (exact_lane_hit, the same answer);
+// - `unsure`: anything else that may hit (an edge function of zero, det out of range): the scalar
+//   test itself. Lanes in none of the three are misses.
 struct BlockHits {
   alignas(64) float t[TriangleBlock::lanes], e1[TriangleBlock::lanes], e2[TriangleBlock::lanes],
       det[TriangleBlock::lanes];
-  uint32_t sure, unsure;
+  uint32_t sure, exact, unsure;
 };
 void block_hits_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax,
                        BlockHits& out);
+
+// intersect_triangle's answer on an `exact` lane l of block_hits_avx512 (its corners p0, p1, p2):
+// t in double, in [tmin, tmax], with the lane's float u and v.
+inline bool exact_lane_hit(const BlockHits& bh, int l, const Ray& r, const glm::vec3& p0,
+                           const glm::vec3& p1, const glm::vec3& p2, float tmin, float tmax,
+                           TriangleHit& hit) {
+  const float t = float(exact_t(r, p0, p1, p2));
+  if (!(t >= tmin && t <= tmax)) return false;
+  hit = {t, bh.e1[l] / bh.det[l], bh.e2[l] / bh.det[l]};
+  return true;
+}
 
 }  // namespace dacrt

@@ -72,12 +72,13 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
         stats.triangle_tests += block.n;
         // Candidates, then the scalar test on each, in lane order (the tie rule makes the order
         // irrelevant for the answer). With AVX-512 the lanes whose answer the vector test already
-        // knows skip the scalar test: their t, u and v are its own, bit for bit.
-        uint32_t sure = 0, candidates;
+        // knows skip the scalar test: sure ones have their t, u and v bit for bit, exact ones
+        // only need t in double.
+        uint32_t sure = 0, exact = 0, candidates;
         BlockHits bh;
         if (wide) {
           block_hits_avx512(block, ray, ref.tmin, ref.far, bh);
-          sure = bh.sure, candidates = bh.sure | bh.unsure;
+          sure = bh.sure, exact = bh.exact, candidates = bh.sure | bh.exact | bh.unsure;
         } else {
           candidates = block_candidates(block, ray, ref.tmin, ref.far);
         }
@@ -89,6 +90,10 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
             if (!(bh.t[l] <= ref.far)) continue;  // a hit found since is nearer
             h = {bh.t[l], bh.e1[l] / bh.det[l], bh.e2[l] / bh.det[l]};
             record(ref, tri, h);
+          } else if (exact >> l & 1u) {
+            if (exact_lane_hit(bh, l, ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2),
+                               ref.tmin, ref.far, h))
+              record(ref, tri, h);
           } else if (intersect_triangle(ray, g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2),
                                         ref.tmin, ref.far, h)) {
             record(ref, tri, h);
