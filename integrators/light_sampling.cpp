@@ -36,10 +36,16 @@ double LightSampling::sampled_solid_angle(const glm::vec3& o, uint32_t tri) cons
   // which bounds the triangle's Ω; below the threshold the exact Ω (normalisations and an atan2
   // in double) is not needed. In float, with a margin far above its rounding; the answer is the
   // same either way.
-  const glm::vec3 &v0 = g.vertex(tri, 0), &v1 = g.vertex(tri, 1), &v2 = g.vertex(tri, 2);
-  const glm::vec3 centre = (v0 + v1 + v2) * (1.f / 3.f);
-  const float r2 = std::max({glm::dot(v0 - centre, v0 - centre), glm::dot(v1 - centre, v1 - centre),
-                             glm::dot(v2 - centre, v2 - centre)});
+  glm::vec3 centre;
+  float r2;
+  if (const LightSampler::Emitter* e = lights_.emitter(tri)) {
+    centre = e->centre, r2 = e->radius2;
+  } else {  // (an emitter that is never sampled, found by BSDF sampling)
+    const glm::vec3 &v0 = g.vertex(tri, 0), &v1 = g.vertex(tri, 1), &v2 = g.vertex(tri, 2);
+    centre = (v0 + v1 + v2) * (1.f / 3.f);
+    r2 = std::max({glm::dot(v0 - centre, v0 - centre), glm::dot(v1 - centre, v1 - centre),
+                   glm::dot(v2 - centre, v2 - centre)});
+  }
   const glm::vec3 to = centre - o;
   const float d2 = glm::dot(to, to);
   if (r2 < INFINITY && d2 < INFINITY &&
@@ -104,13 +110,14 @@ bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pic
   const double dist2 = glm::dot(to, to);
   if (!(dist2 > 0.0)) return false;
   const glm::vec3 wi(to / std::sqrt(dist2));
-  const glm::vec3 nl = g.unit_normal(ls.triangle);
+  const LightSampler::Emitter& e = *lights_.emitter(ls.triangle);
+  const glm::vec3 nl = e.normal;
   float cos_light = -glm::dot(wi, nl);
   if (light.double_sided) cos_light = std::abs(cos_light);
   const glm::vec3 wi_local = x.frame.to_local(wi);
   const glm::vec3* origin = x.origin_towards(wi, wi_local);
   if (cos_light <= 0.f || !origin) return false;
-  const float light_pdf = emitter_density(ls.pmf, omega, dist2, cos_light, g.area(ls.triangle));
+  const float light_pdf = emitter_density(ls.pmf, omega, dist2, cos_light, e.area);
   const float weight = power_heuristic(light_pdf, x.brdf.pdf(x.wo, wi_local));
   // The segment runs between the two offset points, so neither surface can occlude it, and ends
   // short of the emitter by shadow_epsilon of its length (the t of a hit there rounds).

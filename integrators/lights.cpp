@@ -61,10 +61,16 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
   }
   table_ = AliasTable(power);
   if (table_.empty()) return;  // nothing emits
-  if (!triangles_.empty()) {
-    pmf_by_triangle_.assign(g.size(), 0.f);
-    for (size_t i = 0; i < triangles_.size(); ++i)
-      pmf_by_triangle_[triangles_[i]] = float(table_.pmf(i));
+  if (triangles_.empty()) return;
+  index_by_triangle_.assign(g.size(), none);
+  for (size_t i = 0; i < triangles_.size(); ++i) {
+    const uint32_t tri = triangles_[i];
+    index_by_triangle_[tri] = uint32_t(i);
+    const glm::vec3 &v0 = g.vertex(tri, 0), &v1 = g.vertex(tri, 1), &v2 = g.vertex(tri, 2);
+    const glm::vec3 centre = (v0 + v1 + v2) * (1.f / 3.f);
+    const float r2 = std::max({glm::dot(v0 - centre, v0 - centre), glm::dot(v1 - centre, v1 - centre),
+                               glm::dot(v2 - centre, v2 - centre)});
+    emitters_.push_back({g.unit_normal(tri), centre, r2, float(table_.pmf(i)), g.area(tri)});
   }
 }
 

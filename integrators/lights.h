@@ -34,14 +34,32 @@ class LightSampler {
   };
   // u picks the emitter, (u1, u2) the point on a triangle.
   Sample sample(float u, float u1, float u2) const;
-  // Probability of picking triangle `tri` (0 for triangles that do not emit).
-  float pmf(uint32_t tri) const { return pmf_by_triangle_.empty() ? 0.f : pmf_by_triangle_[tri]; }
+  // What next-event estimation asks of a sampled triangle, made once: its unit normal (front
+  // side), area, and the ball around it (centre, squared radius out to its farthest corner).
+  struct Emitter {
+    glm::vec3 normal, centre;
+    float radius2, pmf;
+    double area;
+  };
+  // Triangle tri's, or null for triangles that are never sampled (they do not emit, or emit
+  // nothing: zero area or black).
+  const Emitter* emitter(uint32_t tri) const {
+    if (index_by_triangle_.empty() || index_by_triangle_[tri] == none) return nullptr;
+    return &emitters_[index_by_triangle_[tri]];
+  }
+  // Probability of picking triangle `tri` (0 for triangles that are never sampled).
+  float pmf(uint32_t tri) const {
+    const Emitter* e = emitter(tri);
+    return e ? e->pmf : 0.f;
+  }
 
  private:
+  static constexpr uint32_t none = ~0u;
   const Scene& scene_;
   std::vector<uint32_t> triangles_;  // emissive triangles; table_ has them, then scene_.lights
   AliasTable table_;
-  std::vector<float> pmf_by_triangle_;
+  std::vector<Emitter> emitters_;            // of triangles_, in its order
+  std::vector<uint32_t> index_by_triangle_;  // into emitters_, or none
 };
 
 }  // namespace dacrt

@@ -110,7 +110,7 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   const Frame frame(ns);
   const ShadingPoint x{ng,
                        frame,
-                       GltfBrdf(surface.brdf),
+                       brdf_at(h, hits.prim[i]),
                        frame.to_local(-d),
                        offset_ray_origin({p, h.p_error}, ng),
                        transmits ? offset_ray_origin({p, h.p_error}, -ng) : p,

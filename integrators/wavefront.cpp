@@ -67,6 +67,10 @@ Wavefront::Wavefront(const Scene& scene, Backend& backend, const RenderSettings&
     any |= tested[t] =
         scene.materials[scene.geometry.material[t]].alpha_mode != Material::AlphaMode::opaque;
   if (any) alpha_ = std::make_unique<AlphaFilter>(std::move(tested), *this);
+  for (const Material& m : scene.materials)
+    uniform_brdf_.push_back(m.textured() || !scene.colors.empty()
+                                ? std::nullopt
+                                : std::optional<GltfBrdf>(GltfBrdf(m.brdf())));
   for (std::string& what : scene.unused_work()) stats_.skipped.push_back(std::move(what));
 }
 

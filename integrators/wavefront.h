@@ -13,12 +13,15 @@
 
 #include <array>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "integrators/dimensions.h"
 #include "integrators/integrator.h"
 #include "integrators/light_sampling.h"
 #include "integrators/queues.h"
 #include "integrators/sampler.h"
+#include "materials/gltf_brdf.h"
 #include "materials/surface.h"
 #include "tracer/ray_batch.h"
 #include "util/random.h"
@@ -68,6 +71,12 @@ class Wavefront : public Integrator {
     glm::vec3 p_error;  // p's error bound (spawn_point), for offset_ray_origin
   };
   Hit hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const;
+  // The BRDF at hit h of triangle tri: made once per material for those that are the same
+  // everywhere (no textures and no vertex colours), else from h's surface.
+  GltfBrdf brdf_at(const Hit& h, uint32_t tri) const {
+    const std::optional<GltfBrdf>& uniform = uniform_brdf_[scene_.geometry.material[tri]];
+    return uniform ? *uniform : GltfBrdf(h.surface.brdf);
+  }
   // What ray i saw (depth: along the camera's view axis).
   FirstHit first_hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const;
 
@@ -87,6 +96,7 @@ class Wavefront : public Integrator {
   const Sampler sampler_;  // s_'s sampler and seed
   RenderStats stats_;
   bool first_hits_;  // capture first-hit values: the film or the integrator needs them
+  std::vector<std::optional<GltfBrdf>> uniform_brdf_;  // by material (brdf_at)
 
   Paths paths_;
   Array<uint8_t> ended_;  // by slot: the path ended in this iteration

@@ -119,23 +119,23 @@ struct SpawnPoint {
 //   is 0 across a plane of constant coordinate (y = 0 for a floor at the origin: the offset was
 //   then one denormal, and the double t's rounding let shadow rays find the floor again).
 template <typename Vec>
-SpawnPoint spawn_point(const Vec& a, const Vec& b, const Vec& c, float u_in, float v_in) {
+SpawnPoint spawn_point_of_edges(const Vec& a, const Vec& b, const Vec& c, const Vec& e1,
+                                const Vec& e2, float u_in, float v_in) {
   using Real = typename Vec::value_type;
-  const Vec e1 = b - a, e2 = c - a;
+  auto max3 = [](const Vec& x) { return std::max(std::max(x.x, x.y), x.z); };
   Real u = Real(u_in), v = Real(v_in);
   const Real du = Real(1) / Real(3) - u, dv = Real(1) / Real(3) - v;
-  const Vec m = glm::max(glm::max(glm::abs(a), glm::abs(b)), glm::abs(c));
-  const Real move = Real(16 * 0x1p-24) * std::max({m.x, m.y, m.z});
-  const Vec to_centroid = glm::abs(du * e1 + dv * e2);  // max norm: no square to overflow
-  const Real distance = std::max({to_centroid.x, to_centroid.y, to_centroid.z});
+  const Real move =
+      Real(16 * 0x1p-24) * max3(glm::max(glm::max(glm::abs(a), glm::abs(b)), glm::abs(c)));
+  const Real distance = max3(glm::abs(du * e1 + dv * e2));  // max norm: no square to overflow
   if (distance > Real(0)) {  // 0 or NaN: degenerate, no move
     const Real k = std::min(Real(0.5), move / distance);
     u += k * du, v += k * dv;
   }
-  const glm::vec3 p(a + (u * e1 + v * e2));
-  const Vec span = glm::max(glm::abs(e1), glm::abs(e2));
-  const Real margin = Real(0x1p-18) * std::max({span.x, span.y, span.z});
-  const Vec error = Real(4.1 * 0x1p-24) * (glm::abs(u * e1) + glm::abs(v * e2)) + margin;
+  const Vec ue1 = u * e1, ve2 = v * e2;
+  const glm::vec3 p(a + (ue1 + ve2));
+  const Real margin = Real(0x1p-18) * max3(glm::max(glm::abs(e1), glm::abs(e2)));
+  const Vec error = Real(4.1 * 0x1p-24) * (glm::abs(ue1) + glm::abs(ve2)) + margin;
   return {p, 1.01f * 0x1p-24f * glm::abs(p) + glm::vec3(error)};
 }
 
@@ -143,9 +143,11 @@ SpawnPoint spawn_point(const Vec& a, const Vec& b, const Vec& c, float u_in, flo
 // is done in double, from the same corners.
 inline SpawnPoint spawn_point(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, float u,
                               float v) {
-  const glm::vec3 span = glm::abs(b - a) + glm::abs(c - a);
-  if (std::isfinite(span.x + span.y + span.z)) return spawn_point<glm::vec3>(a, b, c, u, v);
-  return spawn_point<glm::dvec3>(glm::dvec3(a), glm::dvec3(b), glm::dvec3(c), u, v);
+  const glm::vec3 e1 = b - a, e2 = c - a;
+  if (std::isfinite(e1.x + e1.y + e1.z + e2.x + e2.y + e2.z))
+    return spawn_point_of_edges(a, b, c, e1, e2, u, v);
+  const glm::dvec3 ad(a), bd(b), cd(c);
+  return spawn_point_of_edges(ad, bd, cd, bd - ad, cd - ad, u, v);
 }
 
 // Moves a spawn point off its surface along the geometric normal `n` (unit, pointing to the side
