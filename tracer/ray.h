@@ -54,7 +54,7 @@ struct Ray {
     Ray r;
     r.o = o;
     r.d = d;
-    glm::vec3 a = glm::abs(d);
+    glm::vec3 a = abs_of(d);
     r.kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
     r.kx = r.kz == 2 ? 0 : r.kz + 1;
     r.ky = r.kx == 2 ? 0 : r.kx + 1;
@@ -126,17 +126,17 @@ SpawnPoint spawn_point_of_edges(const Vec& a, const Vec& b, const Vec& c, const 
   Real u = Real(u_in), v = Real(v_in);
   const Real du = Real(1) / Real(3) - u, dv = Real(1) / Real(3) - v;
   const Real move =
-      Real(16 * 0x1p-24) * max3(glm::max(glm::max(glm::abs(a), glm::abs(b)), glm::abs(c)));
-  const Real distance = max3(glm::abs(du * e1 + dv * e2));  // max norm: no square to overflow
+      Real(16 * 0x1p-24) * max3(glm::max(glm::max(abs_of(a), abs_of(b)), abs_of(c)));
+  const Real distance = max3(abs_of(du * e1 + dv * e2));  // max norm: no square to overflow
   if (distance > Real(0)) {  // 0 or NaN: degenerate, no move
     const Real k = std::min(Real(0.5), move / distance);
     u += k * du, v += k * dv;
   }
   const Vec ue1 = u * e1, ve2 = v * e2;
   const glm::vec3 p(a + (ue1 + ve2));
-  const Real margin = Real(0x1p-18) * max3(glm::max(glm::abs(e1), glm::abs(e2)));
-  const Vec error = Real(4.1 * 0x1p-24) * (glm::abs(ue1) + glm::abs(ve2)) + margin;
-  return {p, 1.01f * 0x1p-24f * glm::abs(p) + glm::vec3(error)};
+  const Real margin = Real(0x1p-18) * max3(glm::max(abs_of(e1), abs_of(e2)));
+  const Vec error = Real(4.1 * 0x1p-24) * (abs_of(ue1) + abs_of(ve2)) + margin;
+  return {p, 1.01f * 0x1p-24f * abs_of(p) + glm::vec3(error)};
 }
 
 // The same from float corners. A triangle whose edges overflow float (corners beyond ±1.7e38)
@@ -158,7 +158,7 @@ inline SpawnPoint spawn_point(const glm::vec3& a, const glm::vec3& b, const glm:
 // fixed number of ulps of |p| (Wächter and Binder below, 256 of them) was up to 2^-15 |p|, 3 units
 // at 10^5 from the origin, and rays spawned in a box 2 wide started outside it.
 inline glm::vec3 offset_ray_origin(const SpawnPoint& s, const glm::vec3& n) {
-  const float d = glm::dot(glm::abs(n), s.error);
+  const float d = glm::dot(abs_of(n), s.error);
   glm::vec3 out = s.p + d * n;
   for (int k = 0; k < 3; ++k) {
     if (n[k] > 0.f) out[k] = next_float_up(out[k]);
