@@ -28,6 +28,14 @@ PathTracer::PathTracer(const Scene& scene, Backend& backend, const RenderSetting
         stats_.skipped.begin(),
         "shadow rays (the scene has no emitters and no lights, and no environment map)");
   for (const Material& m : scene.materials) emitters_ |= m.emissive();
+  dims_ = {roulette, bsdf_u};
+  if (!lights_.empty()) dims_.insert(dims_.end(), {light_pick, light_u});
+  if (map_) dims_.insert(dims_.end(), {light_source, environment_u, environment_pixel_u});
+  bool lambertian = true;
+  for (const std::optional<GltfBrdf>& brdf : uniform_brdf_)
+    lambertian &= brdf && brdf->lambertian();
+  if (!lambertian) dims_.push_back(bsdf_lobe);
+  drawn_ = drawn(dims_);
 }
 
 // Stages 3–6 on one traced batch, in one pass over its rays: a ray that missed sees the
@@ -38,13 +46,20 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
   const size_t n = rays.size();
   scratch_rays(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](auto range) {
-    for (size_t i = range.begin(); i != range.end(); ++i) {
-      if (!hits.hit(i)) {
-        escaped(rays, uint32_t(i));
-        continue;
+    VertexNumbers numbers[sampler_lanes];
+    for (size_t first = range.begin(); first < range.end(); first += sampler_lanes) {
+      const size_t lanes = std::min(sampler_lanes, range.end() - first);
+      draw(rays, first, lanes, dims_, numbers);
+      for (size_t k = 0; k < lanes; ++k) {
+        const size_t i = first + k;
+        if (!hits.hit(i)) {
+          escaped(rays, uint32_t(i));
+          continue;
+        }
+        if (emitters_) emitted(rays, hits, uint32_t(i));
+        const VertexDraw random{*this, rays.path[i], drawn_, numbers[k]};
+        if (survives(rays.path[i], random)) material(rays, hits, uint32_t(i), i, random);
       }
-      if (emitters_) emitted(rays, hits, uint32_t(i));
-      if (survives(rays.path[i])) material(rays, hits, uint32_t(i), i);
     }
   });
   push_rays(rays, nullptr);
@@ -90,14 +105,14 @@ void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i)
 // time but adds noise: on the Lambert Cornell box (256², 64 spp, noise² × seconds, lower is
 // better) a floor of 1 cost 1.16× what 1/2 costs, 1/3 1.00×, and √β (Cycles' rule) 1.01×; on
 // scenes/cornell-box.gltf (32 spp) 1 cost 1.08× and √β 1.02×.
-bool PathTracer::survives(uint32_t path) {
+bool PathTracer::survives(uint32_t path, const VertexDraw& random) {
   constexpr float roulette_floor = 0.5f;
   const int depth = int(paths_.depth[path]);
   bool keep = depth < s_.max_depth;
   if (keep && depth >= s_.roulette_depth) {
     glm::vec3& beta = paths_.throughput[path];
     const float p = std::min(1.f, std::max({beta.x, beta.y, beta.z}) * (1.f / roulette_floor));
-    keep = random(path, Dimension::roulette) < p;
+    keep = random(Dimension::roulette) < p;
     if (keep) beta /= p;
   }
   if (!keep) ended_[path] = 1;
@@ -106,7 +121,8 @@ bool PathTracer::survives(uint32_t path) {
 
 // Stage 6: the material at a surviving hit; next-event estimation writes a shadow ray, BSDF
 // sampling a bounce ray, each in the ray's slot q of the scratch queues.
-void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q) {
+void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q,
+                          const VertexDraw& random) {
   const uint32_t path = rays.path[i];
   const glm::vec3 d = rays.direction(i);
   const Hit h = hit_at(rays, hits, i);
@@ -122,11 +138,10 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
                        transmits ? offset_ray_origin({p, h.p_error}, -ng) : p,
                        transmits};
   glm::vec3& beta = paths_.throughput[path];
-  auto numbers = [&](Dimension dim) { return random(path, dim); };
   if (!lights_.empty()) {
     ShadowRay& shadow = scratch_shadow_[q];
-    auto pairs = [&](Dimension first) { return random_pair(path, first); };
-    if (lights_.sample(p, x, numbers, pairs, shadow)) {
+    auto pairs = [&](Dimension first) { return random.pair(first); };
+    if (lights_.sample(p, x, random, pairs, shadow)) {
       shadow.contribution *= beta;
       has_shadow_[q] = carries_light(shadow.contribution);
     }
@@ -134,9 +149,9 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
 
   // BSDF sampling: reflection keeps to the arrival side, transmission crosses to the other.
   ended_[path] = 1;  // unless it bounces
-  const auto [u1, u2] = random_pair(path, bsdf_u);
+  const auto [u1, u2] = random.pair(bsdf_u);
   // (A Lambert surface has one lobe: its number is not drawn.)
-  const float u_lobe = x.brdf.lambertian() ? 0.f : random(path, bsdf_lobe);
+  const float u_lobe = x.brdf.lambertian() ? 0.f : random(bsdf_lobe);
   const auto s = x.brdf.sample(x.wo, u_lobe, u1, u2);
   if (!s) return;
   const glm::vec3 wi = x.frame.to_world(s->wi);

@@ -14,12 +14,15 @@ class PathTracer final : public Wavefront {
   void shade(const RayBatch& rays, const HitBatch& hits) override;
   void escaped(const RayBatch& rays, uint32_t i);
   void emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i);
-  bool survives(uint32_t path);
-  void material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q);
+  bool survives(uint32_t path, const VertexDraw& random);
+  void material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q,
+                const VertexDraw& random);
 
   const EnvironmentMap* map_;  // null: uniform (or black) environment, reached by BSDF sampling
   const LightSampling lights_;
   bool emitters_ = false;  // any emissive material: the emitted stage runs
+  std::vector<Dimension> dims_;  // what a vertex draws (shade draws them for 16 rays at a time)
+  uint32_t drawn_;               // their mask
 };
 
 }  // namespace dacrt

@@ -1,5 +1,7 @@
 #include "integrators/sampler.h"
 
+#include <immintrin.h>
+
 #include <array>
 
 namespace dacrt {
@@ -32,22 +34,28 @@ constexpr uint32_t laine_karras(uint32_t x, uint32_t seed) {
 //   dimension 1 (generator matrix: Pascal's triangle mod 2) of s is linear over GF(2), the XOR of
 //   the direction numbers v_j of s's set bits, and what its scramble needs is that value
 //   reversed: the XOR of reverse(v_(31−k)) over the set bits k of y, from byte tables.
-constexpr std::array<std::array<uint32_t, 256>, 4> dimension1_reversed = [] {
+constexpr std::array<uint32_t, 32> dimension1_directions = [] {
   std::array<uint32_t, 32> v{};
   v[0] = 1u << 31;
   for (int i = 1; i < 32; ++i) v[i] = v[i - 1] ^ (v[i - 1] >> 1);
-  std::array<std::array<uint32_t, 256>, 4> t{};
-  for (int k = 0; k < 4; ++k)
-    for (uint32_t b = 0; b < 256; ++b)
-      for (int j = 0; j < 8; ++j)
-        if (b >> j & 1) t[k][b] ^= reverse_bits(v[31 - (8 * k + j)]);
-  return t;
+  return v;
 }();
+// Tables of 2^bits entries for each group of `bits` bits of y, groups = 32 / bits.
+template <int bits>
+constexpr std::array<std::array<uint32_t, 1 << bits>, 32 / bits> dimension1_tables() {
+  std::array<std::array<uint32_t, 1 << bits>, 32 / bits> t{};
+  for (int k = 0; k < 32 / bits; ++k)
+    for (uint32_t b = 0; b < (1u << bits); ++b)
+      for (int j = 0; j < bits; ++j)
+        if (b >> j & 1) t[k][b] ^= reverse_bits(dimension1_directions[31 - (bits * k + j)]);
+  return t;
+}
+constexpr auto dimension1_reversed = dimension1_tables<8>();
+constexpr auto dimension1_nibbles = dimension1_tables<4>();  // the vector code's: 16 per register
 constexpr uint32_t dimension1_of_reversed(uint32_t r) {
   return dimension1_reversed[0][r & 0xff] ^ dimension1_reversed[1][r >> 8 & 0xff] ^
          dimension1_reversed[2][r >> 16 & 0xff] ^ dimension1_reversed[3][r >> 24];
 }
-
 // A pattern's three scramble seeds: the index shuffle's and each component's value scramble.
 struct PatternSeeds {
   uint32_t index, component[2];
@@ -111,6 +119,168 @@ std::array<float, 2> sobol_pair_keyed(uint64_t seed_key, uint32_t pixel, uint32_
   const PatternSeeds k = pattern_seeds(seed_key, pixel, depth, slot.slot);
   const uint32_t r = laine_karras(reverse_bits(index), k.index);
   return {component0(r, k.component[0]), component1(r, k.component[1])};
+}
+
+namespace {
+
+#define DACRT_AVX512_SOBOL __attribute__((target("avx512f,avx512dq,avx512bw")))
+
+bool avx512_sobol_available() {
+  static const bool yes = __builtin_cpu_supports("avx512f") &&
+                          __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
+  return yes;
+}
+
+// GCC 12's intrinsics leave the passthrough operand of their masked builtins undefined on purpose
+// (_mm512_undefined_*), which -Wmaybe-uninitialized reports inside the headers.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+
+// The scalar functions above, sixteen lanes at a time; the same integer operations in the same
+// order, so the same bits.
+struct Lanes16 {
+  __m512i pixel, index, depth;
+};
+
+DACRT_AVX512_SOBOL inline __m512i reverse_bits16(__m512i x) {
+  // Bytes reversed within each 32-bit lane, then the bits of each byte by a nibble table.
+  const __m512i bytes = _mm512_set4_epi32(0x0c0d0e0f, 0x08090a0b, 0x04050607, 0x00010203);
+  const __m512i nibbles = _mm512_broadcast_i32x4(
+      _mm_setr_epi8(0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf));
+  const __m512i low4 = _mm512_set1_epi8(0x0f);
+  x = _mm512_shuffle_epi8(x, bytes);
+  const __m512i lo = _mm512_and_si512(x, low4);
+  const __m512i hi = _mm512_and_si512(_mm512_srli_epi16(x, 4), low4);
+  return _mm512_or_si512(_mm512_slli_epi16(_mm512_shuffle_epi8(nibbles, lo), 4),
+                         _mm512_shuffle_epi8(nibbles, hi));
+}
+
+DACRT_AVX512_SOBOL inline __m512i mul32(__m512i x, uint32_t c) {
+  return _mm512_mullo_epi32(x, _mm512_set1_epi32(int(c)));
+}
+
+DACRT_AVX512_SOBOL inline __m512i laine_karras16(__m512i x, __m512i seed) {
+  x = _mm512_add_epi32(x, seed);
+  x = _mm512_xor_si512(x, mul32(x, 0x6c50b47cu));
+  x = _mm512_xor_si512(x, mul32(x, 0xb82f1e52u));
+  x = _mm512_xor_si512(x, mul32(x, 0xc7afe638u));
+  x = _mm512_xor_si512(x, mul32(x, 0x8d22f6e6u));
+  return x;
+}
+
+DACRT_AVX512_SOBOL inline __m512i mix64_8(__m512i x) {
+  x = _mm512_xor_si512(x, _mm512_srli_epi64(x, 30));
+  x = _mm512_mullo_epi64(x, _mm512_set1_epi64(int64_t(0xbf58476d1ce4e5b9ull)));
+  x = _mm512_xor_si512(x, _mm512_srli_epi64(x, 27));
+  x = _mm512_mullo_epi64(x, _mm512_set1_epi64(int64_t(0x94d049bb133111ebull)));
+  return _mm512_xor_si512(x, _mm512_srli_epi64(x, 31));
+}
+
+DACRT_AVX512_SOBOL inline __m512i join(__m256i lo, __m256i hi) {
+  return _mm512_inserti64x4(_mm512_castsi256_si512(lo), hi, 1);
+}
+
+// pattern_seeds of the sixteen lanes: the index seeds and both components' seeds.
+struct Seeds16 {
+  __m512i index, c0, c1;
+};
+DACRT_AVX512_SOBOL Seeds16 pattern_seeds16(uint64_t seed_key, const Lanes16& l,
+                                                              uint32_t slot) {
+  const __m512i key_xor = _mm512_set1_epi64(int64_t(seed_key));
+  const __m512i add = _mm512_set1_epi64(int64_t(0xd1b54a32d192ed03ull));
+  const __m512i depth = _mm512_slli_epi32(_mm512_and_si512(l.depth, _mm512_set1_epi32(0xffffff)), 8);
+  const __m512i low = _mm512_or_si512(depth, _mm512_set1_epi32(int(slot)));
+  __m256i h_lo[2], h_hi[2];
+  for (int half = 0; half < 2; ++half) {
+    const __m256i p = half ? _mm512_extracti64x4_epi64(l.pixel, 1) : _mm512_castsi512_si256(l.pixel);
+    const __m256i q = half ? _mm512_extracti64x4_epi64(low, 1) : _mm512_castsi512_si256(low);
+    const __m512i key =
+        _mm512_or_si512(_mm512_slli_epi64(_mm512_cvtepu32_epi64(p), 32), _mm512_cvtepu32_epi64(q));
+    const __m512i h = mix64_8(_mm512_xor_si512(key_xor, _mm512_add_epi64(key, add)));
+    h_lo[half] = _mm512_cvtepi64_epi32(h);
+    h_hi[half] = _mm512_cvtepi64_epi32(_mm512_srli_epi64(h, 32));
+  }
+  Seeds16 s;
+  s.index = join(h_lo[0], h_lo[1]);
+  s.c0 = join(h_hi[0], h_hi[1]);
+  __m512i c1 = s.c0;
+  c1 = _mm512_xor_si512(c1, _mm512_srli_epi32(c1, 16));
+  c1 = mul32(c1, 0x7feb352du);
+  c1 = _mm512_xor_si512(c1, _mm512_srli_epi32(c1, 15));
+  c1 = mul32(c1, 0x846ca68bu);
+  s.c1 = _mm512_xor_si512(c1, _mm512_srli_epi32(c1, 16));
+  return s;
+}
+
+DACRT_AVX512_SOBOL inline __m512 to_float16(__m512i reversed) {
+  const __m512i bits = _mm512_srli_epi32(reverse_bits16(reversed), 8);
+  return _mm512_mul_ps(_mm512_cvtepi32_ps(bits), _mm512_set1_ps(0x1p-24f));
+}
+
+DACRT_AVX512_SOBOL inline __m512i dimension1_of_reversed16(__m512i r) {
+  __m512i x = _mm512_setzero_si512();
+  const __m512i low4 = _mm512_set1_epi32(0xf);
+  for (int k = 0; k < 8; ++k) {
+    const __m512i table = _mm512_loadu_si512(dimension1_nibbles[k].data());
+    const __m512i nibble = _mm512_and_si512(_mm512_srli_epi32(r, 4 * k), low4);
+    x = _mm512_xor_si512(x, _mm512_permutexvar_epi32(nibble, table));
+  }
+  return x;
+}
+
+DACRT_AVX512_SOBOL void sobol_numbers16(
+    uint64_t seed_key, const uint32_t* pixel, const uint32_t* index, const uint32_t* depth,
+    size_t lanes, std::span<const Dimension> dims, VertexNumbers* out) {
+  const __mmask16 live = __mmask16((1u << lanes) - 1u);
+  Lanes16 l;
+  l.pixel = _mm512_maskz_loadu_epi32(live, pixel);
+  l.index = _mm512_maskz_loadu_epi32(live, index);
+  l.depth = _mm512_maskz_loadu_epi32(live, depth);
+  const __m512i reversed_index = reverse_bits16(l.index);
+  alignas(64) float c[2][sampler_lanes];
+  for (const Dimension dim : dims) {
+    const DimensionSlot slot = dimension_slots[dim];
+    const Seeds16 k = pattern_seeds16(seed_key, l, slot.slot);
+    const __m512i r = laine_karras16(reversed_index, k.index);
+    const bool both = slot.pair;
+    if (both || slot.component == 0)
+      _mm512_store_ps(c[0], to_float16(laine_karras16(reverse_bits16(r), k.c0)));
+    if (both || slot.component == 1)
+      _mm512_store_ps(c[1], to_float16(laine_karras16(dimension1_of_reversed16(r), k.c1)));
+    for (size_t j = 0; j < lanes; ++j) {
+      if (both) {
+        out[j][dim] = c[0][j];
+        out[j][dim + 1] = c[1][j];
+      } else {
+        out[j][dim] = c[slot.component][j];
+      }
+    }
+  }
+}
+
+#pragma GCC diagnostic pop
+
+}  // namespace
+
+void Sampler::numbers(const uint32_t* pixel, const uint32_t* index, const uint32_t* depth,
+                      size_t lanes, std::span<const Dimension> dims, VertexNumbers* out) const {
+  if (kind == SamplerKind::sobol && avx512_sobol_available()) {
+    for (size_t first = 0; first < lanes; first += sampler_lanes)
+      sobol_numbers16(key, pixel + first, index + first, depth + first,
+                      std::min(sampler_lanes, lanes - first), dims, out + first);
+    return;
+  }
+  for (size_t j = 0; j < lanes; ++j)
+    for (const Dimension dim : dims) {
+      if (dimension_slots[dim].pair) {
+        const auto p = pair(pixel[j], index[j], depth[j], dim);
+        out[j][dim] = p[0];
+        out[j][dim + 1] = p[1];
+      } else {
+        out[j][dim] = number(pixel[j], index[j], depth[j], dim);
+      }
+    }
 }
 
 bool parse_sampler(std::string_view name, SamplerKind& kind) {

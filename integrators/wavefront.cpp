@@ -127,22 +127,32 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
   camera_.type = RayType::primary;
   camera_.resize(n);
   const size_t base = free_.size() - n;
+  constexpr Dimension jitter[] = {pixel_x};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](auto range) {
-    for (size_t j = range.begin(); j != range.end(); ++j) {
-      const uint32_t slot = free_[free_.size() - 1 - j];
-      const uint64_t id = first_id + j;
-      paths_.throughput[slot] = glm::vec3(1.f);
-      paths_.radiance[slot] = glm::vec3(0.f);
-      paths_.bsdf_pdf[slot] = 0.f;
-      paths_.depth[slot] = 0;
-      paths_.pixel[slot] = uint32_t(id % pixels);
-      paths_.sample[slot] = uint32_t(id / pixels);
-      const auto [jx, jy] = random_pair(slot, pixel_x);
-      const float x = float(paths_.pixel[slot] % uint32_t(s_.width)) + jx;
-      const float y = float(paths_.pixel[slot] / uint32_t(s_.width)) + jy;
-      glm::vec3 o, d;
-      const float tmin = camera_ray(camera, s_.width, s_.height, x, y, o, d);
-      camera_.set(j, o, d, tmin, INFINITY, slot);
+    uint32_t pixel[sampler_lanes], sample[sampler_lanes], depth[sampler_lanes] = {};
+    VertexNumbers numbers[sampler_lanes];
+    for (size_t first = range.begin(); first < range.end(); first += sampler_lanes) {
+      const size_t lanes = std::min(sampler_lanes, range.end() - first);
+      for (size_t k = 0; k < lanes; ++k) {
+        const uint64_t id = first_id + first + k;
+        pixel[k] = uint32_t(id % pixels), sample[k] = uint32_t(id / pixels);
+      }
+      sampler_.numbers(pixel, sample, depth, lanes, jitter, numbers);
+      for (size_t k = 0; k < lanes; ++k) {
+        const size_t j = first + k;
+        const uint32_t slot = free_[free_.size() - 1 - j];
+        paths_.throughput[slot] = glm::vec3(1.f);
+        paths_.radiance[slot] = glm::vec3(0.f);
+        paths_.bsdf_pdf[slot] = 0.f;
+        paths_.depth[slot] = 0;
+        paths_.pixel[slot] = pixel[k];
+        paths_.sample[slot] = sample[k];
+        const float x = float(pixel[k] % uint32_t(s_.width)) + numbers[k][pixel_x];
+        const float y = float(pixel[k] / uint32_t(s_.width)) + numbers[k][pixel_y];
+        glm::vec3 o, d;
+        const float tmin = camera_ray(camera, s_.width, s_.height, x, y, o, d);
+        camera_.set(j, o, d, tmin, INFINITY, slot);
+      }
     }
   });
   free_.resize(base);
@@ -212,6 +222,16 @@ void Wavefront::trace(const RayBatch& rays, HitBatch& hits, size_t camera) {
       });
   if (stats_.by_bounce.size() < by_depth.size()) stats_.by_bounce.resize(by_depth.size());
   for (size_t k = 0; k < by_depth.size(); ++k) count(stats_.by_bounce[k], by_depth[k]);
+}
+
+void Wavefront::draw(const RayBatch& rays, size_t first, size_t lanes,
+                     std::span<const Dimension> dims, VertexNumbers* out) const {
+  uint32_t pixel[sampler_lanes], sample[sampler_lanes], depth[sampler_lanes];
+  for (size_t k = 0; k < lanes; ++k) {
+    const uint32_t path = rays.path[first + k];
+    pixel[k] = paths_.pixel[path], sample[k] = paths_.sample[path], depth[k] = paths_.depth[path];
+  }
+  sampler_.numbers(pixel, sample, depth, lanes, dims, out);
 }
 
 Wavefront::Hit Wavefront::hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const {

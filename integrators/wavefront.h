@@ -14,6 +14,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "integrators/dimensions.h"
@@ -61,6 +62,30 @@ class Wavefront : public Integrator {
   std::array<float, 2> random_pair(uint32_t path, Dimension first) const {
     return sampler_.pair(paths_.pixel[path], paths_.sample[path], paths_.depth[path], first);
   }
+
+  // The numbers a vertex draws, for rays [first, first + lanes) of a batch (lanes ≤
+  // sampler_lanes), all at once: out[k] for ray first + k, the dimensions `dims` (pairs by their
+  // first) at its path's current depth. drawn(dims) is their mask, for VertexDraw.
+  void draw(const RayBatch& rays, size_t first, size_t lanes, std::span<const Dimension> dims,
+            VertexNumbers* out) const;
+  static uint32_t drawn(std::span<const Dimension> dims) {
+    uint32_t mask = 0;
+    for (const Dimension d : dims) mask |= (dimension_slots[d].pair ? 3u : 1u) << d;
+    return mask;
+  }
+  // One vertex's numbers: those drawn ahead, else the sampler's (the same numbers either way).
+  struct VertexDraw {
+    const Wavefront& w;
+    uint32_t path, mask;
+    const VertexNumbers& drawn;
+    float operator()(Dimension dim) const {
+      return mask >> dim & 1 ? drawn[dim] : w.random(path, dim);
+    }
+    std::array<float, 2> pair(Dimension first) const {
+      return mask >> first & 1 ? std::array<float, 2>{drawn[first], drawn[first + 1]}
+                               : w.random_pair(path, first);
+    }
+  };
 
   // A hit as shading sees it: the point, the normals on the side the ray arrived from (the
   // shading normal falls back to the geometric one where it faces away from the viewer), the
