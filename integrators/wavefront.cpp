@@ -226,6 +226,18 @@ void Wavefront::trace(const RayBatch& rays, HitBatch& hits, size_t camera) {
 
 void Wavefront::draw(const RayBatch& rays, size_t first, size_t lanes,
                      std::span<const Dimension> dims, VertexNumbers* out) const {
+  // The paths' state is scattered over the wavefront's arrays (tens of MiB): that of the rays two
+  // groups on is fetched while these are shaded.
+  for (size_t j = first + 2 * lanes, end = std::min(rays.size(), first + 3 * lanes); j < end; ++j) {
+    const uint32_t path = rays.path[j];
+    __builtin_prefetch(&paths_.pixel[path]);
+    __builtin_prefetch(&paths_.sample[path]);
+    __builtin_prefetch(&paths_.depth[path], 1);
+    __builtin_prefetch(&paths_.throughput[path], 1);
+    __builtin_prefetch(&paths_.radiance[path], 1);
+    __builtin_prefetch(&paths_.bsdf_pdf[path], 1);
+    __builtin_prefetch(&ended_[path], 1);
+  }
   uint32_t pixel[sampler_lanes], sample[sampler_lanes], depth[sampler_lanes];
   for (size_t k = 0; k < lanes; ++k) {
     const uint32_t path = rays.path[first + k];
