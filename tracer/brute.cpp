@@ -32,7 +32,7 @@ class Brute final : public Backend {
           TriangleHit h;
           if (!intersect_triangle(r, corners_[3 * tri], corners_[3 * tri + 1],
                                   corners_[3 * tri + 2], rays.tmin[i], hits.t[i], h) ||
-              !closer(h.t, tri, hits.t[i], hits.prim[i]) ||
+              !closer(h.t, tri, hits.t[i], &hits.prim[i]) ||
               rejected(filter, rays, uint32_t(i), tri, h.u, h.v))
             continue;
           hits.t[i] = h.t, hits.u[i] = h.u, hits.v[i] = h.v, hits.prim[i] = tri;

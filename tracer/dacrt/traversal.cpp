@@ -27,9 +27,7 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
     if (occluded) {
       occluded[i] = 1;
       ref.far = -inf;  // drops out of every later box test and leaf
-    } else if (h.t < ref.far || (h.t == ref.far && tri < hits->prim[i])) {
-      // closer(), reading the batch's hit (a cache miss: rays are partitioned out of batch
-      // order) only for a tie.
+    } else if (closer(h.t, tri, ref.far, &hits->prim[i])) {
       ref.far = h.t;
       hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
     }
