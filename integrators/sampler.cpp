@@ -56,6 +56,7 @@ constexpr uint32_t dimension1_of_reversed(uint32_t r) {
   return dimension1_reversed[0][r & 0xff] ^ dimension1_reversed[1][r >> 8 & 0xff] ^
          dimension1_reversed[2][r >> 16 & 0xff] ^ dimension1_reversed[3][r >> 24];
 }
+
 // A pattern's three scramble seeds: the index shuffle's and each component's value scramble.
 struct PatternSeeds {
   uint32_t index, component[2];
@@ -126,8 +127,8 @@ namespace {
 #define DACRT_AVX512_SOBOL __attribute__((target("avx512f,avx512dq,avx512bw")))
 
 bool avx512_sobol_available() {
-  static const bool yes = __builtin_cpu_supports("avx512f") &&
-                          __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
+  static const bool yes = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+                          __builtin_cpu_supports("avx512bw");
   return yes;
 }
 
@@ -146,8 +147,8 @@ struct Lanes16 {
 DACRT_AVX512_SOBOL inline __m512i reverse_bits16(__m512i x) {
   // Bytes reversed within each 32-bit lane, then the bits of each byte by a nibble table.
   const __m512i bytes = _mm512_set4_epi32(0x0c0d0e0f, 0x08090a0b, 0x04050607, 0x00010203);
-  const __m512i nibbles = _mm512_broadcast_i32x4(
-      _mm_setr_epi8(0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf));
+  const __m512i nibbles = _mm512_broadcast_i32x4(_mm_setr_epi8(
+      0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf));
   const __m512i low4 = _mm512_set1_epi8(0x0f);
   x = _mm512_shuffle_epi8(x, bytes);
   const __m512i lo = _mm512_and_si512(x, low4);
@@ -185,15 +186,16 @@ DACRT_AVX512_SOBOL inline __m512i join(__m256i lo, __m256i hi) {
 struct Seeds16 {
   __m512i index, c0, c1;
 };
-DACRT_AVX512_SOBOL Seeds16 pattern_seeds16(uint64_t seed_key, const Lanes16& l,
-                                                              uint32_t slot) {
+DACRT_AVX512_SOBOL Seeds16 pattern_seeds16(uint64_t seed_key, const Lanes16& l, uint32_t slot) {
   const __m512i key_xor = _mm512_set1_epi64(int64_t(seed_key));
   const __m512i add = _mm512_set1_epi64(int64_t(0xd1b54a32d192ed03ull));
-  const __m512i depth = _mm512_slli_epi32(_mm512_and_si512(l.depth, _mm512_set1_epi32(0xffffff)), 8);
+  const __m512i depth =
+      _mm512_slli_epi32(_mm512_and_si512(l.depth, _mm512_set1_epi32(0xffffff)), 8);
   const __m512i low = _mm512_or_si512(depth, _mm512_set1_epi32(int(slot)));
   __m256i h_lo[2], h_hi[2];
   for (int half = 0; half < 2; ++half) {
-    const __m256i p = half ? _mm512_extracti64x4_epi64(l.pixel, 1) : _mm512_castsi512_si256(l.pixel);
+    const __m256i p =
+        half ? _mm512_extracti64x4_epi64(l.pixel, 1) : _mm512_castsi512_si256(l.pixel);
     const __m256i q = half ? _mm512_extracti64x4_epi64(low, 1) : _mm512_castsi512_si256(low);
     const __m512i key =
         _mm512_or_si512(_mm512_slli_epi64(_mm512_cvtepu32_epi64(p), 32), _mm512_cvtepu32_epi64(q));
@@ -229,9 +231,9 @@ DACRT_AVX512_SOBOL inline __m512i dimension1_of_reversed16(__m512i r) {
   return x;
 }
 
-DACRT_AVX512_SOBOL void sobol_numbers16(
-    uint64_t seed_key, const uint32_t* pixel, const uint32_t* index, const uint32_t* depth,
-    size_t lanes, std::span<const Dimension> dims, VertexNumbers* out) {
+DACRT_AVX512_SOBOL void sobol_numbers16(uint64_t seed_key, const uint32_t* pixel,
+                                        const uint32_t* index, const uint32_t* depth, size_t lanes,
+                                        std::span<const Dimension> dims, VertexNumbers* out) {
   const __mmask16 live = __mmask16((1u << lanes) - 1u);
   Lanes16 l;
   l.pixel = _mm512_maskz_loadu_epi32(live, pixel);

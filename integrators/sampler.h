@@ -46,12 +46,12 @@ float sobol_number_keyed(uint64_t seed_key, uint32_t pixel, uint32_t index, uint
 std::array<float, 2> sobol_pair_keyed(uint64_t seed_key, uint32_t pixel, uint32_t index,
                                       uint32_t depth, Dimension first);
 
-// A sampler of one render: its kind and seed (and the seed's key).
 // A vertex's numbers, by dimension (only those asked for are written).
 using VertexNumbers = std::array<float, dimension_count>;
-// How many vertices Sampler::numbers draws for at once.
+// How many vertices Sampler::numbers draws per vector instruction.
 inline constexpr size_t sampler_lanes = 16;
 
+// A sampler of one render: its kind and seed (and the seed's key).
 struct Sampler {
   SamplerKind kind = SamplerKind::sobol;
   uint64_t seed = 0, key = sobol_seed_key(0);
@@ -69,10 +69,10 @@ struct Sampler {
               uniform_float(seed, pixel, index, uint64_t(depth), uint64_t(first) + 1)};
     return sobol_pair_keyed(key, pixel, index, depth, first);
   }
-  // The numbers of `dims` (a pair by its first dimension: both are written) for `lanes` ≤
-  // sampler_lanes vertices, vertex k at (pixel[k], index[k], depth[k]): out[k][dim] is what
-  // number(pixel[k], index[k], depth[k], dim) returns, bit for bit. With AVX-512, sixteen Sobol
-  // vertices per instruction.
+  // The numbers of `dims` (a pair by its first dimension: both are written) for `lanes`
+  // vertices, vertex k at (pixel[k], index[k], depth[k]): out[k][dim] is what
+  // number(pixel[k], index[k], depth[k], dim) returns, bit for bit. With AVX-512, sampler_lanes
+  // Sobol vertices per instruction.
   void numbers(const uint32_t* pixel, const uint32_t* index, const uint32_t* depth, size_t lanes,
                std::span<const Dimension> dims, VertexNumbers* out) const;
 };
