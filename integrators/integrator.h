@@ -34,6 +34,9 @@ struct RenderSettings {
   int roulette_depth = 3;  // Russian roulette from this many bounces on
   uint64_t seed = 0;
   SamplerKind sampler = SamplerKind::sobol;  // where the paths' numbers come from
+  // The path tracer shades Lambert vertices sixteen at a time (integrators/lambert_lanes.h);
+  // false: one at a time, the general way (for the tests, and to measure what the lanes save).
+  bool lambert_lanes = true;
   float ao_distance = 0.f;  // ao: how far occluders count (0: the scene's bounding-box diagonal)
   AovSet aovs;              // the first-hit values and statistics the film keeps
   // Live paths at most (stream regeneration keeps this many while samples remain). 0: as many

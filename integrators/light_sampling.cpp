@@ -6,6 +6,7 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
+#include "integrators/lambert_lanes.h"
 #include "integrators/spherical_triangle.h"
 #include "materials/surface.h"
 #include "tracer/ray.h"
@@ -26,7 +27,26 @@ LightSampling::LightSampling(const Scene& scene, const EnvironmentMap* map,
       map_(map),
       // Next-event estimation picks the map or the scene's lights: half and half when both.
       map_share_(map_ ? (lights_.empty() ? 1.f : 0.5f) : 0.f),
-      triangles_(triangles) {}
+      triangles_(triangles),
+      area_emitters_(lights_.empty() ? 0 : lights_.entries()) {
+  if (map_) return;
+  const Geometry& g = scene.geometry;
+  for (size_t entry = 0; entry < lights_.triangles(); ++entry) {
+    const uint32_t tri = lights_.triangle(entry);
+    const Material& m = scene.materials[g.material[tri]];
+    const LightSampler::Emitter& e = *lights_.emitter(tri);
+    if (m.emissive_texture || m.alpha_mode != Material::AlphaMode::opaque) continue;
+    if (!(e.area >= 0x1p-60 && e.area <= 0x1p60)) continue;
+    area_emitters_[entry] = AreaEmitter{{g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2)},
+                                        e.normal,
+                                        e.centre,
+                                        m.emission,
+                                        e.radius2,
+                                        float(e.area),
+                                        e.pmf,
+                                        m.double_sided};
+  }
+}
 
 double LightSampling::sampled_solid_angle(const glm::vec3& o, uint32_t tri) const {
   if (triangles_ == TriangleSampling::area) return 0.0;
@@ -48,8 +68,7 @@ double LightSampling::sampled_solid_angle(const glm::vec3& o, uint32_t tri) cons
   }
   const glm::vec3 to = centre - o;
   const float d2 = glm::dot(to, to);
-  if (r2 < INFINITY && d2 < INFINITY &&
-      2.f * glm::pi<float>() * 1.001f * r2 <= float(min_solid_angle) * d2)
+  if (r2 < INFINITY && d2 < INFINITY && solid_angle_ball * r2 <= float(min_solid_angle) * d2)
     return 0.0;
   const glm::dvec3 c0 = corner(g, tri, 0), c1 = corner(g, tri, 1), c2 = corner(g, tri, 2);
   const double omega = triangle_solid_angle(glm::dvec3(o), c0, c1, c2);

@@ -14,6 +14,8 @@
 #include <array>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <optional>
+#include <vector>
 
 #include "integrators/dimensions.h"
 #include "integrators/lights.h"
@@ -75,6 +77,22 @@ class LightSampling {
 
   // Nothing to sample: no shadow rays at all.
   bool empty() const { return lights_.empty() && !map_; }
+  // False when every emissive triangle is sampled by area (TriangleSampling::area).
+  bool solid_angle() const { return triangles_ != TriangleSampling::area; }
+
+  // What the Lambert lanes (integrators/lambert_lanes.h) take of the emitter `pick` chooses, when
+  // it is an emissive triangle they can sample: opaque, untextured, of an area within float's
+  // range, and the scene has no environment map to sample. Null otherwise (a punctual light, say):
+  // emitter() then samples it.
+  struct AreaEmitter {
+    glm::vec3 corner[3], normal, centre, radiance;
+    float radius2, area, pmf;
+    bool double_sided;
+  };
+  const AreaEmitter* area_emitter(float pick) const {
+    const std::optional<AreaEmitter>& e = area_emitters_[lights_.pick(pick)];
+    return e ? &*e : nullptr;
+  }
 
   // The solid angle of triangle `tri` from point o if next-event estimation samples it by solid
   // angle from there, else 0 (it samples the area).
@@ -139,6 +157,7 @@ class LightSampling {
   const EnvironmentMap* map_;
   const float map_share_;  // probability that next-event estimation samples the map
   const TriangleSampling triangles_;
+  std::vector<std::optional<AreaEmitter>> area_emitters_;  // by LightSampler entry
 };
 
 }  // namespace dacrt

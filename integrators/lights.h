@@ -34,6 +34,10 @@ class LightSampler {
   };
   // u picks the emitter, (u1, u2) the point on a triangle.
   Sample sample(float u, float u1, float u2) const;
+  // The entry u picks (sample's choice): an index into triangles(), or past them a punctual light.
+  size_t pick(float u) const { return table_.sample(u); }
+  size_t entries() const { return table_.size(); }
+  uint32_t triangle(size_t entry) const { return triangles_[entry]; }
   // What next-event estimation asks of a sampled triangle, made once: its unit normal (front
   // side), area, and the ball around it (centre, squared radius out to its farthest corner).
   struct Emitter {

@@ -12,6 +12,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <bit>
+
 #include "materials/sampling.h"
 #include "materials/surface.h"
 #include "tracer/ray.h"
@@ -36,6 +38,80 @@ PathTracer::PathTracer(const Scene& scene, Backend& backend, const RenderSetting
     lambertian &= brdf && brdf->lambertian();
   if (!lambertian) dims_.push_back(bsdf_lobe);
   drawn_ = drawn(dims_);
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    const std::optional<GltfBrdf>& brdf = uniform_brdf_[m];
+    const bool ours =
+        s_.lambert_lanes && !map_ && brdf && brdf->lambertian() && !scene.materials[m].emissive();
+    lambert_material_.push_back(ours);
+    lambert_albedo_.push_back(ours ? brdf->base() : glm::vec3(0.f));
+    lambert_ |= ours;
+  }
+  lambert_scene_ = {!scene.normals.empty(), !lights_.empty(), lights_.solid_angle(),
+                    float(LightSampling::min_solid_angle)};
+}
+
+uint32_t PathTracer::shade_lambert_lanes(const RayBatch& rays, const HitBatch& hits, size_t first,
+                                         size_t lanes, const VertexNumbers* numbers, LambertIn& in,
+                                         LambertOut& out) {
+  const Geometry& g = scene_.geometry;
+  for (size_t k = 0; k < lanes; ++k) {
+    const size_t i = first + k;
+    const uint32_t tri = hits.prim[i];
+    in.ok[k] = hits.hit(i) && lambert_material_[g.material[tri]];
+    if (!in.ok[k]) continue;
+    const uint32_t path = rays.path[i], depth = paths_.depth[path];
+    const glm::vec3 d = rays.direction(i), &beta = paths_.throughput[path],
+                    &albedo = lambert_albedo_[g.material[tri]];
+    for (int a = 0; a < 3; ++a) {
+      in.d[a][k] = d[a], in.beta[a][k] = beta[a], in.albedo[a][k] = albedo[a];
+      for (int c = 0; c < 3; ++c) in.corner[c][a][k] = g.p[c][a][tri];
+    }
+    if (lambert_scene_.normals)
+      for (int c = 0; c < 3; ++c)
+        for (int a = 0; a < 3; ++a) in.normal[c][a][k] = scene_.normals[3 * size_t(tri) + c][a];
+    in.u[k] = hits.u[i], in.v[k] = hits.v[i];
+    in.below_max[k] = int(depth) < s_.max_depth;
+    in.roulette[k] = int(depth) >= s_.roulette_depth;
+    const VertexNumbers& u = numbers[k];
+    in.u_roulette[k] = u[roulette], in.u_bsdf[0][k] = u[bsdf_u], in.u_bsdf[1][k] = u[bsdf_v];
+    if (!lambert_scene_.lights) continue;
+    in.u_light[0][k] = u[light_u], in.u_light[1][k] = u[light_v];
+    const LightSampling::AreaEmitter* e = lights_.area_emitter(u[light_pick]);
+    in.light_ok[k] = e != nullptr;
+    if (!e) continue;
+    for (int a = 0; a < 3; ++a) {
+      for (int c = 0; c < 3; ++c) in.light_corner[c][a][k] = e->corner[c][a];
+      in.light_normal[a][k] = e->normal[a], in.light_centre[a][k] = e->centre[a];
+      in.light_radiance[a][k] = e->radiance[a];
+    }
+    in.light_radius2[k] = e->radius2, in.light_area[k] = e->area, in.light_pmf[k] = e->pmf;
+    in.light_double_sided[k] = e->double_sided;
+  }
+  shade_lambert(lambert_scene_, in, int(lanes), out);
+  auto vec = [](const float(&a)[3][LambertOut::lanes], size_t k) {
+    return glm::vec3(a[0][k], a[1][k], a[2][k]);
+  };
+  for (uint32_t left = out.taken; left; left &= left - 1) {
+    const int k = std::countr_zero(left);
+    const size_t i = first + size_t(k);
+    const uint32_t path = rays.path[i];
+    paths_.throughput[path] = vec(out.beta, k);
+    const glm::vec3 origin = vec(out.origin, k);
+    const bool bounces = out.bounce >> k & 1;
+    ended_[path] = !bounces;
+    if (bounces) {
+      paths_.bsdf_pdf[path] = out.pdf[k];
+      scratch_next_[i].origin = origin;
+      scratch_next_[i].direction = vec(out.direction, k);
+      has_next_[i] = 1;
+    }
+    if (out.shadow >> k & 1) {
+      scratch_shadow_[i] = {origin, vec(out.to_light, k), 1.f - shadow_epsilon,
+                            vec(out.contribution, k)};
+      has_shadow_[i] = 1;
+    }
+  }
+  return out.taken;
 }
 
 // Stages 3–6 on one traced batch, in one pass over its rays: a ray that missed sees the
@@ -47,10 +123,15 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
   scratch_rays(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](auto range) {
     VertexNumbers numbers[sampler_lanes];
+    LambertIn in{};
+    LambertOut out;
     for (size_t first = range.begin(); first < range.end(); first += sampler_lanes) {
       const size_t lanes = std::min(sampler_lanes, range.end() - first);
       draw(rays, first, lanes, dims_, numbers);
+      const uint32_t taken =
+          lambert_ ? shade_lambert_lanes(rays, hits, first, lanes, numbers, in, out) : 0;
       for (size_t k = 0; k < lanes; ++k) {
+        if (taken >> k & 1) continue;
         const size_t i = first + k;
         if (!hits.hit(i)) {
           escaped(rays, uint32_t(i));

@@ -2,6 +2,7 @@
 // integrators/direct.cpp): the same estimator, `direct` with one scattering event.
 #pragma once
 
+#include "integrators/lambert_lanes.h"
 #include "integrators/wavefront.h"
 
 namespace dacrt {
@@ -21,6 +22,17 @@ class PathTracer final : public Wavefront {
   const EnvironmentMap* map_;  // null: uniform (or black) environment, reached by BSDF sampling
   const LightSampling lights_;
   bool emitters_ = false;  // any emissive material: the emitted stage runs
+  // Lambert lanes (integrators/lambert_lanes.h): by material, whether they shade its hits, and
+  // its albedo; lambert_ says if they run at all (some material is theirs, no environment map).
+  bool lambert_ = false;
+  LambertScene lambert_scene_{};
+  std::vector<uint8_t> lambert_material_;
+  std::vector<glm::vec3> lambert_albedo_;
+  // The lanes of rays [first, first + lanes) of a batch that the Lambert lanes shade (their
+  // paths' state, shadow and bounce rays written), as a mask; the others are for the stages above.
+  uint32_t shade_lambert_lanes(const RayBatch& rays, const HitBatch& hits, size_t first,
+                               size_t lanes, const VertexNumbers* numbers, LambertIn& in,
+                               LambertOut& out);
   std::vector<Dimension> dims_;  // what a vertex draws (shade draws them for 16 rays at a time)
   uint32_t drawn_;               // their mask
 };

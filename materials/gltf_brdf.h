@@ -56,6 +56,7 @@ class GltfBrdf {
   std::optional<Sample> sample(const glm::vec3& wo, float u_lobe, float u1, float u2) const;
 
   float alpha() const { return alpha_; }
+  const glm::vec3& base() const { return base_; }  // baseColor, clamped to [0, 1]
   // True when the BRDF is exactly Lambert's, baseColor / π: not metallic, no transmission, and no
   // dielectric reflection (F0 = F90 = 0, KHR_materials_specular's specularFactor 0). eval, pdf
   // and sample then skip the microfacet lobe, which is zero there: the same values, less work.

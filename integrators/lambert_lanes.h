@@ -1,0 +1,73 @@
+// Lambert lanes: the path tracer's shading stage for sixteen vertices at once, where they are on
+// Lambert surfaces (uniform, not emissive) and next-event estimation, if any, picks an emissive
+// triangle that it samples by area. That is all of the Lambert Cornell box but the rays that
+// leave the scene, hit the light or sample it from nearby; the path tracer shades those (and
+// every other vertex of other scenes) the general way, one at a time (integrators/path.cpp).
+//
+// One vertex: Russian roulette; the hit point, its normals and its spawn point; next-event
+// estimation (a uniform point on the emitter's area, weighed against BSDF sampling by the power
+// heuristic; the shadow segment between the two offset points); cosine-weighted BSDF sampling.
+// The same code (integrators/lambert_kernel.h) runs on one lane of floats and, with AVX-512, on
+// sixteen lanes per instruction, with the same IEEE operations in the same order, so the answers
+// are the same bit for bit on every CPU; which lanes it takes is part of those answers.
+#pragma once
+
+#include <cstdint>
+
+namespace dacrt {
+
+// The sampled_solid_angle bound of integrators/light_sampling.h, in one place for both: from a
+// point at squared distance d2 of an emitter's centre, whose ball has squared radius r2, the
+// emitter is sampled by area for sure when r2 × solid_angle_ball ≤ min_solid_angle × d2 (the ball's
+// cap, 2π r² / D², with a margin of 0.1 %).
+inline constexpr float solid_angle_ball = 2.f * 3.14159265358979f * 1.001f;
+
+struct LambertIn {
+  static constexpr int lanes = 16;
+  // 1: the lane is a hit on a uniform, non-emissive Lambert material (else it is not taken).
+  alignas(64) float ok[lanes];
+  alignas(64) float d[3][lanes];          // ray direction, by axis
+  alignas(64) float u[lanes], v[lanes];   // the hit's barycentric weights of corners 1 and 2
+  alignas(64) float corner[3][3][lanes];  // the triangle's [corner][axis]
+  alignas(64) float normal[3][3][lanes];  // its vertex normals (when the scene has them)
+  alignas(64) float albedo[3][lanes];     // baseColor (eval is albedo / π)
+  alignas(64) float beta[3][lanes];       // the path's throughput
+  // 1/0: the path is below --max-depth, at or past the roulette depth.
+  alignas(64) float below_max[lanes], roulette[lanes];
+  alignas(64) float u_roulette[lanes], u_bsdf[2][lanes], u_light[2][lanes];
+  // The emitter next-event estimation picked: light_ok 1 when it is an area-sampled triangle
+  // (LightSampling::AreaEmitter), 0 when the lane must not be taken (a punctual light, a textured
+  // or alpha-tested emitter).
+  alignas(64) float light_ok[lanes];
+  alignas(64) float light_corner[3][3][lanes], light_normal[3][lanes], light_centre[3][lanes];
+  alignas(64) float light_radius2[lanes], light_area[lanes], light_pmf[lanes];
+  alignas(64) float light_radiance[3][lanes], light_double_sided[lanes];
+};
+
+struct LambertOut {
+  static constexpr int lanes = LambertIn::lanes;
+  alignas(64) float beta[3][lanes];       // the throughput after roulette and the bounce
+  alignas(64) float pdf[lanes];           // the bounce direction's solid-angle pdf
+  alignas(64) float origin[3][lanes];     // of both rays: the hit point offset towards the viewer
+  alignas(64) float direction[3][lanes];  // the bounce ray's
+  alignas(64) float to_light[3][lanes];   // the shadow segment (tmax 1 − shadow_epsilon)
+  alignas(64) float contribution[3][lanes];  // the shadow ray's, throughput included
+  uint32_t taken, shadow, bounce;            // lane masks (shadow and bounce within taken)
+};
+
+struct LambertScene {
+  bool normals;  // the scene has vertex normals (LambertIn::normal is filled)
+  bool lights;   // next-event estimation runs (LambertIn::light_* is filled)
+  // Large, near emitters are sampled by solid angle (LightSampling::min_solid_angle, as a float):
+  // the lanes that might be are not taken.
+  bool solid_angle;
+  float min_solid_angle;
+};
+
+// Shades the lanes [0, lanes) of `in`: with AVX-512 all at once, else one by one (the same bits).
+void shade_lambert(const LambertScene& scene, const LambertIn& in, int lanes, LambertOut& out);
+// The same, one lane at a time whatever the CPU (for the tests).
+void shade_lambert_scalar(const LambertScene& scene, const LambertIn& in, int lanes,
+                          LambertOut& out);
+
+}  // namespace dacrt
