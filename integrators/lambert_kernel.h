@@ -202,8 +202,11 @@ void lambert_vertex(const LambertScene& scene, const LambertIn& in, int k, Lambe
     if (scene.solid_angle) {  // (from p, as LightSampling::emitter asks sampled_solid_angle)
       const V3<F> to_centre = load3<L>(in.light_centre, k) - p;
       const F d2 = dot(to_centre, to_centre), r2 = ld(in.light_radius2);
+      // LightSampling::sampled_solid_angle's two bounds: the ball's cap, and A / (D − r)².
+      const F gap = vsqrt(d2) - vsqrt(r2), min_omega(scene.min_solid_angle);
       const M area = (r2 < F(__builtin_inff())) & (d2 < F(__builtin_inff())) &
-                     (F(solid_angle_ball) * r2 <= F(scene.min_solid_angle) * d2);
+                     ((F(solid_angle_ball) * r2 <= min_omega * d2) |
+                      ((gap > zero) & (F(1.001f) * ld(in.light_area) <= min_omega * (gap * gap))));
       taken &= unmask(lit & unmask(area));
     }
     const F s = vsqrt(ld(in.u_light[0])), u2 = ld(in.u_light[1]);

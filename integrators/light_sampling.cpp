@@ -51,25 +51,32 @@ LightSampling::LightSampling(const Scene& scene, const EnvironmentMap* map,
 double LightSampling::sampled_solid_angle(const glm::vec3& o, uint32_t tri) const {
   if (triangles_ == TriangleSampling::area) return 0.0;
   const Geometry& g = scene_.geometry;
-  // Most points see most emitters under far less than min_solid_angle: a ball around the triangle
-  // (out to its farthest corner from a centre) subtends a cap of 2π (1 − √(1 − r²/D²)) < 2π r²/D²,
-  // which bounds the triangle's Ω; below the threshold the exact Ω (normalisations and an atan2
-  // in double) is not needed. In float, with a margin far above its rounding; the answer is the
-  // same either way.
+  // Most points see most emitters under far less than min_solid_angle, and two cheap bounds of the
+  // triangle's Ω tell so, without the exact Ω (normalisations and an atan2 in double): with a
+  // ball around the triangle (out to its farthest corner from a centre, radius r, at distance D),
+  // - the ball's cap, 2π (1 − √(1 − r²/D²)) < 2π r²/D²;
+  // - A / (D − r)² for D > r: Ω = ∫ cos θ / d² dA over the triangle, whose points are all at
+  //   least D − r away (on the Lambert Cornell box this one is the tighter one for most points).
+  // In float, with a margin far above its rounding; the answer is the same either way. The
+  // Lambert lanes repeat both (integrators/lambert_kernel.h).
   glm::vec3 centre;
-  float r2;
+  float r2, area;
   if (const LightSampler::Emitter* e = lights_.emitter(tri)) {
-    centre = e->centre, r2 = e->radius2;
+    centre = e->centre, r2 = e->radius2, area = float(e->area);
   } else {  // (an emitter that is never sampled, found by BSDF sampling)
     const glm::vec3 &v0 = g.vertex(tri, 0), &v1 = g.vertex(tri, 1), &v2 = g.vertex(tri, 2);
     centre = (v0 + v1 + v2) * (1.f / 3.f);
     r2 = std::max({glm::dot(v0 - centre, v0 - centre), glm::dot(v1 - centre, v1 - centre),
                    glm::dot(v2 - centre, v2 - centre)});
+    area = float(g.area(tri));
   }
   const glm::vec3 to = centre - o;
   const float d2 = glm::dot(to, to);
-  if (r2 < INFINITY && d2 < INFINITY && solid_angle_ball * r2 <= float(min_solid_angle) * d2)
-    return 0.0;
+  if (r2 < INFINITY && d2 < INFINITY) {
+    if (solid_angle_ball * r2 <= float(min_solid_angle) * d2) return 0.0;
+    const float gap = std::sqrt(d2) - std::sqrt(r2);
+    if (gap > 0.f && 1.001f * area <= float(min_solid_angle) * (gap * gap)) return 0.0;
+  }
   const glm::dvec3 c0 = corner(g, tri, 0), c1 = corner(g, tri, 1), c2 = corner(g, tri, 2);
   const double omega = triangle_solid_angle(glm::dvec3(o), c0, c1, c2);
   return omega > min_solid_angle && omega < max_solid_angle ? omega : 0.0;

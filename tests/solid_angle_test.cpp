@@ -206,37 +206,56 @@ TEST_CASE("solid angle: next-event estimation's pdf towards a big near emitter i
   }
 }
 
-// sampled_solid_angle skips the exact Ω where a ball around the triangle already subtends less
-// than min_solid_angle: the decision must be the exact one's, from points near and far.
-TEST_CASE("solid angle: the bounding-ball shortcut decides as the exact solid angle does") {
+// sampled_solid_angle skips the exact Ω where a ball around the triangle, or the triangle's area
+// over its least distance (A / (D − r)²), already bounds it below min_solid_angle: the decision
+// must be the exact one's, from points near and far, and near the corners and edges, where the
+// second bound is closest to Ω. Besides the big quad, a sliver 10 long and 0.1 wide: its area is
+// small for the solid angle it subtends from nearby.
+TEST_CASE("solid angle: the bounding-ball shortcuts decide as the exact solid angle does") {
   const NearLight near;
-  const LightSampling lights(near.scene, nullptr);
-  const Geometry& g = near.scene.geometry;
-  Pcg32 rng(17);
-  int large = 0, small = 0;
-  for (int i = 0; i < 200000; ++i) {
-    // Distances from 0.01 to 100 from the quad's centre, log-uniform, in every direction.
-    const double r = std::pow(10.0, -2.0 + 4.0 * double(rng.uniform()));
-    const glm::vec3 o = glm::vec3(0.25f, 0.2f, 0.1f) + float(r) * test::random_direction(rng);
-    for (uint32_t tri = 0; tri < 2; ++tri) {
-      const double omega =
-          triangle_solid_angle(glm::dvec3(o), glm::dvec3(g.vertex(tri, 0)),
-                               glm::dvec3(g.vertex(tri, 1)), glm::dvec3(g.vertex(tri, 2)));
-      const bool sampled =
-          omega > LightSampling::min_solid_angle && omega < LightSampling::max_solid_angle;
-      const double got = lights.sampled_solid_angle(o, tri);
-      if (sampled) {
-        ++large;
-        REQUIRE(got == omega);
-      } else {
-        ++small;
-        REQUIRE(got == 0.0);
+  Scene sliver;
+  sliver.materials = near.scene.materials;
+  const std::vector<glm::dvec3> strip = {{0, 0, 0}, {10, 0, 0}, {10, 0.1, 0}, {0, 0.1, 0}};
+  sliver.geometry.add(glm::vec3(strip[0]), glm::vec3(strip[1]), glm::vec3(strip[2]), 0);
+  for (const auto& [scene, quad] : {std::pair{&near.scene, &near.quad}, {&sliver, &strip}}) {
+    const LightSampling lights(*scene, nullptr);
+    const Geometry& g = scene->geometry;
+    std::vector<glm::vec3> around = {glm::vec3(
+        0.25 * ((*quad)[0] + (*quad)[1] + (*quad)[2] + (*quad)[3]))};  // the quad's centre
+    for (size_t k = 0; k < 4; ++k) {
+      around.push_back(glm::vec3((*quad)[k]));
+      around.push_back(glm::vec3(0.5 * ((*quad)[k] + (*quad)[(k + 1) % 4])));
+    }
+    Pcg32 rng(17);
+    int large = 0, small = 0;
+    for (int i = 0; i < 200000; ++i) {
+      // Distances from 0.01 to 100 from the quad's centre, log-uniform, in every direction; or
+      // from 0.01 to 3 from a corner or an edge's midpoint.
+      const bool centre = i % 2 == 0;
+      const double r = std::pow(10.0, -2.0 + (centre ? 4.0 : 2.5) * double(rng.uniform()));
+      const glm::vec3 o =
+          around[centre ? 0 : 1 + size_t(i / 2) % 8] + float(r) * test::random_direction(rng);
+      for (uint32_t tri = 0; tri < g.size(); ++tri) {
+        const double omega =
+            triangle_solid_angle(glm::dvec3(o), glm::dvec3(g.vertex(tri, 0)),
+                                 glm::dvec3(g.vertex(tri, 1)), glm::dvec3(g.vertex(tri, 2)));
+        const bool sampled =
+            omega > LightSampling::min_solid_angle && omega < LightSampling::max_solid_angle;
+        const double got = lights.sampled_solid_angle(o, tri);
+        INFO("triangles " << g.size() << ", point " << o.x << ", " << o.y << ", " << o.z);
+        if (sampled) {
+          ++large;
+          REQUIRE(got == omega);
+        } else {
+          ++small;
+          REQUIRE(got == 0.0);
+        }
       }
     }
+    // Both sides of the threshold, many times over.
+    CHECK(large > 5000);
+    CHECK(small > 5000);
   }
-  // Both sides of the threshold, many times over.
-  CHECK(large > 10000);
-  CHECK(small > 10000);
 }
 
 TEST_CASE(
