@@ -164,7 +164,7 @@ void lambert_vertex(const LambertScene& scene, const LambertIn& in, int k, Lambe
   // Russian roulette (PathTracer::survives).
   V3<F> beta = load3<L>(in.beta, k);
   const M roulette = ld(in.roulette) > F(0.5f);
-  const F p_keep = vmin(one, max3(beta) * F(2.f));
+  const F p_keep = vmin(one, max3(beta) * F(scene.roulette_scale));
   const M alive = (ld(in.below_max) > F(0.5f)) & (unmask(roulette) | (ld(in.u_roulette) < p_keep));
   beta = sel(roulette, V3<F>{beta.x / p_keep, beta.y / p_keep, beta.z / p_keep}, beta);
 

@@ -62,6 +62,7 @@ struct LambertScene {
   // the lanes that might be are not taken.
   bool solid_angle;
   float min_solid_angle;
+  float roulette_scale;  // 1 / PathTracer::roulette_floor: p = min(1, max(β) × roulette_scale)
 };
 
 // Shades the lanes [0, lanes) of `in`: with AVX-512 all at once, else one by one (the same bits).

@@ -47,8 +47,10 @@ PathTracer::PathTracer(const Scene& scene, Backend& backend, const RenderSetting
     lambert_ |= ours;
   }
   lambert_scene_ = {!scene.normals.empty(), !lights_.empty(), lights_.solid_angle(),
-                    float(LightSampling::min_solid_angle)};
+                    float(LightSampling::min_solid_angle), 1.f / roulette_floor};
 }
+
+static_assert(LambertIn::lanes == sampler_lanes, "a group of rays is shaded and drawn for at once");
 
 uint32_t PathTracer::shade_lambert_lanes(const RayBatch& rays, const HitBatch& hits, size_t first,
                                          size_t lanes, const VertexNumbers* numbers, LambertIn& in,
@@ -187,7 +189,6 @@ void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i)
 // better) a floor of 1 cost 1.16× what 1/2 costs, 1/3 1.00×, and √β (Cycles' rule) 1.01×; on
 // scenes/cornell-box.gltf (32 spp) 1 cost 1.08× and √β 1.02×.
 bool PathTracer::survives(uint32_t path, const VertexDraw& random) {
-  constexpr float roulette_floor = 0.5f;
   const int depth = int(paths_.depth[path]);
   bool keep = depth < s_.max_depth;
   if (keep && depth >= s_.roulette_depth) {

@@ -19,6 +19,9 @@ class PathTracer final : public Wavefront {
   void material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q,
                 const VertexDraw& random);
 
+  // Russian roulette keeps a path with probability min(1, max(β) / roulette_floor) (survives).
+  static constexpr float roulette_floor = 0.5f;
+
   const EnvironmentMap* map_;  // null: uniform (or black) environment, reached by BSDF sampling
   const LightSampling lights_;
   bool emitters_ = false;  // any emissive material: the emitted stage runs

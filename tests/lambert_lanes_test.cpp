@@ -82,7 +82,7 @@ TEST_CASE(
   for (const bool normals : {false, true})
     for (const bool lights : {false, true})
       for (const bool solid_angle : {false, true}) {
-        const LambertScene scene{normals, lights, solid_angle, 0.5f};
+        const LambertScene scene{normals, lights, solid_angle, 0.5f, 2.f};
         for (int round = 0; round < 40; ++round) {
           LambertIn in{};
           random_lanes(r, in, round);
