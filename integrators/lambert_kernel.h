@@ -206,7 +206,8 @@ void lambert_vertex(const LambertScene& scene, const LambertIn& in, int k, Lambe
       const F gap = vsqrt(d2) - vsqrt(r2), min_omega(scene.min_solid_angle);
       const M area = (r2 < F(__builtin_inff())) & (d2 < F(__builtin_inff())) &
                      ((F(solid_angle_ball) * r2 <= min_omega * d2) |
-                      ((gap > zero) & (F(1.001f) * ld(in.light_area) <= min_omega * (gap * gap))));
+                      ((gap > zero) & (F(solid_angle_area_margin) * ld(in.light_area) <=
+                                       min_omega * (gap * gap))));
       taken &= unmask(lit & unmask(area));
     }
     const F s = vsqrt(ld(in.u_light[0])), u2 = ld(in.u_light[1]);

@@ -5,7 +5,6 @@
 namespace dacrt {
 
 // Defined in lambert_lanes_avx512.cpp.
-bool lambert_avx512_available();
 void shade_lambert_avx512(const LambertScene& scene, const LambertIn& in, LambertOut& out);
 
 namespace {

@@ -16,11 +16,15 @@
 
 namespace dacrt {
 
-// The sampled_solid_angle bound of integrators/light_sampling.h, in one place for both: from a
-// point at squared distance d2 of an emitter's centre, whose ball has squared radius r2, the
-// emitter is sampled by area for sure when r2 × solid_angle_ball ≤ min_solid_angle × d2 (the ball's
-// cap, 2π r² / D², with a margin of 0.1 %).
+// The bounds of LightSampling::sampled_solid_angle (integrators/light_sampling.cpp), in one place
+// for it and the lanes: from a point at distance D of an emitter's centre, whose ball has radius
+// r, the emitter is sampled by area for sure when
+// - the ball's cap is small enough: r² × solid_angle_ball ≤ min_solid_angle × D² (2π r² / D²,
+//   with a margin of 0.1 %);
+// - or its area over its least distance is: A × solid_angle_area_margin ≤ min_solid_angle ×
+//   (D − r)², for D > r.
 inline constexpr float solid_angle_ball = 2.f * 3.14159265358979f * 1.001f;
+inline constexpr float solid_angle_area_margin = 1.001f;
 
 struct LambertIn {
   static constexpr int lanes = 16;
@@ -65,6 +69,8 @@ struct LambertScene {
   float roulette_scale;  // 1 / PathTracer::roulette_floor: p = min(1, max(β) × roulette_scale)
 };
 
+// True if this CPU runs the AVX-512 lanes (AVX512F and AVX512DQ).
+bool lambert_avx512_available();
 // Shades the lanes [0, lanes) of `in`: with AVX-512 all at once, else one by one (the same bits).
 void shade_lambert(const LambertScene& scene, const LambertIn& in, int lanes, LambertOut& out);
 // The same, one lane at a time whatever the CPU (for the tests).

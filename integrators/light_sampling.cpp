@@ -75,7 +75,8 @@ double LightSampling::sampled_solid_angle(const glm::vec3& o, uint32_t tri) cons
   if (r2 < INFINITY && d2 < INFINITY) {
     if (solid_angle_ball * r2 <= float(min_solid_angle) * d2) return 0.0;
     const float gap = std::sqrt(d2) - std::sqrt(r2);
-    if (gap > 0.f && 1.001f * area <= float(min_solid_angle) * (gap * gap)) return 0.0;
+    if (gap > 0.f && solid_angle_area_margin * area <= float(min_solid_angle) * (gap * gap))
+      return 0.0;
   }
   const glm::dvec3 c0 = corner(g, tri, 0), c1 = corner(g, tri, 1), c2 = corner(g, tri, 2);
   const double omega = triangle_solid_angle(glm::dvec3(o), c0, c1, c2);

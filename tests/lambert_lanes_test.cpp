@@ -7,10 +7,9 @@
 #include <doctest/doctest.h>
 
 #include <bit>
-#include <cstring>
+#include <initializer_list>
 #include <glm/glm.hpp>
 
-#include "tracer/triangle_block.h"
 #include "util/random.h"
 
 using namespace dacrt;
@@ -76,7 +75,8 @@ void random_lanes(Draw& r, LambertIn& in, int round) {
 
 TEST_CASE(
     "lambert lanes: sixteen vertices at once give the answers of one at a time, bit for bit") {
-  if (!avx512_available()) MESSAGE("no AVX-512 on this CPU: both runs are the one-lane code");
+  if (!lambert_avx512_available())
+    MESSAGE("no AVX-512 on this CPU: both runs are the one-lane code");
   Draw r{0x5eed};
   int taken = 0, shadows = 0, bounces = 0, lanes_run = 0;
   for (const bool normals : {false, true})
