@@ -51,19 +51,13 @@ class Dacrt final : public Backend {
   }
 
   void do_intersect(const RayBatch& rays, HitBatch& hits, const HitFilter* filter) override {
-    hits.resize(rays.size());
-    for (size_t i = 0; i < rays.size(); ++i) {
-      hits.prim[i] = HitBatch::miss;
-      hits.t[i] = rays.tmax[i];
-      hits.u[i] = hits.v[i] = 0.f;
-    }
+    hits.resize(rays.size());  // every ray's miss is written by trace's first pass
     trace(rays, &hits, nullptr, filter);
   }
 
   void do_occluded(const RayBatch& rays, std::span<uint8_t> occluded,
                    const HitFilter* filter) override {
-    std::fill_n(occluded.begin(), rays.size(), uint8_t(0));
-    trace(rays, nullptr, occluded.data(), filter);
+    trace(rays, nullptr, occluded.data(), filter);  // which writes every ray's 0 first
   }
 
   Stats stats() const override {
@@ -80,8 +74,9 @@ class Dacrt final : public Backend {
   void trace(const RayBatch& batch, HitBatch* hits, uint8_t* occluded, const HitFilter* filter) {
     const size_t n = batch.size();
     // Records for the live rays, in batch order; the rest never enter the recursion. Built in one
-    // parallel pass: each block writes its live rays from its own start, and only if some rays
-    // were not live are the blocks moved together after (rare: NaN or empty rays).
+    // parallel pass, which also sets every ray's answer to a miss: each block writes its live rays
+    // from its own start, and only if some rays were not live are the blocks moved together after
+    // (rare: NaN or empty rays).
     auto live = [&](size_t i) {
       return Ray::valid(batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i]);
     };
@@ -109,7 +104,17 @@ class Dacrt final : public Backend {
     std::vector<size_t> live_in(blocks, 0);
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       size_t out = b * block;
-      for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
+      const size_t end = std::min(n, (b + 1) * block);
+      if (hits) {
+        std::fill(hits->prim.begin() + b * block, hits->prim.begin() + end, HitBatch::miss);
+        std::copy(batch.tmax.begin() + b * block, batch.tmax.begin() + end,
+                  hits->t.begin() + b * block);
+        std::fill(hits->u.begin() + b * block, hits->u.begin() + end, 0.f);
+        std::fill(hits->v.begin() + b * block, hits->v.begin() + end, 0.f);
+      } else {
+        std::fill(occluded + b * block, occluded + end, uint8_t(0));
+      }
+      for (size_t i = b * block; i < end; ++i) {
         if (!live(i)) continue;
         refs[out++] = {batch.origin(i), batch.direction(i), batch.tmin[i], batch.tmax[i],
                        uint32_t(i)};
