@@ -115,7 +115,7 @@ Ray tracing
                              backend setting, repeatable; NAME. for one backend of several (dacrt: bins, leaf_rays, leaf_work, leaf_triangles,
                              max_leaf_triangles, sample_size, sample_threshold, small_nodes, filter_skip,
                              cost_traversal, cost_intersect, simd, task_rays, chunks, seed,
-                             max_depth, top_triangles, leaf_lanes)
+                             max_depth, top_triangles, leaf_lanes, group_rays)
   --wavefront N              live paths at most (default: what 96 MiB of path state holds,
                              about 286 000, or the frame's paths if fewer)
   --threads T                worker threads (default: all cores)

@@ -49,16 +49,27 @@ struct Ray {
     return 0x1p-16f * (om + magnitude);
   }
 
+  // The shear's axis permutation of direction d; returns its class in [0, 6): 2 kz, plus 1 if
+  // d[kz] < 0 (kx and ky swapped).
+  static int axes(const glm::vec3& d, int& kx, int& ky, int& kz) {
+    const glm::vec3 a = abs_of(d);
+    // a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2), by a table (directions are
+    // random: branches would be mispredicted half the time).
+    constexpr int8_t largest[8] = {2, 2, 2, 0, 1, 2, 1, 0};  // by xy + 2 xz + 4 yz
+    kz = largest[int(a.x >= a.y) | int(a.x >= a.z) << 1 | int(a.y >= a.z) << 2];
+    kx = kz == 2 ? 0 : kz + 1;
+    ky = kx == 2 ? 0 : kx + 1;
+    const bool negative = d[kz] < 0.f;
+    if (negative) std::swap(kx, ky);  // keep the winding of the sheared triangle
+    return 2 * kz + negative;
+  }
+
   // What the triangle test reads: o, d and the shear.
   static Ray shear(const glm::vec3& o, const glm::vec3& d) {
     Ray r;
     r.o = o;
     r.d = d;
-    glm::vec3 a = abs_of(d);
-    r.kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
-    r.kx = r.kz == 2 ? 0 : r.kz + 1;
-    r.ky = r.kx == 2 ? 0 : r.kx + 1;
-    if (d[r.kz] < 0.f) std::swap(r.kx, r.ky);  // keep the winding of the sheared triangle
+    axes(d, r.kx, r.ky, r.kz);
     r.sx = d[r.kx] / d[r.kz];
     r.sy = d[r.ky] / d[r.kz];
     r.sz = 1.f / d[r.kz];
@@ -125,10 +136,9 @@ SpawnPoint spawn_point_of_edges(const Vec& a, const Vec& b, const Vec& c, const 
   auto max3 = [](const Vec& x) { return std::max(std::max(x.x, x.y), x.z); };
   Real u = Real(u_in), v = Real(v_in);
   const Real du = Real(1) / Real(3) - u, dv = Real(1) / Real(3) - v;
-  const Real move =
-      Real(16 * 0x1p-24) * max3(glm::max(glm::max(abs_of(a), abs_of(b)), abs_of(c)));
+  const Real move = Real(16 * 0x1p-24) * max3(glm::max(glm::max(abs_of(a), abs_of(b)), abs_of(c)));
   const Real distance = max3(abs_of(du * e1 + dv * e2));  // max norm: no square to overflow
-  if (distance > Real(0)) {  // 0 or NaN: degenerate, no move
+  if (distance > Real(0)) {                               // 0 or NaN: degenerate, no move
     const Real k = std::min(Real(0.5), move / distance);
     u += k * du, v += k * dv;
   }

@@ -110,22 +110,16 @@ __attribute__((target("avx512f"))) inline __m512 max3(const __m512* v) {
                        _mm512_abs_ps(v[2]));
 }
 
-// candidates8 on all sixteen lanes: the same operations, in the same order, on 16-wide registers;
-// also the lanes whose answer is known without the scalar test (BlockHits).
-__attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b, const Ray& r,
-                                                          float tmin, float tmax, BlockHits& out) {
-  const __m512 ox = _mm512_set1_ps(r.o[r.kx]), oy = _mm512_set1_ps(r.o[r.ky]),
-               oz = _mm512_set1_ps(r.o[r.kz]);
-  const __m512 sx = _mm512_set1_ps(r.sx), sy = _mm512_set1_ps(r.sy), sz = _mm512_set1_ps(r.sz);
-  __m512 x[3], y[3], z[3];
-  for (int c = 0; c < 3; ++c) {
-    const __m512 ax = _mm512_sub_ps(_mm512_load_ps(b.p[c][r.kx]), ox);
-    const __m512 ay = _mm512_sub_ps(_mm512_load_ps(b.p[c][r.ky]), oy);
-    const __m512 az = _mm512_sub_ps(_mm512_load_ps(b.p[c][r.kz]), oz);
-    x[c] = _mm512_sub_ps(ax, _mm512_mul_ps(sx, az));
-    y[c] = _mm512_sub_ps(ay, _mm512_mul_ps(sy, az));
-    z[c] = _mm512_mul_ps(sz, az);
-  }
+// Sixteen lanes of intersect_triangle, each a (ray, triangle) pair, from the sheared corners
+// x, y, z (as intersect_triangle computes them: corner − origin, then the shear): its float
+// operations in its order, and what it would do with each lane (BlockHits' sure, exact, unsure).
+struct Lanes16 {
+  __m512 t, e1, e2, det;
+  uint32_t sure, exact, unsure;
+};
+__attribute__((target("avx512f"))) inline Lanes16 decide16(const __m512* x, const __m512* y,
+                                                           const __m512* z, __m512 tmin,
+                                                           __m512 tmax, uint32_t used) {
   const __m512 e0 = _mm512_sub_ps(_mm512_mul_ps(x[2], y[1]), _mm512_mul_ps(y[2], x[1]));
   const __m512 e1 = _mm512_sub_ps(_mm512_mul_ps(x[0], y[2]), _mm512_mul_ps(y[0], x[2]));
   const __m512 e2 = _mm512_sub_ps(_mm512_mul_ps(x[1], y[0]), _mm512_mul_ps(y[1], x[0]));
@@ -159,35 +153,129 @@ __attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b
   const __m512 delta_z = _mm512_mul_ps(g3, max_z);
   const __m512 delta_x = _mm512_mul_ps(g5, _mm512_add_ps(max_x, max_z));
   const __m512 delta_y = _mm512_mul_ps(g5, _mm512_add_ps(max_y, max_z));
-  const __m512 delta_e = _mm512_mul_ps(
-      _mm512_set1_ps(2.f),
-      _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(g2, max_x), max_y),
-                                  _mm512_mul_ps(delta_y, max_x)),
-                    _mm512_mul_ps(delta_x, max_y)));
-  const __m512 bound = _mm512_mul_ps(
-      _mm512_set1_ps(3.f * (1.f + 0x1p-20f)),
-      _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(g3, max_e), max_z),
-                                  _mm512_mul_ps(delta_e, max_z)),
-                    _mm512_mul_ps(delta_z, max_e)));
+  const __m512 delta_e =
+      _mm512_mul_ps(_mm512_set1_ps(2.f),
+                    _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(g2, max_x), max_y),
+                                                _mm512_mul_ps(delta_y, max_x)),
+                                  _mm512_mul_ps(delta_x, max_y)));
+  const __m512 bound =
+      _mm512_mul_ps(_mm512_set1_ps(3.f * (1.f + 0x1p-20f)),
+                    _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(g3, max_e), max_z),
+                                                _mm512_mul_ps(delta_e, max_z)),
+                                  _mm512_mul_ps(delta_z, max_e)));
   const __m512 abs_t = _mm512_abs_ps(t);
-  const __mmask16 in_range = _mm512_cmp_ps_mask(t, _mm512_set1_ps(tmin), _CMP_GE_OQ) &
-                             _mm512_cmp_ps_mask(t, _mm512_set1_ps(tmax), _CMP_LE_OQ);
+  const __mmask16 in_range =
+      _mm512_cmp_ps_mask(t, tmin, _CMP_GE_OQ) & _mm512_cmp_ps_mask(t, tmax, _CMP_LE_OQ);
   const __mmask16 finite = _mm512_cmp_ps_mask(abs_t, inf, _CMP_LT_OQ);
   const __mmask16 beyond_error =
       _mm512_cmp_ps_mask(_mm512_mul_ps(abs_t, abs_det), bound, _CMP_GT_OQ);
   const __mmask16 inside = __mmask16(~(any_neg & any_pos) & det_ok);
-  const uint32_t used = (1u << b.n) - 1u;
   // With no edge function of zero (no double edge functions) and det in range, the scalar test
   // takes the lane's float values: inside, a finite t beyond its error bound decides by its
   // range (sure if in it), any other t is computed again in double (exact).
   const uint32_t plain = uint32_t(inside & ~any_zero) & used;
-  out.sure = plain & uint32_t(finite & beyond_error & in_range);
-  out.exact = plain & ~uint32_t(finite & beyond_error);
-  out.unsure = uint32_t(any_zero | __mmask16(~det_ok)) & used;
-  _mm512_store_ps(out.t, t);
-  _mm512_store_ps(out.e1, e1);
-  _mm512_store_ps(out.e2, e2);
-  _mm512_store_ps(out.det, det);
+  const uint32_t sure = plain & uint32_t(finite & beyond_error & in_range);
+  const uint32_t exact = plain & ~uint32_t(finite & beyond_error);
+  const uint32_t unsure = uint32_t(any_zero | __mmask16(~det_ok)) & used;
+  return {t, e1, e2, det, sure, exact, unsure};
+}
+
+// One ray against the sixteen triangles of a block (candidates8's operations on 16-wide
+// registers), with the lanes whose answer is known without the scalar test (BlockHits).
+__attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b, const Ray& r,
+                                                          float tmin, float tmax, BlockHits& out) {
+  const __m512 ox = _mm512_set1_ps(r.o[r.kx]), oy = _mm512_set1_ps(r.o[r.ky]),
+               oz = _mm512_set1_ps(r.o[r.kz]);
+  const __m512 sx = _mm512_set1_ps(r.sx), sy = _mm512_set1_ps(r.sy), sz = _mm512_set1_ps(r.sz);
+  __m512 x[3], y[3], z[3];
+  for (int c = 0; c < 3; ++c) {
+    const __m512 ax = _mm512_sub_ps(_mm512_load_ps(b.p[c][r.kx]), ox);
+    const __m512 ay = _mm512_sub_ps(_mm512_load_ps(b.p[c][r.ky]), oy);
+    const __m512 az = _mm512_sub_ps(_mm512_load_ps(b.p[c][r.kz]), oz);
+    x[c] = _mm512_sub_ps(ax, _mm512_mul_ps(sx, az));
+    y[c] = _mm512_sub_ps(ay, _mm512_mul_ps(sy, az));
+    z[c] = _mm512_mul_ps(sz, az);
+  }
+  const Lanes16 l = decide16(x, y, z, _mm512_set1_ps(tmin), _mm512_set1_ps(tmax), (1u << b.n) - 1u);
+  out.sure = l.sure, out.exact = l.exact, out.unsure = l.unsure;
+  _mm512_store_ps(out.t, l.t);
+  _mm512_store_ps(out.e1, l.e1);
+  _mm512_store_ps(out.e2, l.e2);
+  _mm512_store_ps(out.det, l.det);
+}
+
+// Sixteen rays of one shear class against the triangles of `blocks`, one triangle at a time: the
+// transpose of block_hits_avx512, with the same operations per lane. Each lane keeps its nearest
+// sure hit in registers, by closer()'s order (t, then the triangle index).
+__attribute__((target("avx512f"))) int group_hits_avx512(const TriangleBlock* blocks, int nb,
+                                                         RayGroup& g, bool any_hit, GroupHits& out,
+                                                         OddLanes& odd) {
+  // Ray::shear's constants, divided as it divides them (correctly rounded in either form).
+  const __m512 dz = _mm512_load_ps(g.d[2]);
+  const __m512 sh[3] = {_mm512_div_ps(_mm512_load_ps(g.d[0]), dz),
+                        _mm512_div_ps(_mm512_load_ps(g.d[1]), dz),
+                        _mm512_div_ps(_mm512_set1_ps(1.f), dz)};
+  __m512 o[3];
+  for (int a = 0; a < 3; ++a) o[a] = _mm512_load_ps(g.o[a]), _mm512_store_ps(g.s[a], sh[a]);
+  const __m512 tmin = _mm512_load_ps(g.tmin), tmax = _mm512_load_ps(g.tmax);
+  const __m512 inf = _mm512_set1_ps(INFINITY);
+  __m512 best_t = inf, best_e1 = _mm512_setzero_ps(), best_e2 = best_e1, best_det = best_e1;
+  __m512i best_tri = _mm512_set1_epi32(-1);
+  uint32_t occluded = 0;
+  int tested = 0;
+  alignas(64) float t[16], e1[16], e2[16], det[16];
+  for (int b = 0; b < nb; ++b) {
+    const TriangleBlock& block = blocks[b];
+    for (int l = 0; l < block.n; ++l, ++tested) {
+      __m512 x[3], y[3], z[3];
+      for (int c = 0; c < 3; ++c) {
+        const __m512 ax = _mm512_sub_ps(_mm512_set1_ps(block.p[c][g.kx][l]), o[0]);
+        const __m512 ay = _mm512_sub_ps(_mm512_set1_ps(block.p[c][g.ky][l]), o[1]);
+        const __m512 az = _mm512_sub_ps(_mm512_set1_ps(block.p[c][g.kz][l]), o[2]);
+        x[c] = _mm512_sub_ps(ax, _mm512_mul_ps(sh[0], az));
+        y[c] = _mm512_sub_ps(ay, _mm512_mul_ps(sh[1], az));
+        z[c] = _mm512_mul_ps(sh[2], az);
+      }
+      const Lanes16 h = decide16(x, y, z, tmin, tmax, g.used & ~occluded);
+      const uint32_t rest = h.exact | h.unsure;
+      if (rest) {
+        _mm512_store_ps(t, h.t), _mm512_store_ps(e1, h.e1);
+        _mm512_store_ps(e2, h.e2), _mm512_store_ps(det, h.det);
+      }
+      if (any_hit) {
+        occluded |= h.sure;
+        if (rest)
+          occluded |=
+              odd.decide(block.id[l], h.exact & ~occluded, h.unsure & ~occluded, t, e1, e2, det);
+        if (occluded == g.used) {
+          out.hit = occluded;
+          return tested + 1;
+        }
+        continue;
+      }
+      const __m512i tri = _mm512_set1_epi32(int(block.id[l]));
+      const __mmask16 take = _mm512_mask_cmp_ps_mask(__mmask16(h.sure), h.t, best_t, _CMP_LT_OQ) |
+                             (_mm512_mask_cmp_ps_mask(__mmask16(h.sure), h.t, best_t, _CMP_EQ_OQ) &
+                              _mm512_cmplt_epu32_mask(tri, best_tri));
+      best_t = _mm512_mask_mov_ps(best_t, take, h.t);
+      best_e1 = _mm512_mask_mov_ps(best_e1, take, h.e1);
+      best_e2 = _mm512_mask_mov_ps(best_e2, take, h.e2);
+      best_det = _mm512_mask_mov_ps(best_det, take, h.det);
+      best_tri = _mm512_mask_mov_epi32(best_tri, take, tri);
+      if (rest) odd.decide(block.id[l], h.exact, h.unsure, t, e1, e2, det);
+    }
+  }
+  if (any_hit) {
+    out.hit = occluded;
+    return tested;
+  }
+  out.hit = _mm512_cmp_ps_mask(best_t, inf, _CMP_LT_OQ);
+  _mm512_store_ps(out.t, best_t);
+  _mm512_store_ps(out.e1, best_e1);
+  _mm512_store_ps(out.e2, best_e2);
+  _mm512_store_ps(out.det, best_det);
+  _mm512_store_si512(out.tri, best_tri);
+  return tested;
 }
 
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax) {
@@ -211,8 +299,13 @@ uint32_t block_candidates(const TriangleBlock& b, const Ray&, float, float) {
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray&, float, float) {
   return (1u << b.n) - 1u;  // never called; every lane is a candidate
 }
+int group_hits_avx512(const TriangleBlock*, int, RayGroup&, bool, GroupHits& out, OddLanes&) {
+  out.hit = 0;  // never called
+  return 0;
+}
 void block_hits_avx512(const TriangleBlock& b, const Ray&, float, float, BlockHits& out) {
-  out.sure = out.exact = 0, out.unsure = (1u << b.n) - 1u;  // never called; every lane is for the scalar test
+  out.sure = out.exact = 0,
+  out.unsure = (1u << b.n) - 1u;  // never called; every lane is for the scalar test
 }
 
 #endif

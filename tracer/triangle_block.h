@@ -63,15 +63,63 @@ struct BlockHits {
 void block_hits_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax,
                        BlockHits& out);
 
-// intersect_triangle's answer on an `exact` lane l of block_hits_avx512 (its corners p0, p1, p2):
-// t in double, in [tmin, tmax], with the lane's float u and v.
-inline bool exact_lane_hit(const BlockHits& bh, int l, const Ray& r, const glm::vec3& p0,
+// Sixteen rays of one shear class (the same kx, ky, kz: Ray::axes) in structure-of-arrays form,
+// for group_hits_avx512: the transpose of TriangleBlock, for a leaf with many rays.
+struct RayGroup {
+  static constexpr int lanes = 16;
+  alignas(64) float o[3][lanes];  // the origins' kx, ky and kz components
+  alignas(64) float d[3][lanes];  // the directions' kx, ky and kz components
+  alignas(64) float tmin[lanes], tmax[lanes];
+  alignas(64) float s[3][lanes];  // sx, sy, sz, as Ray::shear computes them (group_hits_avx512)
+  int kx, ky, kz;
+  uint32_t used;  // lanes in use; the others hold copies of lane 0
+};
+
+// Per lane of a RayGroup: its nearest `sure` hit (hit bit set; the hit is t, u = e1 / det,
+// v = e2 / det on triangle tri, bit for bit intersect_triangle's), or with any_hit, whether a hit
+// was found (hit bit set).
+struct GroupHits {
+  alignas(64) float t[RayGroup::lanes], e1[RayGroup::lanes], e2[RayGroup::lanes],
+      det[RayGroup::lanes];
+  alignas(64) uint32_t tri[RayGroup::lanes];
+  uint32_t hit;
+};
+
+// The lanes of one triangle that the vector test leaves to the scalar one (block_hits_avx512's
+// `exact` and `unsure`), with the lanes' float t, e1, e2 and det; decide() returns those that hit
+// (with any_hit, the ones to count as occluded). The caller keeps the closest hit it finds.
+struct OddLanes {
+  virtual uint32_t decide(uint32_t tri, uint32_t exact, uint32_t unsure, const float* t,
+                          const float* e1, const float* e2, const float* det) = 0;
+
+ protected:
+  ~OddLanes() = default;
+};
+
+// Every triangle of blocks[0..nb) against the rays of g (the same operations per lane as
+// block_hits_avx512), in the order of the blocks and their lanes; first sets g.s. Closest hit: out
+// holds each lane's nearest sure hit by closer()'s order, and odd.decide gets every exact or unsure
+// lane. any_hit: out.hit is the lanes with a sure hit or one odd.decide returned, and triangles
+// stop as soon as every lane has one. Returns how many triangles were tested. Only call when
+// avx512_available().
+int group_hits_avx512(const TriangleBlock* blocks, int nb, RayGroup& g, bool any_hit,
+                      GroupHits& out, OddLanes& odd);
+
+// intersect_triangle's answer on an `exact` lane l (its corners p0, p1, p2), from the lane's float
+// edge functions e1, e2 and det: t in double, in [tmin, tmax], with the lane's float u and v.
+inline bool exact_lane_hit(float e1, float e2, float det, const Ray& r, const glm::vec3& p0,
                            const glm::vec3& p1, const glm::vec3& p2, float tmin, float tmax,
                            TriangleHit& hit) {
   const float t = float(exact_t(r, p0, p1, p2));
   if (!(t >= tmin && t <= tmax)) return false;
-  hit = {t, bh.e1[l] / bh.det[l], bh.e2[l] / bh.det[l]};
+  hit = {t, e1 / det, e2 / det};
   return true;
+}
+// The same for lane l of block_hits_avx512.
+inline bool exact_lane_hit(const BlockHits& bh, int l, const Ray& r, const glm::vec3& p0,
+                           const glm::vec3& p1, const glm::vec3& p2, float tmin, float tmax,
+                           TriangleHit& hit) {
+  return exact_lane_hit(bh.e1[l], bh.e2[l], bh.det[l], r, p0, p1, p2, tmin, tmax, hit);
 }
 
 }  // namespace dacrt

@@ -36,6 +36,11 @@ struct DacrtParams {
   // enter both halves. 1: one by one, the paper's model. The same on every CPU, so the recursion
   // does not depend on the vector width.
   int leaf_lanes = 16;
+  // A leaf with at least this many rays and no hit filter tests them sixteen at a time against one
+  // triangle at a time, when the CPU has AVX-512 and simd is auto (triangle_block.h: RayGroup):
+  // each lane keeps its nearest hit in registers, where one ray against a block of sixteen
+  // triangles pays per ray for the candidates' masks and branches. 0: never. The same answers.
+  int group_rays = 64;
   int sample_size = 100;        // rays drawn to estimate α
   int sample_threshold = 1000;  // sample only above this many active rays
   // At or below sample_threshold: `sah` splits by the surface area heuristic, orders the children

@@ -11,7 +11,8 @@ const std::set<std::string, std::less<>>& DacrtParams::keys() {
       "filter_skip",    "cost_traversal", "cost_intersect",
       "seed",           "max_depth",      "max_leaf_triangles",
       "small_nodes",    "simd",           "task_rays",
-      "chunks",         "top_triangles",  "leaf_lanes"};
+      "chunks",         "top_triangles",  "leaf_lanes",
+      "group_rays"};
   return k;
 }
 
@@ -35,6 +36,8 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.task_rays = o.get("task_rays", p.task_rays);
   p.chunks = o.get("chunks", p.chunks);
   p.top_triangles = o.get("top_triangles", p.top_triangles);
+  p.group_rays = o.get("group_rays", p.group_rays);
+  if (p.group_rays < 0) throw Error("option group_rays must be >= 0 (0: never)");
   if (p.top_triangles < 0) throw Error("option top_triangles must be >= 0 (0: keep no top levels)");
   std::string small = o.get("small_nodes", std::string("sah"));
   if (small != "sah" && small != "all") throw Error("option small_nodes must be sah or all");

@@ -13,6 +13,7 @@
 
 namespace dacrt {
 class HitFilter;
+struct TriangleBlock;
 }
 
 namespace dacrt::kernel {
@@ -97,6 +98,7 @@ struct Traversal {
                      uint32_t re, bool by_area = false);
   bool skips_filter(const Split::Child& c);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
+  void grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, uint32_t re);
   uint32_t filter(const Box& box, uint32_t rb, uint32_t re, bool hits_first = true);
   void sample_splits(const Box* left, const Box* right, int n, uint32_t rb, uint32_t samples,
                      SplitScratch::Counts& counts);
