@@ -145,7 +145,8 @@ TEST_CASE("dacrt's leaves answer the same one ray at a time and sixteen rays at 
   // group_rays=1 tests every leaf's rays sixteen at a time against one triangle at a time
   // (RayGroup), group_rays=0 one ray at a time against blocks of sixteen triangles: rays from
   // surfaces have lanes the vector test leaves to the scalar one (t within its error of 0), axis
-  // rays have zero direction components, slivers and one-centroid soups have ties and edges.
+  // rays have zero direction components, diagonal rays tied largest components (the shear's axis),
+  // slivers and one-centroid soups have ties and edges.
   uint64_t seed = 700;
   for (auto& c : cases()) {
     for (const RayBatch& rays :

@@ -233,6 +233,29 @@ inline RayBatch axis_rays(const Geometry& g, size_t n, uint64_t seed) {
   return rays;
 }
 
+// Rays whose largest direction components tie exactly: two components (or all three) of equal
+// magnitude, the others smaller, from anywhere in the geometry's box and around it. The shear
+// (Ray::shear) must pick its axis among the tied ones as every backend does.
+inline RayBatch diagonal_rays(const Geometry& g, size_t n, uint64_t seed) {
+  Pcg32 rng(seed);
+  Box b = g.bounds();
+  const glm::vec3 margin = 0.5f * (b.hi - b.lo);
+  RayBatch rays;
+  rays.type = RayType::bounce;
+  rays.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const float m = 1.f + rng.uniform();
+    const int odd = int(rng.below(4));  // the component that does not tie (3: none)
+    glm::vec3 d;
+    for (int k = 0; k < 3; ++k) {
+      const float sign = rng.below(2) ? 1.f : -1.f;
+      d[k] = sign * (k == odd ? m * rng.uniform() : m);
+    }
+    rays.set(i, random_in(rng, b.lo - margin, b.hi + margin), d, 0.f, INFINITY, uint32_t(i));
+  }
+  return rays;
+}
+
 // A hit filter for backend tests: every other triangle is tested, and there a hit counts where
 // u + v < 0.6 (a mask) or for about half of the (ray, triangle) pairs (a coin): a function of
 // (ray, triangle, u, v) alone, as backends require.

@@ -49,19 +49,18 @@ struct Ray {
     return 0x1p-16f * (om + magnitude);
   }
 
-  // The shear's axis permutation of direction d; returns its class in [0, 6): 2 kz, plus 1 if
-  // d[kz] < 0 (kx and ky swapped).
-  static int axes(const glm::vec3& d, int& kx, int& ky, int& kz) {
+  // The shear's axis permutation of a direction, by its class: 2 kz + 1 if d[kz] < 0, where kz is
+  // the largest |d| component; kx and ky follow kz cyclically, swapped for a negative d[kz] (to
+  // keep the winding of the sheared triangle).
+  static constexpr int8_t class_axes[6][3] = {{1, 2, 0}, {2, 1, 0}, {2, 0, 1},
+                                              {0, 2, 1}, {0, 1, 2}, {1, 0, 2}};  // kx, ky, kz
+  static int shear_class(const glm::vec3& d) {
     const glm::vec3 a = abs_of(d);
     // a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2), by a table (directions are
     // random: branches would be mispredicted half the time).
     constexpr int8_t largest[8] = {2, 2, 2, 0, 1, 2, 1, 0};  // by xy + 2 xz + 4 yz
-    kz = largest[int(a.x >= a.y) | int(a.x >= a.z) << 1 | int(a.y >= a.z) << 2];
-    kx = kz == 2 ? 0 : kz + 1;
-    ky = kx == 2 ? 0 : kx + 1;
-    const bool negative = d[kz] < 0.f;
-    if (negative) std::swap(kx, ky);  // keep the winding of the sheared triangle
-    return 2 * kz + negative;
+    const int kz = largest[int(a.x >= a.y) | int(a.x >= a.z) << 1 | int(a.y >= a.z) << 2];
+    return 2 * kz + int(d[kz] < 0.f);
   }
 
   // What the triangle test reads: o, d and the shear.
@@ -69,7 +68,8 @@ struct Ray {
     Ray r;
     r.o = o;
     r.d = d;
-    axes(d, r.kx, r.ky, r.kz);
+    const int8_t* k = class_axes[shear_class(d)];
+    r.kx = k[0], r.ky = k[1], r.kz = k[2];
     r.sx = d[r.kx] / d[r.kz];
     r.sy = d[r.ky] / d[r.kz];
     r.sz = 1.f / d[r.kz];

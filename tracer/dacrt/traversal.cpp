@@ -53,8 +53,9 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
   // tested sixteen lanes per instruction with AVX-512 (else eight with AVX2): one ray against a
   // block, or, in a leaf of many rays (group_rays), sixteen rays against one triangle.
   const bool wide = k.params.simd >= Simd::avx512 && avx512_available();
-  const bool grouped =
-      wide && !hit_filter && k.params.group_rays > 0 && re - rb >= uint32_t(k.params.group_rays);
+  // (grouped_leaf addresses its rays by 32-bit offsets: at most 2^27 records.)
+  const bool grouped = wide && !hit_filter && k.params.group_rays > 0 &&
+                       re - rb >= uint32_t(k.params.group_rays) && re - rb <= (1u << 27);
   constexpr uint32_t group = 64, lanes = TriangleBlock::lanes;
   std::array<TriangleBlock, group / lanes> blocks;
   for (uint32_t g0 = tb; g0 < te; g0 += group) {
@@ -109,101 +110,6 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
       }
     }
   }
-}
-
-// The rays of [rb, re) against blocks[0..nb), sixteen rays of one shear class at a time
-// (group_hits_avx512; no hit filter). Rays go to one of six buckets by their class as they come,
-// and a bucket is tested when it is full, the partial ones at the end. The exact and unsure lanes
-// are decided one at a time, as in leaf(); each lane's closest hit, from the vector lanes and from
-// those, is recorded at the end with closer(), so the answer is leaf()'s.
-void Traversal::grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, uint32_t re) {
-  constexpr int lanes = RayGroup::lanes;
-  struct Bucket {
-    uint32_t ray[lanes];  // into rays
-    int n = 0;
-    int kx, ky, kz;  // the class's axes (Ray::axes)
-  };
-  std::array<Bucket, 6> buckets;
-  RayGroup group;
-  GroupHits out;
-  // Scalar decisions of the odd lanes, as leaf() makes them, into each lane's closest odd hit.
-  struct Odd final : OddLanes {
-    const Geometry& g;
-    const RayGroup& group;
-    const RayRef* ref[lanes];
-    bool any_hit;
-    float t_of[lanes], u_of[lanes], v_of[lanes];
-    uint32_t tri_of[lanes];
-    Odd(const Geometry& geometry, const RayGroup& rays, bool any)
-        : g(geometry), group(rays), any_hit(any) {}
-    uint32_t decide(uint32_t tri, uint32_t exact, uint32_t unsure, const float*, const float* e1,
-                    const float* e2, const float* det) override {
-      uint32_t hit = 0;
-      for (uint32_t m = exact | unsure; m; m &= m - 1) {
-        const int l = std::countr_zero(m);
-        const RayRef& r = *ref[l];
-        // Ray::shear(r.o, r.d), with the group's shear constants (the same values).
-        Ray ray;
-        ray.o = r.o, ray.d = r.d, ray.kx = group.kx, ray.ky = group.ky, ray.kz = group.kz;
-        ray.sx = group.s[0][l], ray.sy = group.s[1][l], ray.sz = group.s[2][l];
-        const glm::vec3 p0 = g.vertex(tri, 0), p1 = g.vertex(tri, 1), p2 = g.vertex(tri, 2);
-        TriangleHit h;
-        const bool found = exact >> l & 1u ? exact_lane_hit(e1[l], e2[l], det[l], ray, p0, p1, p2,
-                                                            r.tmin, r.far, h)
-                                           : intersect_triangle(ray, p0, p1, p2, r.tmin, r.far, h);
-        if (!found) continue;
-        hit |= 1u << l;
-        if (!any_hit && closer(h.t, tri, t_of[l], &tri_of[l]))
-          t_of[l] = h.t, tri_of[l] = tri, u_of[l] = h.u, v_of[l] = h.v;
-      }
-      return hit;
-    }
-  } odd(k.geometry, group, occluded != nullptr);
-  auto run = [&](Bucket& b) {
-    group.kx = b.kx, group.ky = b.ky, group.kz = b.kz;
-    group.used = (1u << b.n) - 1u;
-    const int axis[3] = {group.kx, group.ky, group.kz};
-    for (int l = 0; l < lanes; ++l) {
-      const RayRef& r = rays[b.ray[l < b.n ? l : 0]];  // unused lanes repeat lane 0 (masked out)
-      for (int a = 0; a < 3; ++a) group.o[a][l] = r.o[axis[a]], group.d[a][l] = r.d[axis[a]];
-      group.tmin[l] = r.tmin, group.tmax[l] = r.far;
-      odd.ref[l] = &r, odd.t_of[l] = inf, odd.tri_of[l] = HitBatch::miss;
-    }
-    const int tested = group_hits_avx512(blocks, nb, group, odd.any_hit, out, odd);
-    stats.triangle_tests += uint64_t(tested) * uint64_t(b.n);
-    for (int l = 0; l < b.n; ++l) {
-      RayRef& ref = rays[b.ray[l]];
-      const uint32_t i = ref.id;
-      if (odd.any_hit) {
-        if (out.hit >> l & 1u) occluded[i] = 1, ref.far = -inf;
-        continue;
-      }
-      // The vector lanes' hit and the odd lanes' hit, each against the ray's closest so far.
-      if (out.hit >> l & 1u && closer(out.t[l], out.tri[l], ref.far, &hits->prim[i])) {
-        ref.far = out.t[l];
-        hits->t[i] = out.t[l], hits->u[i] = out.e1[l] / out.det[l];
-        hits->v[i] = out.e2[l] / out.det[l], hits->prim[i] = out.tri[l];
-      }
-      if (odd.tri_of[l] != HitBatch::miss &&
-          closer(odd.t_of[l], odd.tri_of[l], ref.far, &hits->prim[i])) {
-        ref.far = odd.t_of[l];
-        hits->t[i] = odd.t_of[l], hits->u[i] = odd.u_of[l], hits->v[i] = odd.v_of[l];
-        hits->prim[i] = odd.tri_of[l];
-      }
-    }
-    b.n = 0;
-  };
-  for (uint32_t r = rb; r < re; ++r) {
-    const RayRef& ref = rays[r];
-    if (!(ref.far >= ref.tmin)) continue;
-    int kx, ky, kz;
-    Bucket& b = buckets[size_t(Ray::axes(ref.d, kx, ky, kz))];
-    b.kx = kx, b.ky = ky, b.kz = kz;
-    b.ray[b.n] = r;
-    if (++b.n == lanes) run(b);
-  }
-  for (Bucket& b : buckets)
-    if (b.n > 0) run(b);
 }
 
 // Moves the rays of [rb, re) that may touch `box` to the front (with hits_first false: those that

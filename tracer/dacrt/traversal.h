@@ -98,6 +98,8 @@ struct Traversal {
                      uint32_t re, bool by_area = false);
   bool skips_filter(const Split::Child& c);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
+  // leaf() for the rays [rb, re) and the triangles of blocks[0..nb), sixteen rays at a time
+  // (grouped_leaf.cpp; AVX-512 only, no hit filter, at most 2^27 rays).
   void grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, uint32_t re);
   uint32_t filter(const Box& box, uint32_t rb, uint32_t re, bool hits_first = true);
   void sample_splits(const Box* left, const Box* right, int n, uint32_t rb, uint32_t samples,

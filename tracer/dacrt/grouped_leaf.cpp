@@ -1,0 +1,189 @@
+// A leaf of many rays, sixteen rays at a time against one triangle at a time (group_hits_avx512):
+// the rays' records are read sixteen per AVX-512 instruction and sorted into six buckets by their
+// shear class (Ray::shear_class), and each full bucket is one RayGroup. The lanes the vector test
+// leaves to the scalar one are decided one at a time, as leaf() decides them, and each ray's
+// closest hit is recorded once, with closer(): the answers are leaf()'s, bit for bit.
+#include <bit>
+#include <cstddef>
+
+#include "tracer/dacrt/box_simd.h"
+#include "tracer/dacrt/traversal.h"
+#include "tracer/triangle.h"
+#include "tracer/triangle_block.h"
+
+#ifdef DACRT_X86
+#include <immintrin.h>
+#endif
+
+namespace dacrt::kernel {
+
+#ifdef DACRT_X86
+
+namespace {
+
+constexpr int lanes = RayGroup::lanes;
+
+// The exact and unsure lanes of a group, as leaf() decides them, into each lane's closest hit
+// among them (closest hits), or the lanes they occlude (any hit).
+struct OddHits final : OddLanes {
+  const Geometry& g;
+  const RayGroup& group;
+  const RayRef* rays;
+  const uint32_t* ray;  // lane → record
+  bool any_hit;
+  alignas(64) float t[lanes];
+  alignas(64) uint32_t tri[lanes];
+  float u[lanes], v[lanes];
+
+  OddHits(const Geometry& geometry, const RayGroup& g, const RayRef* records, bool any)
+      : g(geometry), group(g), rays(records), ray(nullptr), any_hit(any) {}
+
+  uint32_t decide(uint32_t id, uint32_t exact, uint32_t unsure, const float*, const float* e1,
+                  const float* e2, const float* det) override {
+    const glm::vec3 p0 = g.vertex(id, 0), p1 = g.vertex(id, 1), p2 = g.vertex(id, 2);
+    uint32_t hit = 0;
+    for (uint32_t m = exact | unsure; m; m &= m - 1) {
+      const int l = std::countr_zero(m);
+      const RayRef& r = rays[ray[l]];
+      // Ray::shear(r.o, r.d): the group's axes and shear constants are its values.
+      Ray s;
+      s.o = r.o, s.d = r.d, s.kx = group.kx, s.ky = group.ky, s.kz = group.kz;
+      s.sx = group.s[0][l], s.sy = group.s[1][l], s.sz = group.s[2][l];
+      TriangleHit h;
+      const bool found = exact >> l & 1u
+                             ? exact_lane_hit(e1[l], e2[l], det[l], s, p0, p1, p2, r.tmin, r.far, h)
+                             : intersect_triangle(s, p0, p1, p2, r.tmin, r.far, h);
+      if (!found) continue;
+      hit |= 1u << l;
+      if (!any_hit && closer(h.t, id, t[l], &tri[l]))
+        t[l] = h.t, tri[l] = id, u[l] = h.u, v[l] = h.v;
+    }
+    return hit;
+  }
+};
+
+}  // namespace
+
+// Everything below is compiled for AVX-512 (lambdas too), and only called where the CPU has it.
+#pragma GCC push_options
+#pragma GCC target("avx512f")
+// GCC 12's AVX-512 headers start masked intrinsics from _mm512_undefined_*(), which
+// -Wmaybe-uninitialized reports once inlined (GCC bug 105593, fixed in GCC 13).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+
+void Traversal::grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, uint32_t re) {
+  static_assert(sizeof(RayRef) == 9 * sizeof(float) && offsetof(RayRef, d) == 12 &&
+                offsetof(RayRef, tmin) == 24 && offsetof(RayRef, far) == 28);
+  // Record rb + i is at base + 9 i: offsets within the leaf fit 32 bits (at most 2^27 rays).
+  const float* base = reinterpret_cast<const float*>(rays + rb);
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512i nine = _mm512_set1_epi32(9);
+  alignas(64) uint32_t bucket[6][2 * lanes];  // record indices, by class; at most 31 wait
+  int count[6] = {};
+  RayGroup group;
+  GroupHits out;
+  OddHits odd(k.geometry, group, rays, occluded != nullptr);
+
+  // Tests the first n records of a bucket of class cls as one group, and records their answers.
+  auto run = [&](int cls, const uint32_t* ray, int n) {
+    const int8_t* axes = Ray::class_axes[cls];
+    group.kx = axes[0], group.ky = axes[1], group.kz = axes[2];
+    group.used = (1u << n) - 1u;
+    // Unused lanes repeat lane 0 (their answers are never read).
+    const __m512i index =
+        _mm512_mask_loadu_epi32(_mm512_set1_epi32(int(ray[0])), __mmask16(group.used), ray);
+    const __m512i at =
+        _mm512_mullo_epi32(_mm512_sub_epi32(index, _mm512_set1_epi32(int(rb))), nine);
+    for (int a = 0; a < 3; ++a) {
+      const __m512i axis = _mm512_set1_epi32(axes[a]);
+      _mm512_store_ps(group.o[a], _mm512_i32gather_ps(_mm512_add_epi32(at, axis), base, 4));
+      _mm512_store_ps(
+          group.d[a],
+          _mm512_i32gather_ps(_mm512_add_epi32(at, _mm512_add_epi32(axis, _mm512_set1_epi32(3))),
+                              base, 4));
+    }
+    _mm512_store_ps(group.tmin,
+                    _mm512_i32gather_ps(_mm512_add_epi32(at, _mm512_set1_epi32(6)), base, 4));
+    _mm512_store_ps(group.tmax,
+                    _mm512_i32gather_ps(_mm512_add_epi32(at, _mm512_set1_epi32(7)), base, 4));
+    _mm512_store_ps(odd.t, _mm512_set1_ps(inf));
+    _mm512_store_si512(odd.tri, _mm512_set1_epi32(int(HitBatch::miss)));
+    odd.ray = ray;
+    const int tested = group_hits_avx512(blocks, nb, group, odd.any_hit, out, odd);
+    stats.triangle_tests += uint64_t(tested) * uint64_t(n);
+    for (int l = 0; l < n; ++l) {
+      RayRef& ref = rays[ray[l]];
+      const uint32_t i = ref.id;
+      if (odd.any_hit) {
+        if (out.hit >> l & 1u) occluded[i] = 1, ref.far = -inf;
+        continue;
+      }
+      // The vector lanes' hit and the odd lanes' hit, each against the ray's closest so far.
+      if (out.hit >> l & 1u && closer(out.t[l], out.tri[l], ref.far, &hits->prim[i])) {
+        ref.far = out.t[l];
+        hits->t[i] = out.t[l], hits->u[i] = out.e1[l] / out.det[l];
+        hits->v[i] = out.e2[l] / out.det[l], hits->prim[i] = out.tri[l];
+      }
+      if (odd.tri[l] != HitBatch::miss && closer(odd.t[l], odd.tri[l], ref.far, &hits->prim[i])) {
+        ref.far = odd.t[l];
+        hits->t[i] = odd.t[l], hits->u[i] = odd.u[l], hits->v[i] = odd.v[l];
+        hits->prim[i] = odd.tri[l];
+      }
+    }
+  };
+
+  const __m512i at = _mm512_mullo_epi32(iota, nine);
+  auto field = [&](const float* p, int k, __mmask16 m) {
+    return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), m,
+                                    _mm512_add_epi32(at, _mm512_set1_epi32(k)), p, 4);
+  };
+  for (uint32_t r = rb; r < re; r += lanes) {
+    const __mmask16 m = __mmask16(re - r >= uint32_t(lanes) ? 0xffffu : (1u << (re - r)) - 1u);
+    const float* p = base + 9 * size_t(r - rb);
+    // The records four iterations on (gathers do not start the hardware's stream prefetch).
+    for (int line = 0; line < 9 * lanes; line += 16)
+      _mm_prefetch(reinterpret_cast<const char*>(p + 4 * 9 * lanes + line), _MM_HINT_T0);
+    const __m512 dx = field(p, 3, m), dy = field(p, 4, m), dz = field(p, 5, m);
+    // Live: far >= tmin (an occluded ray's far is -inf).
+    const __mmask16 live = _mm512_mask_cmp_ps_mask(m, field(p, 7, m), field(p, 6, m), _CMP_GE_OQ);
+    // Ray::shear_class, sixteen at a time: the same comparisons.
+    const __m512 ax = _mm512_abs_ps(dx), ay = _mm512_abs_ps(dy), az = _mm512_abs_ps(dz);
+    const __mmask16 xy = _mm512_cmp_ps_mask(ax, ay, _CMP_GE_OQ),
+                    xz = _mm512_cmp_ps_mask(ax, az, _CMP_GE_OQ),
+                    yz = _mm512_cmp_ps_mask(ay, az, _CMP_GE_OQ);
+    const __mmask16 kz0 = xy & xz, kz1 = __mmask16(~xy) & yz, kz2 = __mmask16(~(kz0 | kz1));
+    const __m512 dkz = _mm512_mask_blend_ps(kz1, _mm512_mask_blend_ps(kz0, dz, dx), dy);
+    const __mmask16 negative = _mm512_cmp_ps_mask(dkz, _mm512_setzero_ps(), _CMP_LT_OQ);
+    const __m512i cls =
+        _mm512_or_epi32(_mm512_or_epi32(_mm512_maskz_mov_epi32(kz1, _mm512_set1_epi32(2)),
+                                        _mm512_maskz_mov_epi32(kz2, _mm512_set1_epi32(4))),
+                        _mm512_maskz_mov_epi32(negative, _mm512_set1_epi32(1)));
+    const __m512i ids = _mm512_add_epi32(iota, _mm512_set1_epi32(int(r)));
+    for (int c = 0; c < 6; ++c) {
+      const __mmask16 in = live & _mm512_cmpeq_epi32_mask(cls, _mm512_set1_epi32(c));
+      if (!in) continue;
+      _mm512_mask_compressstoreu_epi32(bucket[c] + count[c], in, ids);
+      count[c] += std::popcount(uint32_t(in));
+      if (count[c] >= lanes) {
+        run(c, bucket[c], lanes);
+        count[c] -= lanes;
+        for (int j = 0; j < count[c]; ++j) bucket[c][j] = bucket[c][lanes + j];
+      }
+    }
+  }
+  for (int c = 0; c < 6; ++c)
+    if (count[c] > 0) run(c, bucket[c], count[c]);
+}
+
+#pragma GCC diagnostic pop
+#pragma GCC pop_options
+
+#else
+
+void Traversal::grouped_leaf(const TriangleBlock*, int, uint32_t, uint32_t) {}  // never called
+
+#endif
+
+}  // namespace dacrt::kernel
