@@ -139,6 +139,7 @@ __attribute__((target("avx512f"))) inline Lanes16 decide16(const __m512* x, cons
   // As intersect_triangle: a det out of [2^-80, inf) is for its double test (unsure).
   const __mmask16 det_ok = _mm512_cmp_ps_mask(abs_det, _mm512_set1_ps(0x1p-80f), _CMP_GE_OQ) &
                            _mm512_cmp_ps_mask(abs_det, inf, _CMP_LT_OQ);
+  const __mmask16 inside = __mmask16(~(any_neg & any_pos) & det_ok);
   const __m512 t =
       _mm512_div_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(e0, z[0]), _mm512_mul_ps(e1, z[1])),
                                   _mm512_mul_ps(e2, z[2])),
@@ -169,7 +170,6 @@ __attribute__((target("avx512f"))) inline Lanes16 decide16(const __m512* x, cons
   const __mmask16 finite = _mm512_cmp_ps_mask(abs_t, inf, _CMP_LT_OQ);
   const __mmask16 beyond_error =
       _mm512_cmp_ps_mask(_mm512_mul_ps(abs_t, abs_det), bound, _CMP_GT_OQ);
-  const __mmask16 inside = __mmask16(~(any_neg & any_pos) & det_ok);
   // With no edge function of zero (no double edge functions) and det in range, the scalar test
   // takes the lane's float values: inside, a finite t beyond its error bound decides by its
   // range (sure if in it), any other t is computed again in double (exact).
@@ -208,8 +208,8 @@ __attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b
 // transpose of block_hits_avx512, with the same operations per lane. Each lane keeps its nearest
 // sure hit in registers, by closer()'s order (t, then the triangle index).
 __attribute__((target("avx512f"))) int group_hits_avx512(const TriangleBlock* blocks, int nb,
-                                                         RayGroup& g, bool any_hit, GroupHits& out,
-                                                         OddLanes& odd) {
+                                                         RayGroup& g, bool any_hit,
+                                                         GroupHits& out) {
   // Ray::shear's constants, divided as it divides them (correctly rounded in either form).
   const __m512 dz = _mm512_load_ps(g.d[2]);
   const __m512 sh[3] = {_mm512_div_ps(_mm512_load_ps(g.d[0]), dz),
@@ -223,7 +223,7 @@ __attribute__((target("avx512f"))) int group_hits_avx512(const TriangleBlock* bl
   __m512i best_tri = _mm512_set1_epi32(-1);
   uint32_t occluded = 0;
   int tested = 0;
-  alignas(64) float t[16], e1[16], e2[16], det[16];
+  out.odd_count = 0;
   for (int b = 0; b < nb; ++b) {
     const TriangleBlock& block = blocks[b];
     for (int l = 0; l < block.n; ++l, ++tested) {
@@ -237,16 +237,14 @@ __attribute__((target("avx512f"))) int group_hits_avx512(const TriangleBlock* bl
         z[c] = _mm512_mul_ps(sh[2], az);
       }
       const Lanes16 h = decide16(x, y, z, tmin, tmax, g.used & ~occluded);
-      const uint32_t rest = h.exact | h.unsure;
-      if (rest) {
-        _mm512_store_ps(t, h.t), _mm512_store_ps(e1, h.e1);
-        _mm512_store_ps(e2, h.e2), _mm512_store_ps(det, h.det);
+      if (h.exact | h.unsure) {  // kept for the caller: no call here, so nothing is spilled
+        OddLanes& odd = out.odd[out.odd_count++];
+        odd.tri = block.id[l], odd.exact = h.exact, odd.unsure = h.unsure;
+        _mm512_store_ps(odd.e1, h.e1), _mm512_store_ps(odd.e2, h.e2);
+        _mm512_store_ps(odd.det, h.det);
       }
       if (any_hit) {
         occluded |= h.sure;
-        if (rest)
-          occluded |=
-              odd.decide(block.id[l], h.exact & ~occluded, h.unsure & ~occluded, t, e1, e2, det);
         if (occluded == g.used) {
           out.hit = occluded;
           return tested + 1;
@@ -262,7 +260,6 @@ __attribute__((target("avx512f"))) int group_hits_avx512(const TriangleBlock* bl
       best_e2 = _mm512_mask_mov_ps(best_e2, take, h.e2);
       best_det = _mm512_mask_mov_ps(best_det, take, h.det);
       best_tri = _mm512_mask_mov_epi32(best_tri, take, tri);
-      if (rest) odd.decide(block.id[l], h.exact, h.unsure, t, e1, e2, det);
     }
   }
   if (any_hit) {
@@ -299,8 +296,8 @@ uint32_t block_candidates(const TriangleBlock& b, const Ray&, float, float) {
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray&, float, float) {
   return (1u << b.n) - 1u;  // never called; every lane is a candidate
 }
-int group_hits_avx512(const TriangleBlock*, int, RayGroup&, bool, GroupHits& out, OddLanes&) {
-  out.hit = 0;  // never called
+int group_hits_avx512(const TriangleBlock*, int, RayGroup&, bool, GroupHits& out) {
+  out.hit = 0, out.odd_count = 0;  // never called
   return 0;
 }
 void block_hits_avx512(const TriangleBlock& b, const Ray&, float, float, BlockHits& out) {

@@ -75,35 +75,34 @@ struct RayGroup {
   uint32_t used;  // lanes in use; the others hold copies of lane 0
 };
 
+// A triangle's lanes that the vector test leaves to the scalar one (block_hits_avx512's `exact` and
+// `unsure`), with their float e1, e2 and det (for exact_lane_hit).
+struct OddLanes {
+  uint32_t tri, exact, unsure;
+  alignas(64) float e1[RayGroup::lanes], e2[RayGroup::lanes], det[RayGroup::lanes];
+};
+
 // Per lane of a RayGroup: its nearest `sure` hit (hit bit set; the hit is t, u = e1 / det,
-// v = e2 / det on triangle tri, bit for bit intersect_triangle's), or with any_hit, whether a hit
-// was found (hit bit set).
+// v = e2 / det on triangle tri, bit for bit intersect_triangle's), or with any_hit, whether a sure
+// hit was found (hit bit set); and the lanes left to the scalar test, by triangle.
 struct GroupHits {
+  static constexpr int max_triangles = 64;
   alignas(64) float t[RayGroup::lanes], e1[RayGroup::lanes], e2[RayGroup::lanes],
       det[RayGroup::lanes];
   alignas(64) uint32_t tri[RayGroup::lanes];
   uint32_t hit;
+  int odd_count;
+  OddLanes odd[max_triangles];  // at most one per triangle
 };
 
-// The lanes of one triangle that the vector test leaves to the scalar one (block_hits_avx512's
-// `exact` and `unsure`), with the lanes' float t, e1, e2 and det; decide() returns those that hit
-// (with any_hit, the ones to count as occluded). The caller keeps the closest hit it finds.
-struct OddLanes {
-  virtual uint32_t decide(uint32_t tri, uint32_t exact, uint32_t unsure, const float* t,
-                          const float* e1, const float* e2, const float* det) = 0;
-
- protected:
-  ~OddLanes() = default;
-};
-
-// Every triangle of blocks[0..nb) against the rays of g (the same operations per lane as
+// Every triangle of blocks[0..nb) (nb <= 4) against the rays of g (the same operations per lane as
 // block_hits_avx512), in the order of the blocks and their lanes; first sets g.s. Closest hit: out
-// holds each lane's nearest sure hit by closer()'s order, and odd.decide gets every exact or unsure
-// lane. any_hit: out.hit is the lanes with a sure hit or one odd.decide returned, and triangles
-// stop as soon as every lane has one. Returns how many triangles were tested. Only call when
-// avx512_available().
+// holds each lane's nearest sure hit by closer()'s order. any_hit: out.hit is the lanes with a
+// sure hit, and triangles stop as soon as every lane has one; lanes with one are left out of the
+// later triangles' odd lanes. Either way out.odd lists the lanes for the caller to decide one at a
+// time. Returns how many triangles were tested. Only call when avx512_available().
 int group_hits_avx512(const TriangleBlock* blocks, int nb, RayGroup& g, bool any_hit,
-                      GroupHits& out, OddLanes& odd);
+                      GroupHits& out);
 
 // intersect_triangle's answer on an `exact` lane l (its corners p0, p1, p2), from the lane's float
 // edge functions e1, e2 and det: t in double, in [tmin, tmax], with the lane's float u and v.

@@ -23,42 +23,42 @@ namespace {
 
 constexpr int lanes = RayGroup::lanes;
 
-// The exact and unsure lanes of a group, as leaf() decides them, into each lane's closest hit
-// among them (closest hits), or the lanes they occlude (any hit).
-struct OddHits final : OddLanes {
-  const Geometry& g;
-  const RayGroup& group;
-  const RayRef* rays;
-  const uint32_t* ray;  // lane → record
-  bool any_hit;
+// Each lane's closest hit among its lanes that the vector test left to the scalar one (closest
+// hits), or the lanes they occlude (any hit): out.odd decided one at a time, as leaf() decides
+// them. `ray` maps lanes to records; lanes already in out.hit are skipped with any_hit.
+struct OddHits {
   alignas(64) float t[lanes];
   alignas(64) uint32_t tri[lanes];
   float u[lanes], v[lanes];
+  uint32_t hit;
 
-  OddHits(const Geometry& geometry, const RayGroup& g, const RayRef* records, bool any)
-      : g(geometry), group(g), rays(records), ray(nullptr), any_hit(any) {}
-
-  uint32_t decide(uint32_t id, uint32_t exact, uint32_t unsure, const float*, const float* e1,
-                  const float* e2, const float* det) override {
-    const glm::vec3 p0 = g.vertex(id, 0), p1 = g.vertex(id, 1), p2 = g.vertex(id, 2);
-    uint32_t hit = 0;
-    for (uint32_t m = exact | unsure; m; m &= m - 1) {
-      const int l = std::countr_zero(m);
-      const RayRef& r = rays[ray[l]];
-      // Ray::shear(r.o, r.d): the group's axes and shear constants are its values.
-      Ray s;
-      s.o = r.o, s.d = r.d, s.kx = group.kx, s.ky = group.ky, s.kz = group.kz;
-      s.sx = group.s[0][l], s.sy = group.s[1][l], s.sz = group.s[2][l];
-      TriangleHit h;
-      const bool found = exact >> l & 1u
-                             ? exact_lane_hit(e1[l], e2[l], det[l], s, p0, p1, p2, r.tmin, r.far, h)
-                             : intersect_triangle(s, p0, p1, p2, r.tmin, r.far, h);
-      if (!found) continue;
-      hit |= 1u << l;
-      if (!any_hit && closer(h.t, id, t[l], &tri[l]))
-        t[l] = h.t, tri[l] = id, u[l] = h.u, v[l] = h.v;
+  void decide(const Geometry& g, const RayGroup& group, const GroupHits& out, const RayRef* rays,
+              const uint32_t* ray, bool any_hit) {
+    hit = 0;
+    for (int l = 0; l < lanes; ++l) t[l] = inf, tri[l] = HitBatch::miss;
+    for (int k = 0; k < out.odd_count; ++k) {
+      const OddLanes& odd = out.odd[k];
+      const uint32_t id = odd.tri;
+      const glm::vec3 p0 = g.vertex(id, 0), p1 = g.vertex(id, 1), p2 = g.vertex(id, 2);
+      uint32_t left = (odd.exact | odd.unsure) & ~(any_hit ? out.hit | hit : 0u);
+      for (; left; left &= left - 1) {
+        const int l = std::countr_zero(left);
+        const RayRef& r = rays[ray[l]];
+        // Ray::shear(r.o, r.d): the group's axes and shear constants are its values.
+        Ray s;
+        s.o = r.o, s.d = r.d, s.kx = group.kx, s.ky = group.ky, s.kz = group.kz;
+        s.sx = group.s[0][l], s.sy = group.s[1][l], s.sz = group.s[2][l];
+        TriangleHit h;
+        const bool found =
+            odd.exact >> l & 1u
+                ? exact_lane_hit(odd.e1[l], odd.e2[l], odd.det[l], s, p0, p1, p2, r.tmin, r.far, h)
+                : intersect_triangle(s, p0, p1, p2, r.tmin, r.far, h);
+        if (!found) continue;
+        hit |= 1u << l;
+        if (!any_hit && closer(h.t, id, t[l], &tri[l]))
+          t[l] = h.t, tri[l] = id, u[l] = h.u, v[l] = h.v;
+      }
     }
-    return hit;
   }
 };
 
@@ -84,7 +84,8 @@ void Traversal::grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, u
   int count[6] = {};
   RayGroup group;
   GroupHits out;
-  OddHits odd(k.geometry, group, rays, occluded != nullptr);
+  OddHits odd;
+  const bool any_hit = occluded != nullptr;
 
   // Tests the first n records of a bucket of class cls as one group, and records their answers.
   auto run = [&](int cls, const uint32_t* ray, int n) {
@@ -108,16 +109,14 @@ void Traversal::grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, u
                     _mm512_i32gather_ps(_mm512_add_epi32(at, _mm512_set1_epi32(6)), base, 4));
     _mm512_store_ps(group.tmax,
                     _mm512_i32gather_ps(_mm512_add_epi32(at, _mm512_set1_epi32(7)), base, 4));
-    _mm512_store_ps(odd.t, _mm512_set1_ps(inf));
-    _mm512_store_si512(odd.tri, _mm512_set1_epi32(int(HitBatch::miss)));
-    odd.ray = ray;
-    const int tested = group_hits_avx512(blocks, nb, group, odd.any_hit, out, odd);
+    const int tested = group_hits_avx512(blocks, nb, group, any_hit, out);
     stats.triangle_tests += uint64_t(tested) * uint64_t(n);
+    odd.decide(k.geometry, group, out, rays, ray, any_hit);
     for (int l = 0; l < n; ++l) {
       RayRef& ref = rays[ray[l]];
       const uint32_t i = ref.id;
-      if (odd.any_hit) {
-        if (out.hit >> l & 1u) occluded[i] = 1, ref.far = -inf;
+      if (any_hit) {
+        if ((out.hit | odd.hit) >> l & 1u) occluded[i] = 1, ref.far = -inf;
         continue;
       }
       // The vector lanes' hit and the odd lanes' hit, each against the ray's closest so far.
