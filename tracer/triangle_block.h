@@ -1,6 +1,7 @@
 // TriangleBlock: up to sixteen triangles in structure-of-arrays form, so that one ray is tested
 // against all of them with vector instructions: sixteen lanes at once with AVX-512, eight at a
-// time with AVX2.
+// time with AVX2. RayGroup is the transpose, sixteen rays against one triangle at a time
+// (AVX-512), for leaves of many rays.
 //
 // The vector test is a filter in front of the scalar one, not a second implementation: it performs
 // intersect_triangle's float operations in the same order (IEEE results are the same in a vector
@@ -63,8 +64,8 @@ struct BlockHits {
 void block_hits_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax,
                        BlockHits& out);
 
-// Sixteen rays of one shear class (the same kx, ky, kz: Ray::axes) in structure-of-arrays form,
-// for group_hits_avx512: the transpose of TriangleBlock, for a leaf with many rays.
+// Sixteen rays of one shear class (the same kx, ky, kz: Ray::shear_class) in structure-of-arrays
+// form, for group_hits_avx512: the transpose of TriangleBlock, for a leaf with many rays.
 struct RayGroup {
   static constexpr int lanes = 16;
   alignas(64) float o[3][lanes];  // the origins' kx, ky and kz components

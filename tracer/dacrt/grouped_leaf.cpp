@@ -64,89 +64,102 @@ struct OddHits {
 
 }  // namespace
 
-// Everything below is compiled for AVX-512 (lambdas too), and only called where the CPU has it.
-#pragma GCC push_options
-#pragma GCC target("avx512f")
 // GCC 12's AVX-512 headers start masked intrinsics from _mm512_undefined_*(), which
 // -Wmaybe-uninitialized reports once inlined (GCC bug 105593, fixed in GCC 13).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC diagnostic ignored "-Wuninitialized"
 
-void Traversal::grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, uint32_t re) {
-  static_assert(sizeof(RayRef) == 9 * sizeof(float) && offsetof(RayRef, d) == 12 &&
-                offsetof(RayRef, tmin) == 24 && offsetof(RayRef, far) == 28);
-  // Record rb + i is at base + 9 i: offsets within the leaf fit 32 bits (at most 2^27 rays).
-  const float* base = reinterpret_cast<const float*>(rays + rb);
-  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  const __m512i nine = _mm512_set1_epi32(9);
-  alignas(64) uint32_t bucket[6][2 * lanes];  // record indices, by class; at most 31 wait
-  int count[6] = {};
+namespace {
+
+// Field k (a float of the record: o 0-2, d 3-5, tmin 6, far 7) of the records base + at / 9.
+__attribute__((target("avx512f"))) inline __m512 field(const float* base, __m512i at, int k) {
+  return _mm512_i32gather_ps(_mm512_add_epi32(at, _mm512_set1_epi32(k)), base, 4);
+}
+__attribute__((target("avx512f"))) inline __m512 field(const float* base, __m512i at, int k,
+                                                       __mmask16 m) {
+  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), m,
+                                  _mm512_add_epi32(at, _mm512_set1_epi32(k)), base, 4);
+}
+
+// One leaf's groups: the records of [rb, re), read from base (record rb + i at base + 9 i).
+struct Groups {
+  Traversal& t;
+  const TriangleBlock* blocks;
+  int nb;
+  uint32_t rb;
+  const float* base;
+  bool any_hit;
   RayGroup group;
   GroupHits out;
   OddHits odd;
-  const bool any_hit = occluded != nullptr;
 
-  // Tests the first n records of a bucket of class cls as one group, and records their answers.
-  auto run = [&](int cls, const uint32_t* ray, int n) {
+  // Tests the records ray[0..n) of class cls as one group, and records their answers.
+  __attribute__((target("avx512f"))) void run(int cls, const uint32_t* ray, int n) {
     const int8_t* axes = Ray::class_axes[cls];
     group.kx = axes[0], group.ky = axes[1], group.kz = axes[2];
     group.used = (1u << n) - 1u;
     // Unused lanes repeat lane 0 (their answers are never read).
     const __m512i index =
         _mm512_mask_loadu_epi32(_mm512_set1_epi32(int(ray[0])), __mmask16(group.used), ray);
-    const __m512i at =
-        _mm512_mullo_epi32(_mm512_sub_epi32(index, _mm512_set1_epi32(int(rb))), nine);
+    const __m512i at = _mm512_mullo_epi32(_mm512_sub_epi32(index, _mm512_set1_epi32(int(rb))),
+                                          _mm512_set1_epi32(9));
     for (int a = 0; a < 3; ++a) {
-      const __m512i axis = _mm512_set1_epi32(axes[a]);
-      _mm512_store_ps(group.o[a], _mm512_i32gather_ps(_mm512_add_epi32(at, axis), base, 4));
-      _mm512_store_ps(
-          group.d[a],
-          _mm512_i32gather_ps(_mm512_add_epi32(at, _mm512_add_epi32(axis, _mm512_set1_epi32(3))),
-                              base, 4));
+      _mm512_store_ps(group.o[a], field(base, at, axes[a]));
+      _mm512_store_ps(group.d[a], field(base, at, 3 + axes[a]));
     }
-    _mm512_store_ps(group.tmin,
-                    _mm512_i32gather_ps(_mm512_add_epi32(at, _mm512_set1_epi32(6)), base, 4));
-    _mm512_store_ps(group.tmax,
-                    _mm512_i32gather_ps(_mm512_add_epi32(at, _mm512_set1_epi32(7)), base, 4));
+    _mm512_store_ps(group.tmin, field(base, at, 6));
+    _mm512_store_ps(group.tmax, field(base, at, 7));
     const int tested = group_hits_avx512(blocks, nb, group, any_hit, out);
-    stats.triangle_tests += uint64_t(tested) * uint64_t(n);
-    odd.decide(k.geometry, group, out, rays, ray, any_hit);
+    t.stats.triangle_tests += uint64_t(tested) * uint64_t(n);
+    odd.decide(t.k.geometry, group, out, t.rays, ray, any_hit);
     for (int l = 0; l < n; ++l) {
-      RayRef& ref = rays[ray[l]];
+      RayRef& ref = t.rays[ray[l]];
       const uint32_t i = ref.id;
       if (any_hit) {
-        if ((out.hit | odd.hit) >> l & 1u) occluded[i] = 1, ref.far = -inf;
+        if ((out.hit | odd.hit) >> l & 1u) t.occluded[i] = 1, ref.far = -inf;
         continue;
       }
       // The vector lanes' hit and the odd lanes' hit, each against the ray's closest so far.
-      if (out.hit >> l & 1u && closer(out.t[l], out.tri[l], ref.far, &hits->prim[i])) {
+      HitBatch& hits = *t.hits;
+      if (out.hit >> l & 1u && closer(out.t[l], out.tri[l], ref.far, &hits.prim[i])) {
         ref.far = out.t[l];
-        hits->t[i] = out.t[l], hits->u[i] = out.e1[l] / out.det[l];
-        hits->v[i] = out.e2[l] / out.det[l], hits->prim[i] = out.tri[l];
+        hits.t[i] = out.t[l], hits.u[i] = out.e1[l] / out.det[l];
+        hits.v[i] = out.e2[l] / out.det[l], hits.prim[i] = out.tri[l];
       }
-      if (odd.tri[l] != HitBatch::miss && closer(odd.t[l], odd.tri[l], ref.far, &hits->prim[i])) {
+      if (odd.tri[l] != HitBatch::miss && closer(odd.t[l], odd.tri[l], ref.far, &hits.prim[i])) {
         ref.far = odd.t[l];
-        hits->t[i] = odd.t[l], hits->u[i] = odd.u[l], hits->v[i] = odd.v[l];
-        hits->prim[i] = odd.tri[l];
+        hits.t[i] = odd.t[l], hits.u[i] = odd.u[l], hits.v[i] = odd.v[l];
+        hits.prim[i] = odd.tri[l];
       }
     }
-  };
+  }
+};
 
-  const __m512i at = _mm512_mullo_epi32(iota, nine);
-  auto field = [&](const float* p, int k, __mmask16 m) {
-    return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), m,
-                                    _mm512_add_epi32(at, _mm512_set1_epi32(k)), p, 4);
-  };
+}  // namespace
+
+__attribute__((target("avx512f"))) void Traversal::grouped_leaf(const TriangleBlock* blocks, int nb,
+                                                                uint32_t rb, uint32_t re) {
+  static_assert(sizeof(RayRef) == 9 * sizeof(float) && offsetof(RayRef, d) == 12 &&
+                offsetof(RayRef, tmin) == 24 && offsetof(RayRef, far) == 28);
+  // Offsets within the leaf fit 32 bits (at most 2^27 rays).
+  Groups groups{
+      *this, blocks, nb, rb, reinterpret_cast<const float*>(rays + rb), occluded != nullptr,
+      {},    {},     {}};
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512i at = _mm512_mullo_epi32(iota, _mm512_set1_epi32(9));
+  alignas(64) uint32_t bucket[6][2 * lanes];  // record indices, by class; at most 31 wait
+  int count[6] = {};
   for (uint32_t r = rb; r < re; r += lanes) {
     const __mmask16 m = __mmask16(re - r >= uint32_t(lanes) ? 0xffffu : (1u << (re - r)) - 1u);
-    const float* p = base + 9 * size_t(r - rb);
+    const float* p = groups.base + 9 * size_t(r - rb);
     // The records four iterations on (gathers do not start the hardware's stream prefetch).
     for (int line = 0; line < 9 * lanes; line += 16)
       _mm_prefetch(reinterpret_cast<const char*>(p + 4 * 9 * lanes + line), _MM_HINT_T0);
-    const __m512 dx = field(p, 3, m), dy = field(p, 4, m), dz = field(p, 5, m);
+    const __m512 dx = field(p, at, 3, m), dy = field(p, at, 4, m), dz = field(p, at, 5, m);
     // Live: far >= tmin (an occluded ray's far is -inf).
-    const __mmask16 live = _mm512_mask_cmp_ps_mask(m, field(p, 7, m), field(p, 6, m), _CMP_GE_OQ);
+    const __mmask16 live =
+        _mm512_mask_cmp_ps_mask(m, field(p, at, 7, m), field(p, at, 6, m), _CMP_GE_OQ);
     // Ray::shear_class, sixteen at a time: the same comparisons.
     const __m512 ax = _mm512_abs_ps(dx), ay = _mm512_abs_ps(dy), az = _mm512_abs_ps(dz);
     const __mmask16 xy = _mm512_cmp_ps_mask(ax, ay, _CMP_GE_OQ),
@@ -166,18 +179,17 @@ void Traversal::grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, u
       _mm512_mask_compressstoreu_epi32(bucket[c] + count[c], in, ids);
       count[c] += std::popcount(uint32_t(in));
       if (count[c] >= lanes) {
-        run(c, bucket[c], lanes);
+        groups.run(c, bucket[c], lanes);
         count[c] -= lanes;
         for (int j = 0; j < count[c]; ++j) bucket[c][j] = bucket[c][lanes + j];
       }
     }
   }
   for (int c = 0; c < 6; ++c)
-    if (count[c] > 0) run(c, bucket[c], count[c]);
+    if (count[c] > 0) groups.run(c, bucket[c], count[c]);
 }
 
 #pragma GCC diagnostic pop
-#pragma GCC pop_options
 
 #else
 
