@@ -115,23 +115,16 @@ struct Groups {
     odd.decide(t.k.geometry, group, out, t.rays, ray, any_hit);
     for (int l = 0; l < n; ++l) {
       RayRef& ref = t.rays[ray[l]];
-      const uint32_t i = ref.id;
       if (any_hit) {
-        if ((out.hit | odd.hit) >> l & 1u) t.occluded[i] = 1, ref.far = -inf;
+        if ((out.hit | odd.hit) >> l & 1u) t.occlude(ref);
         continue;
       }
       // The vector lanes' hit and the odd lanes' hit, each against the ray's closest so far.
-      HitBatch& hits = *t.hits;
-      if (out.hit >> l & 1u && closer(out.t[l], out.tri[l], ref.far, &hits.prim[i])) {
-        ref.far = out.t[l];
-        hits.t[i] = out.t[l], hits.u[i] = out.e1[l] / out.det[l];
-        hits.v[i] = out.e2[l] / out.det[l], hits.prim[i] = out.tri[l];
-      }
-      if (odd.tri[l] != HitBatch::miss && closer(odd.t[l], odd.tri[l], ref.far, &hits.prim[i])) {
-        ref.far = odd.t[l];
-        hits.t[i] = odd.t[l], hits.u[i] = odd.u[l], hits.v[i] = odd.v[l];
-        hits.prim[i] = odd.tri[l];
-      }
+      if (out.hit >> l & 1u)
+        t.keep_if_closer(ref, out.tri[l],
+                         {out.t[l], out.e1[l] / out.det[l], out.e2[l] / out.det[l]});
+      if (odd.tri[l] != HitBatch::miss)
+        t.keep_if_closer(ref, odd.tri[l], {odd.t[l], odd.u[l], odd.v[l]});
     }
   }
 };

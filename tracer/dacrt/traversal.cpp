@@ -22,15 +22,11 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
   // Records a hit of ray `ref` on triangle `tri` (already accepted by the triangle test) unless
   // the hit filter turns it down.
   auto record = [&](RayRef& ref, uint32_t tri, const TriangleHit& h) {
-    const uint32_t i = ref.id;
-    if (rejected(hit_filter, batch, i, tri, h.u, h.v)) return;
-    if (occluded) {
-      occluded[i] = 1;
-      ref.far = -inf;  // drops out of every later box test and leaf
-    } else if (closer(h.t, tri, ref.far, &hits->prim[i])) {
-      ref.far = h.t;
-      hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
-    }
+    if (rejected(hit_filter, batch, ref.id, tri, h.u, h.v)) return;
+    if (occluded)
+      occlude(ref);
+    else
+      keep_if_closer(ref, tri, h);
   };
   if (k.params.simd < Simd::avx2 || !avx2_available()) {
     for (uint32_t r = rb; r < re; ++r) {

@@ -9,12 +9,13 @@
 #include "tracer/dacrt/records.h"
 #include "tracer/ray_batch.h"
 #include "tracer/stats.h"
+#include "tracer/triangle.h"
 #include "util/random.h"
 
 namespace dacrt {
 class HitFilter;
 struct TriangleBlock;
-}
+}  // namespace dacrt
 
 namespace dacrt::kernel {
 
@@ -98,6 +99,18 @@ struct Traversal {
                      uint32_t re, bool by_area = false);
   bool skips_filter(const Split::Child& c);
   void leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re);
+  // A hit the ray keeps: occlusion marks the ray and drops it from every later box test and leaf;
+  // a closest hit replaces the ray's hit if it is closer() (nearest t, then the lower triangle).
+  void occlude(RayRef& ref) {
+    occluded[ref.id] = 1;
+    ref.far = -inf;
+  }
+  void keep_if_closer(RayRef& ref, uint32_t tri, const TriangleHit& h) {
+    const uint32_t i = ref.id;
+    if (!closer(h.t, tri, ref.far, &hits->prim[i])) return;
+    ref.far = h.t;
+    hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
+  }
   // leaf() for the rays [rb, re) and the triangles of blocks[0..nb), sixteen rays at a time
   // (grouped_leaf.cpp; AVX-512 only, no hit filter, at most 2^27 rays).
   void grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, uint32_t re);
