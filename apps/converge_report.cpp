@@ -73,7 +73,7 @@ std::string slope_text(double slope) {
 }  // namespace
 
 void write_csv(const std::string& path, const std::vector<Curve>& curves) {
-  write_atomically(path, "CSV", [&](std::ofstream& out) {
+  write_atomically(path, "CSV", [&](std::ostream& out) {
     out << "config,spp,seconds,rmse,relmse,mae,smape,noise\n";
     for (const Curve& c : curves)
       for (const Point& p : c.points) {
@@ -112,7 +112,7 @@ void write_script(const std::string& path, const std::vector<Curve>& curves, Met
          << gnuplot_quote(legend);
   }
   if (drawn == 0) plot << "NaN notitle";
-  write_atomically(path, "gnuplot script", [&](std::ofstream& out) {
+  write_atomically(path, "gnuplot script", [&](std::ostream& out) {
     out << "# dacrt converge: " << metric_names[int(metric)]
         << " against render time, one curve per configuration.\n"
         << "# Draw it with `gnuplot convergence.gp` (writes convergence.svg and convergence.png).\n"

@@ -39,6 +39,7 @@
 #include "util/memory.h"
 #include "util/paths.h"
 #include "util/progress.h"
+#include "util/text.h"
 
 namespace fs = std::filesystem;
 using namespace dacrt;
@@ -190,6 +191,15 @@ int render(const std::vector<std::string>& args) {
     run.preview = backends.size() > 1 ? with_backend(r.preview, name) : r.preview;
     runs.push_back(std::move(run));
   }
+  // Every --backend-option is for a backend that renders, and each backend takes its keys and
+  // values: built once on no geometry, before anything is loaded.
+  try {
+    r.backend_options.check_prefixes(backends);
+    for (const std::string& name : backends)
+      Backend::create(name, Geometry{}, r.backend_options.for_plugin(name));
+  } catch (const Error& e) {
+    throw UsageError(std::string("--backend-option: ") + e.what());
+  }
   std::vector<NamedFile> inputs = {{"the scene", r.scene}}, outputs;
   if (!r.setup.environment_file.empty()) {
     check_input_file(r.setup.environment_file, "environment map");
@@ -198,9 +208,14 @@ int render(const std::vector<std::string>& args) {
   for (const BackendRun& run : runs)
     outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
   outputs.push_back({"--stats", r.stats});
+  if (!r.preview.empty()) {
+    set_color_warnings(!r.quiet);
+    check_display_transform(r.display);
+    for (const std::string& file : display_input_files())
+      inputs.push_back({"the display configuration's file", file});
+  }
   for (const NamedFile& out : outputs) check_writable(out.path);
   check_outputs(outputs, inputs);
-  if (!r.preview.empty()) check_display_transform(r.display);
 
   std::unique_ptr<tbb::global_control> threads;
   if (r.threads > 0)
@@ -252,12 +267,17 @@ int render(const std::vector<std::string>& args) {
     run.spp = outcome.spp();
     if (outcome.stopped) run.stopped = signals.signal() == SIGTERM ? "SIGTERM" : "SIGINT";
     if (outcome.timed_out) run.stopped = "the time limit";
+    // A render stopped before its first sample leaves the previous outputs as they were.
+    if (film.max_count() == 0 && outcome.stopped) break;
     write_outputs(r, scene, run, film, outcome, s);
     if (!r.quiet) print_summary(run, s, r.integrator);
     if (outcome.stopped) break;  // the backends after it are not rendered
   }
 
-  if (!r.stats.empty()) {
+  const auto has_samples = [](const BackendRun& run) { return run.spp > 0 || run.stopped.empty(); };
+  size_t kept = 0;
+  for (size_t k = 0; k < rendered; ++k) kept += has_samples(runs[k]);
+  if (!r.stats.empty() && kept > 0) {
     auto describe = [&](const BackendRun& run) {
       nlohmann::json j = {{"scene", r.scene},
                           {"triangles", scene.geometry.size()},
@@ -279,9 +299,10 @@ int render(const std::vector<std::string>& args) {
     } else {
       j = {{"backends", nlohmann::json::array()}};
       for (size_t k = 0; k < rendered; ++k)
-        if (runs[k].spp > 0 || runs[k].stopped.empty()) j["backends"].push_back(describe(runs[k]));
+        if (has_samples(runs[k])) j["backends"].push_back(describe(runs[k]));
     }
-    write_atomically(r.stats, "statistics", [&](std::ofstream& out) { out << j.dump(2) << "\n"; });
+    write_atomically(r.stats, "statistics",
+                     [&](std::ostream& out) { out << json_text(j) << "\n"; });
   }
   if (signals.signal()) return 128 + signals.signal();
   if (runs.size() > 1) print_comparison(stdout, runs);
@@ -294,6 +315,9 @@ int info(const std::vector<std::string>& args) {
     return 0;
   }
   GltfOptions options;
+  for (size_t i = 0; i < args.size(); ++i)
+    if (args[i].size() > 1 && args[i][0] == '-' && !(i == 1 && args[i] == "--scene"))
+      throw UsageError("info: unknown option " + args[i]);
   if (args.size() == 3 && args[1] == "--scene")
     options.scene = int(parse_int(args[1], args[2], 0, 1 << 20));
   else if (args.size() != 1)
@@ -428,26 +452,31 @@ int run(std::vector<std::string> args) {
   throw UsageError("unknown command '" + command + "'");
 }
 
+// A message on stderr: one line of at most 1000 characters, whatever it quotes.
+int fail(int code, const std::string& prefix, const std::string& what, const std::string& suffix) {
+  const std::string line = message_line(prefix + what + suffix);
+  std::fprintf(stderr, "%s\n", line.c_str());
+  return code;
+}
+
 int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) makes a write fail with EFBIG, reported as an error, instead of
-  // killing the process with SIGXFSZ halfway through a file.
+  // killing the process with SIGXFSZ halfway through a file. Messages and progress on a closed
+  // pipe (`dacrt render … 2>&1 | head`) are lost, not fatal: the render goes on and writes its
+  // outputs; a lost standard output is reported by flushed().
   std::signal(SIGXFSZ, SIG_IGN);
+  std::signal(SIGPIPE, SIG_IGN);
   try {
     return flushed(run(std::vector<std::string>(argv + 1, argv + argc)));
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "dacrt: %s (see dacrt --help)\n", e.what());
-    return 2;
+    return fail(2, "dacrt: ", e.what(), " (see dacrt --help)");
   } catch (const std::invalid_argument& e) {  // usage errors of `dacrt bench`
-    std::fprintf(stderr, "dacrt bench: %s (see dacrt bench --help)\n", e.what());
-    return 2;
+    return fail(2, "dacrt bench: ", e.what(), " (see dacrt bench --help)");
   } catch (const Error& e) {
-    std::fprintf(stderr, "dacrt: error: %s\n", e.what());
-    return 1;
+    return fail(1, "dacrt: error: ", e.what(), "");
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "dacrt: error: out of memory\n");
-    return 1;
+    return fail(1, "dacrt: error: ", "out of memory", "");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "dacrt: error: %s\n", e.what());
-    return 1;
+    return fail(1, "dacrt: error: ", e.what(), "");
   }
 }

@@ -18,9 +18,12 @@
 #include "bench/report.h"
 #include "bench/run.h"
 #include "io/gltf.h"
+#include "tracer/dacrt/dacrt.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/memory.h"
 #include "util/paths.h"
+#include "util/text.h"
 
 namespace dacrt::bench {
 
@@ -36,6 +39,31 @@ inline void check_backend_options(const BenchArgs& a) {
     } catch (const Error& e) {
       throw std::invalid_argument(std::string("--backend-option: ") + e.what());
     }
+  }
+}
+
+// Whether the rays of every case fit in memory, known before any is made: the primary batch with
+// its hits and surface points, one more batch of each ray type with its hits, and what dacrt keeps
+// per ray and triangle (dacrt_memory_bound). Throws a usage error naming the options that ask for
+// too much.
+inline void check_bench_memory(const BenchArgs& a, const std::vector<BenchCase>& cases) {
+  constexpr uint64_t ray = 8 * sizeof(float) + sizeof(uint32_t), hit = 4 * sizeof(float),
+                     point = 7 * sizeof(float);
+  const uint64_t available = available_memory();
+  for (const BenchCase& c : cases) {
+    const Camera& camera = c.scene->cameras.at(0);
+    const glm::ivec2 res = primary_resolution(a, c.count, camera.aspect, c.scene->path);
+    const uint64_t primary = uint64_t(res.x) * uint64_t(res.y);
+    const uint64_t batch = std::max<uint64_t>(primary, c.count.value_or(primary));
+    const uint64_t need = primary * (ray + hit + point) + batch * (ray + hit) +
+                          dacrt_memory_bound(batch, c.scene->geometry.size());
+    if (need <= available) continue;
+    const std::string asked = a.width || a.height ? "--width/--height (" + std::to_string(res.x) +
+                                                        " x " + std::to_string(res.y) + ")"
+                                                  : "--count " + std::to_string(batch);
+    throw std::invalid_argument(asked + " asks for " + std::to_string(batch) + " rays, about " +
+                                format_bytes(need) + " of rays, hits and records, more than the " +
+                                format_bytes(available) + " of memory available");
   }
 }
 
@@ -56,6 +84,9 @@ inline int bench_command(const std::vector<std::string>& argv, std::ostream& out
 
   const Scene scene = load_gltf(a.scene);
   if (scene.geometry.size() == 0) throw Error(a.scene + ": no triangles to benchmark");
+  std::vector<NamedFile> inputs = {{"the scene", a.scene}};
+  for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
+  check_outputs({{"--json", a.json}}, inputs);
 
   // The cases: the scene once, or one per size of the sweep.
   std::vector<Scene> decimated;
@@ -72,6 +103,8 @@ inline int bench_command(const std::vector<std::string>& argv, std::ostream& out
   } else {
     cases.push_back({&scene, 1, a.count});
   }
+
+  check_bench_memory(a, cases);
 
   BenchReport report;
   report.scene = a.scene;
@@ -98,7 +131,7 @@ inline int bench_command(const std::vector<std::string>& argv, std::ostream& out
   out.flush();
   if (!a.json.empty())
     write_atomically(a.json, "benchmark results",
-                     [&](std::ofstream& f) { f << to_json(report).dump(2) << "\n"; });
+                     [&](std::ostream& f) { f << json_text(to_json(report)) << "\n"; });
   return 0;
 }
 

@@ -280,6 +280,81 @@ std::vector<float> to_display(const Image& image, const DisplayOptions& options)
   return out;
 }
 
+namespace {
+
+// The FileTransform sources in `t` and the groups it holds.
+void collect_sources(const OCIO::ConstTransformRcPtr& t, std::vector<std::string>& sources) {
+  if (!t) return;
+  if (auto file = OCIO::DynamicPtrCast<const OCIO::FileTransform>(t)) {
+    if (file->getSrc() && *file->getSrc()) sources.emplace_back(file->getSrc());
+  } else if (auto group = OCIO::DynamicPtrCast<const OCIO::GroupTransform>(t)) {
+    for (int i = 0; i < group->getNumTransforms(); ++i)
+      collect_sources(group->getTransform(i), sources);
+  }
+}
+
+bool color_warnings_shown = true;
+
+extern "C" void print_ocio_message(const char* message) {
+  if (color_warnings_shown)
+    std::fprintf(stderr, "dacrt: warning: OpenColorIO: %s\n", one_line(message).c_str());
+}
+
+}  // namespace
+
+void set_color_warnings(bool shown) {
+  color_warnings_shown = shown;
+  OCIO::SetLoggingFunction(&print_ocio_message);
+}
+
+std::vector<std::string> display_input_files() {
+  const std::string path = config_path();
+  if (path.empty()) return {};
+  std::vector<std::string> files = {path};
+  const OCIO::ConstConfigRcPtr config = load_config(path);
+  std::vector<std::string> sources;
+  with_ocio_errors(path, [&] {
+    for (int i = 0;
+         i < config->getNumColorSpaces(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ALL);
+         ++i) {
+      auto space = config->getColorSpace(config->getColorSpaceNameByIndex(
+          OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ALL, i));
+      if (!space) continue;
+      collect_sources(space->getTransform(OCIO::COLORSPACE_DIR_TO_REFERENCE), sources);
+      collect_sources(space->getTransform(OCIO::COLORSPACE_DIR_FROM_REFERENCE), sources);
+    }
+    for (int i = 0; i < config->getNumLooks(); ++i) {
+      auto look = config->getLook(config->getLookNameByIndex(i));
+      if (!look) continue;
+      collect_sources(look->getTransform(), sources);
+      collect_sources(look->getInverseTransform(), sources);
+    }
+    for (int i = 0; i < config->getNumViewTransforms(); ++i) {
+      auto view = config->getViewTransform(config->getViewTransformNameByIndex(i));
+      if (!view) continue;
+      collect_sources(view->getTransform(OCIO::VIEWTRANSFORM_DIR_TO_REFERENCE), sources);
+      collect_sources(view->getTransform(OCIO::VIEWTRANSFORM_DIR_FROM_REFERENCE), sources);
+    }
+    for (int i = 0; i < config->getNumNamedTransforms(OCIO::NAMEDTRANSFORM_ALL); ++i) {
+      auto named = config->getNamedTransform(
+          config->getNamedTransformNameByIndex(OCIO::NAMEDTRANSFORM_ALL, i));
+      if (!named) continue;
+      collect_sources(named->getTransform(OCIO::TRANSFORM_DIR_FORWARD), sources);
+      collect_sources(named->getTransform(OCIO::TRANSFORM_DIR_INVERSE), sources);
+    }
+    return 0;
+  });
+  const OCIO::ConstContextRcPtr context = config->getCurrentContext();
+  for (const std::string& src : sources) {
+    try {
+      files.emplace_back(context->resolveFileLocation(src.c_str()));
+    } catch (const std::exception&) {
+      // A file the config names but that is not there: an output there is no input either.
+    }
+  }
+  return files;
+}
+
 void check_display_transform(const DisplayOptions& options) {
   exposure_scale(options.exposure);
   display_processor(options.view);
@@ -303,7 +378,7 @@ void write_preview_png(const std::string& path, const Image& image, const Displa
   if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, pixels.data(),
                               3 * image.width))
     throw Error("cannot write PNG '" + path + "': encoding failed");
-  write_atomically(path, "PNG", [&](std::ofstream& out) {
+  write_atomically(path, "PNG", [&](std::ostream& out) {
     out.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
   });
 }

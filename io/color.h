@@ -30,6 +30,12 @@ DisplayViews display_views();
 // that a broken config or an unknown view is an error before a render rather than after. Throws
 // dacrt::Error naming the view and the valid ones.
 void check_display_transform(const DisplayOptions& options = {});
+// The files a preview reads: $OCIO's config and every LUT its transforms name that resolves to a
+// file (none without $OCIO), so that no output can overwrite them.
+std::vector<std::string> display_input_files();
+// Whether OpenColorIO's own warnings (a config's deprecated keys, say) reach stderr, each as one
+// "dacrt: warning: OpenColorIO: …" line; --quiet turns them off.
+void set_color_warnings(bool shown);
 // Converts to the display's encoded values in [0, 1], interleaved RGB.
 std::vector<float> to_display(const Image& image, const DisplayOptions& options = {});
 // Writes a PNG preview (temporary name, then rename). Throws dacrt::Error on failure.

@@ -1,7 +1,7 @@
 // OpenEXR output through OpenEXR 3.1's C++ API: scanline, ZIP, float R/G/B, Rec.709/D65
 // chromaticities and the render's metadata as header attributes. The file goes through our own
-// std::ofstream (Imf::StdOFStream) so that a failed final flush is seen, which OutputFile's
-// destructor would swallow.
+// stream (StreamOut below) so that a failed final flush is seen, which OutputFile's destructor
+// would swallow.
 #include "io/exr.h"
 
 #include <ImfChannelList.h>
@@ -67,9 +67,27 @@ Imf::Header make_header(const std::string& path, int width, int height,
   return header;
 }
 
-void write_scanlines(std::ofstream& stream, const std::string& tmp, const Imf::Header& header,
+// OpenEXR's output stream over a std::ostream (Imf::StdOFStream takes only a std::ofstream;
+// write_atomically's file is a stream on a descriptor it created).
+class StreamOut : public Imf::OStream {
+ public:
+  StreamOut(std::ostream& stream, const std::string& name)
+      : Imf::OStream(name.c_str()), s_(stream) {}
+  void write(const char c[], int n) override {
+    if (!s_.write(c, n)) throw std::runtime_error("writing the file failed");
+  }
+  uint64_t tellp() override { return uint64_t(std::streamoff(s_.tellp())); }
+  void seekp(uint64_t pos) override {
+    if (!s_.seekp(std::streamoff(pos))) throw std::runtime_error("seeking in the file failed");
+  }
+
+ private:
+  std::ostream& s_;
+};
+
+void write_scanlines(std::ostream& stream, const std::string& path, const Imf::Header& header,
                      int width, const std::vector<Channel>& channels) {
-  Imf::StdOFStream exr_stream(stream, tmp.c_str());
+  StreamOut exr_stream(stream, path);
   Imf::OutputFile file(exr_stream, header);
   Imf::FrameBuffer frame;
   for (const Channel& c : channels)
@@ -101,7 +119,7 @@ void write_exr(const std::string& path, int width, int height, const std::vector
   if (width <= 0 || height <= 0) throw write_error(path, "the image is empty");
   const Imf::Header header = make_header(path, width, height, channels, metadata);
   // OutputFile's destructor writes the line offsets; the stream is checked after that.
-  write_atomically(path, "EXR", [&](std::ofstream& stream) {
+  write_atomically(path, "EXR", [&](std::ostream& stream) {
     write_scanlines(stream, path, header, width, channels);
   });
 }

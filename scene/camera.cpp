@@ -39,14 +39,17 @@ Camera override_camera(const Camera& base, const CameraOverride& o, const glm::v
   const glm::vec3 from = o.from.value_or(position);
   const glm::vec3 at = o.at ? *o.at : o.from ? target : position + forward;
   const glm::vec3 up = o.up.value_or(base.up());
-  const glm::vec3 view = at - from;
-  if (!(glm::length(view) > 0.f))
+  // In double: a view between points 1e20 apart has a length whose square overflows a float.
+  const glm::dvec3 view = glm::dvec3(at) - glm::dvec3(from);
+  if (!(glm::length(view) > 0.0))
     throw Error("--look-at must differ from --look-from (the camera's position)");
-  if (!(glm::length(glm::cross(glm::normalize(view), up)) > 1e-6f))
-    throw Error("--up must not be parallel to the view direction (or zero)");
+  if (!(glm::length(glm::dvec3(up)) > 0.0)) throw Error("--up must not be zero");
+  if (!(glm::length(glm::cross(glm::normalize(view), glm::normalize(glm::dvec3(up)))) > 1e-6))
+    throw Error("--up must not be parallel to the view direction");
   Camera cam = base;
   if (o.any()) cam.name = "command line";
-  cam.to_world = glm::inverse(glm::lookAt(from, at, up));
+  cam.to_world =
+      glm::mat4(glm::inverse(glm::lookAt(glm::dvec3(from), glm::dvec3(at), glm::dvec3(up))));
   if (o.any()) cam.aimed_up = up;
   if (o.fov_degrees) {
     cam.orthographic = false;

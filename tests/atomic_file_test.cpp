@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "temp_dir.h"
 #include "util/error.h"
@@ -29,14 +30,14 @@ TEST_CASE("write_atomically: a failing writer leaves nothing, a good one replace
   TempDir dir("atomic");
   const std::string path = dir / "out.txt";
   CHECK_THROWS_WITH_AS(write_atomically(path, "test",
-                                        [](std::ofstream& out) {
+                                        [](std::ostream& out) {
                                           out << "partial";
                                           throw std::runtime_error("writer\nfailed");
                                         }),
                        doctest::Contains("out.txt': writer failed"), Error);
   CHECK(files_in(dir.path()) == 0);
-  write_atomically(path, "test", [](std::ofstream& out) { out << "first"; });
-  write_atomically(path, "test", [](std::ofstream& out) { out << "second"; });
+  write_atomically(path, "test", [](std::ostream& out) { out << "first"; });
+  write_atomically(path, "test", [](std::ostream& out) { out << "second"; });
   CHECK(files_in(dir.path()) == 1);
   std::ifstream in(path);
   std::string text;
@@ -58,7 +59,7 @@ TEST_CASE("write_atomically: a run interrupted while writing leaves no temporary
       const rlimit no_core{0, 0};
       setrlimit(RLIMIT_CORE, &no_core);
       std::signal(sig, SIG_DFL);  // the test runner's own crash handler has no business here
-      write_atomically(path, "test", [sig](std::ofstream& out) {
+      write_atomically(path, "test", [sig](std::ostream& out) {
         out << "half of an image";
         out.flush();
         std::raise(sig);

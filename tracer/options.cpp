@@ -24,6 +24,23 @@ Options Options::for_plugin(std::string_view name) const {
   return o;
 }
 
+void Options::check_prefixes(const std::vector<std::string>& plugins) const {
+  for (const auto& [key, value] : values_) {
+    const size_t dot = key.find('.');
+    if (dot == std::string::npos) continue;
+    const std::string prefix = key.substr(0, dot);
+    bool known = false;
+    for (const std::string& p : plugins) known = known || p == prefix;
+    if (known) continue;
+    std::string list;
+    for (const std::string& p : plugins) list += (list.empty() ? "" : ", ") + p;
+    throw Error("option '" + key + "=" + value + "' is for " +
+                (prefix.empty() ? std::string("no backend (nothing before the dot)")
+                                : "'" + prefix + "', which is not one of the backends used") +
+                " (" + list + ")");
+  }
+}
+
 std::string Options::get(std::string_view key, std::string fallback) const {
   auto it = values_.find(key);
   return it == values_.end() ? fallback : it->second;

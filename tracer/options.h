@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "util/error.h"
 
@@ -29,6 +30,10 @@ class Options {
   // The options one plugin of several gets: keys "name.key" as "key", keys meant for another
   // plugin ("other.key") dropped, unprefixed keys kept.
   Options for_plugin(std::string_view name) const;
+
+  // Throws Error naming the first key "prefix.key" whose prefix is not one of `plugins` (a typo
+  // such as "dacr.bins" or ".bins" would otherwise be dropped by for_plugin without a word).
+  void check_prefixes(const std::vector<std::string>& plugins) const;
 
   // Throws Error naming `owner` if a key outside `known` was given.
   void check_known(std::string_view owner, const std::set<std::string, std::less<>>& known) const;

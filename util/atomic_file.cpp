@@ -1,11 +1,15 @@
 #include "util/atomic_file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
-#include <filesystem>
+#include <ext/stdio_filebuf.h>
+#include <fstream>
 #include <iterator>
 #include <system_error>
 
@@ -24,7 +28,8 @@ namespace {
 // handler that returns (util/interrupt.h's, which asks a render to stop and write what it has) is
 // called without removing the file, which is then finished. The signals are those whose default
 // action ends the process and that can be caught. (The CLI ignores SIGXFSZ, so that a file-size
-// limit is a write error it reports rather than a kill.)
+// limit is a write error it reports rather than a kill, and SIGPIPE, so that a closed stderr does
+// not end a render.)
 constexpr int handled[] = {SIGHUP,  SIGINT,  SIGQUIT, SIGTERM, SIGPIPE,   SIGALRM,
                            SIGUSR1, SIGUSR2, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF,
                            SIGABRT, SIGBUS,  SIGFPE,  SIGILL,  SIGSEGV,   SIGSYS};
@@ -68,65 +73,122 @@ struct PendingFile {
   }
 };
 
+std::string system_message(int err) {
+  return std::generic_category().message(err);
+}
+
+// The process's umask, without changing it (Linux 4.7+ shows it in /proc/self/status; elsewhere
+// it is read by setting it and setting it back).
+mode_t current_umask() {
+  if (std::FILE* f = std::fopen("/proc/self/status", "re")) {
+    char line[256];
+    unsigned mask = 0;
+    bool found = false;
+    while (!found && std::fgets(line, sizeof line, f))
+      found = std::sscanf(line, "Umask: %o", &mask) == 1;
+    std::fclose(f);
+    if (found) return mode_t(mask);
+  }
+  const mode_t mask = ::umask(022);
+  ::umask(mask);
+  return mask;
+}
+
+// A new file "<target>.tmp-XXXXXX" that did not exist (O_CREAT | O_EXCL: never a planted file or
+// link), with the mode a new file would have. Returns its descriptor and sets `name`.
+int create_temporary(const fs::path& target, std::string& name) {
+  std::string pattern = target.string() + ".tmp-XXXXXX";
+  const int fd = ::mkostemp(pattern.data(), O_CLOEXEC);
+  if (fd < 0) return -1;
+  name = pattern;
+  ::fchmod(fd, 0666 & ~current_umask());
+  return fd;
+}
+
+bool sticky_shared(const struct stat& dir) {
+  return (dir.st_mode & S_ISVTX) && (dir.st_mode & S_IWOTH);
+}
+
 }  // namespace
+
+fs::path output_target(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::absolute(path, ec);
+  if (ec) p = path;
+  for (int hops = 0;; ++hops) {
+    struct stat link {};
+    if (::lstat(p.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) break;
+    if (hops == 40) throw Error(path + ": cannot write: a symbolic link that loops");
+    struct stat dir {};
+    const uid_t me = ::geteuid();
+    if (::stat(p.parent_path().c_str(), &dir) == 0 && sticky_shared(dir) && link.st_uid != me &&
+        link.st_uid != dir.st_uid)
+      throw Error(path + ": cannot write: " + (hops ? "it leads to " + p.string() + ", " : "") +
+                  "a symbolic link owned by another user in the shared directory " +
+                  p.parent_path().string() + ", which is not followed");
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec)
+      throw Error(path + ": cannot write: the symbolic link cannot be read (" + ec.message() + ")");
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  const fs::path canonical = fs::weakly_canonical(p, ec);
+  return ec ? p.lexically_normal() : canonical;
+}
 
 void remove_pending_file() noexcept {
   if (pending_active) ::unlink(pending);
 }
 
 void write_atomically(const std::string& path, const std::string& what,
-                      const std::function<void(std::ofstream&)>& write) {
+                      const std::function<void(std::ostream&)>& write) {
   const std::string prefix = "cannot write " + what + " '" + path + "': ";
   std::error_code ec;
-  // Through a symbolic link, the file it points to is replaced, not the link.
-  const fs::path target =
-      fs::is_symlink(fs::symlink_status(path, ec)) ? resolved_path(path) : fs::path(path);
+  const fs::path target = output_target(path);
   const fs::path dir = target.parent_path();
   if (!dir.empty() && !fs::exists(dir, ec))
     throw Error(prefix + "directory '" + dir.string() + "' does not exist");
   if (!dir.empty() && !fs::is_directory(dir, ec))
     throw Error(prefix + "'" + dir.string() + "' is not a directory");
-
   {
     const fs::file_status status = fs::status(target, ec);
     if (fs::exists(status) && !fs::is_regular_file(status))
       throw Error(prefix + "it is " + file_kind(status) + ", not a regular file");
   }
 
-  const std::string tmp = target.string() + ".tmp-" + std::to_string(::getpid());
+  std::string tmp;
+  errno = 0;
+  const int fd = create_temporary(target, tmp);
+  if (fd < 0)
+    throw Error(prefix + "cannot create a temporary file in '" + dir.string() + "' (" +
+                system_message(errno) + ")");
   const PendingFile pending_file(tmp);
   auto fail = [&](const std::string& reason) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
+    ::unlink(tmp.c_str());
     return Error(prefix + one_line(reason));
   };
-  errno = 0;
-  std::ofstream stream(tmp, std::ios::binary | std::ios::trunc);
-  if (!stream) {
-    const int err = errno;
-    throw Error(prefix + "cannot create '" + tmp + "'" +
-                (err ? " (" + std::generic_category().message(err) + ")" : std::string()));
-  }
   // The reason the system gave for a failed write (ENOSPC, EFBIG, EIO…), when there is one.
   auto system_reason = [](int err) {
-    return err ? " (" + std::generic_category().message(err) + ")" : std::string();
+    return err ? " (" + system_message(err) + ")" : std::string();
   };
+  __gnu_cxx::stdio_filebuf<char> buffer(fd, std::ios::out | std::ios::binary);  // owns fd
+  std::ostream stream(&buffer);
   errno = 0;
   try {
     write(stream);
   } catch (const std::exception& e) {
     const int err = errno;
-    stream.close();
-    const std::string what = e.what();
-    throw fail(what + (what.find(std::generic_category().message(err)) == std::string::npos
-                           ? system_reason(err)
-                           : std::string()));
+    buffer.close();
+    const std::string message = e.what();
+    throw fail(message + (message.find(system_message(err)) == std::string::npos
+                              ? system_reason(err)
+                              : std::string()));
   }
   if (stream) stream.flush();
   int err = stream ? 0 : errno;
-  stream.close();
-  if (!stream && !err) err = errno;
-  if (!stream)
+  errno = 0;
+  const bool closed = buffer.close() != nullptr;
+  if (!err && !closed) err = errno;
+  if (!stream || !closed)
     throw fail("writing '" + tmp + "' failed" + (err ? system_reason(err) : " (disk full?)"));
   fs::rename(tmp, target, ec);
   if (ec) throw fail(ec.message());
@@ -134,18 +196,41 @@ void write_atomically(const std::string& path, const std::string& what,
 
 void check_writable(const std::string& path) {
   if (path.empty()) return;
-  fs::path dir = fs::path(path).parent_path();
+  const fs::path target = output_target(path);
+  const std::string named = target == fs::absolute(path).lexically_normal()
+                                ? std::string()
+                                : " (" + target.string() + ")";
+  auto refuse = [&](const std::string& why) {
+    return Error(path + named + ": cannot write: " + why);
+  };
+  fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
   std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw Error(path + ": cannot write: directory " + dir.string() + " does not exist");
+  if (!fs::is_directory(dir, ec)) throw refuse("directory " + dir.string() + " does not exist");
   // The file is replaced by renaming a new one over it: a device or a FIFO would be replaced by a
   // regular file (as root, /dev/null itself), a directory cannot be.
-  const fs::file_status status = fs::status(path, ec);
-  if (fs::exists(status) && !fs::is_regular_file(status))
-    throw Error(path + ": cannot write: it is " + file_kind(status) + ", not a regular file");
-  if (::access(dir.c_str(), W_OK) != 0)
-    throw Error(path + ": cannot write: directory " + dir.string() + " is not writable");
+  struct stat file {
+  }, parent{};
+  const bool exists = ::stat(target.c_str(), &file) == 0;
+  if (exists && !S_ISREG(file.st_mode))
+    throw refuse("it is " + std::string(file_kind(fs::status(target, ec))) +
+                 ", not a regular file");
+  // In a sticky directory only the file's owner, the directory's and root may replace a file.
+  const uid_t me = ::geteuid();
+  if (exists && ::stat(dir.c_str(), &parent) == 0 && (parent.st_mode & S_ISVTX) && me != 0 &&
+      file.st_uid != me && parent.st_uid != me)
+    throw refuse("it belongs to another user (uid " + std::to_string(file.st_uid) +
+                 ") in a directory with the sticky bit, " + dir.string() +
+                 ", so it cannot be replaced");
+  // Whether a file can be made there is known only by making one: permissions, a read-only file
+  // system, /proc and /sys, quotas.
+  std::string probe;
+  errno = 0;
+  const int fd = create_temporary(target, probe);
+  if (fd < 0)
+    throw refuse("no file can be created in " + dir.string() + " (" + system_message(errno) + ")");
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
 }  // namespace dacrt
