@@ -120,6 +120,23 @@ TEST_CASE("safe outputs: no output overwrites $OCIO's config or a LUT it reads")
   CHECK(run(dir, render + " --stats " + lut).code == 0);
 }
 
+TEST_CASE("safe outputs: OpenColorIO's warnings are one line each, said once, and --quiet drops them") {
+  TempDir dir("ocio-warnings");
+  const std::string scene = small_scene(dir);
+  const std::string config = dir / "config.ocio";
+  { std::ofstream(config) << "unknown_key: 1\n" << ocio_test_config; }
+  const std::string render = "render " + scene + " --spp 1 --width 4 --height 4 -o " +
+                             (dir / "o.exr") + " --preview " + (dir / "o.png");
+  Run r = run(dir, render + " --quiet", "OCIO=" + config);
+  CHECK(r.code == 0);
+  CHECK(r.err.empty());
+  r = run(dir, render, "OCIO=" + config);
+  CHECK(r.code == 0);
+  const std::string warning = "dacrt: warning: OpenColorIO: [OpenColorIO Warning]: Unknown key";
+  CHECK(r.err.find(warning) != std::string::npos);
+  CHECK(r.err.find(warning) == r.err.rfind(warning));
+}
+
 TEST_CASE("safe outputs: bench --json may not overwrite a file the scene reads") {
   TempDir dir("bench-inputs");
   GltfWriter w;
