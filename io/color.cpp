@@ -148,9 +148,14 @@ OCIO::ConstProcessorRcPtr builtin_processor(const std::string& view) {
   });
 }
 
-// $OCIO's config, checked for what a preview needs (a scene_linear role, a default view).
+// $OCIO's config, checked for what a preview needs (a scene_linear role, a default view). Read
+// once per path, so that its warnings are said once.
 OCIO::ConstConfigRcPtr load_config(const std::string& path) {
   check_input_file(path, "OCIO config ($OCIO)");
+  static std::mutex mutex;
+  static std::pair<std::string, OCIO::ConstConfigRcPtr> cached;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (cached.second && cached.first == path) return cached.second;
   OCIO::ConstConfigRcPtr config =
       with_ocio_errors(path, [&] { return OCIO::Config::CreateFromFile(path.c_str()); });
   if (!config->hasRole(OCIO::ROLE_SCENE_LINEAR))
@@ -160,6 +165,7 @@ OCIO::ConstConfigRcPtr load_config(const std::string& path) {
   const char* view = config->getDefaultView(display);
   if (!view || !*view)
     throw Error("OCIO config '" + path + "' defines no view for display '" + display + "'");
+  cached = {path, config};
   return config;
 }
 
