@@ -241,7 +241,7 @@ int render(const std::vector<std::string>& args) {
   const std::vector<std::string> notes = prepare_render(scene, s, r.setup);
   check_memory(r, s);
   if (!r.quiet)
-    for (const std::string& note : notes) std::fprintf(stderr, "%s\n", note.c_str());
+    for (const std::string& note : notes) print_message(note);
 
   // From here on SIGINT and SIGTERM stop the render and write what it has.
   StopOnSignals signals;
@@ -454,8 +454,7 @@ int run(std::vector<std::string> args) {
 
 // A message on stderr: one line of at most 1000 characters, whatever it quotes.
 int fail(int code, const std::string& prefix, const std::string& what, const std::string& suffix) {
-  const std::string line = message_line(prefix + what + suffix);
-  std::fprintf(stderr, "%s\n", line.c_str());
+  print_message(prefix + what + suffix);
   return code;
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "tracer/stats_json.h"
+#include "util/text.h"
 
 namespace dacrt {
 namespace {
@@ -74,12 +75,14 @@ nlohmann::json to_json(const BackendRun& run) {
 
 void print_summary(const BackendRun& run, const RenderSettings& s, const std::string& integrator) {
   const RenderStats& stats = run.stats;
-  std::fprintf(stderr, "%s: %d×%d, %u spp%s, %s/%s, %.2f s\n", run.output.c_str(), s.width,
-               s.height, run.spp,
-               run.stopped.empty()
-                   ? ""
-                   : (" of " + std::to_string(s.spp) + ", stopped by " + run.stopped).c_str(),
-               run.backend.c_str(), integrator.c_str(), stats.seconds);
+  char figures[256];
+  std::snprintf(figures, sizeof figures, ": %d×%d, %u spp%s, %s/%s, %.2f s", s.width, s.height,
+                run.spp,
+                run.stopped.empty()
+                    ? ""
+                    : (" of " + std::to_string(s.spp) + ", stopped by " + run.stopped).c_str(),
+                run.backend.c_str(), integrator.c_str(), stats.seconds);
+  print_message(run.output + figures);
   for (int t = 0; t < ray_type_count; ++t) {
     const RayTypeStats& rt = stats.by_type[t];
     if (rt.rays)
@@ -87,8 +90,7 @@ void print_summary(const BackendRun& run, const RenderSettings& s, const std::st
                    std::string(to_string(RayType(t))).c_str(), (unsigned long long)rt.rays,
                    rt.seconds, rt.rays_per_second() * 1e-6);
   }
-  for (const auto& skipped : stats.skipped)
-    std::fprintf(stderr, "  skipped: %s\n", skipped.c_str());
+  for (const auto& skipped : stats.skipped) print_message("  skipped: " + skipped);
   if (stats.dropped_samples)
     std::fprintf(stderr, "  warning: %llu samples were NaN or inf and were dropped\n",
                  (unsigned long long)stats.dropped_samples);

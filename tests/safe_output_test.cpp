@@ -120,7 +120,8 @@ TEST_CASE("safe outputs: no output overwrites $OCIO's config or a LUT it reads")
   CHECK(run(dir, render + " --stats " + lut).code == 0);
 }
 
-TEST_CASE("safe outputs: OpenColorIO's warnings are one line each, said once, and --quiet drops them") {
+TEST_CASE(
+    "safe outputs: OpenColorIO's warnings are one line each, said once, and --quiet drops them") {
   TempDir dir("ocio-warnings");
   const std::string scene = small_scene(dir);
   const std::string config = dir / "config.ocio";
@@ -261,6 +262,13 @@ TEST_CASE("safe outputs: every message is one line of at most 1000 characters") 
   CHECK(lines(r.err) == 1);
   CHECK(r.err.size() <= 1001);
   CHECK(r.err.find("does not exist") != std::string::npos);
+  // The summary names the output in one line, whatever its name holds.
+  const std::string scene = small_scene(dir);
+  r = run(dir, "render " + scene + " --spp 1 --width 4 --height 4 -o '" + (dir / "two\nlines.exr") +
+                   "'");
+  CHECK(r.code == 0);
+  CHECK(r.err.find("two lines.exr: 4×4, 1 spp") != std::string::npos);
+  CHECK(r.err.find("\nlines.exr") == std::string::npos);
   r = run(dir, "render s.gltf --width '" + std::string(3000, '9') + "'");
   CHECK(r.code == 2);
   CHECK(lines(r.err) == 1);

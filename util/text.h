@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <string_view>
 
@@ -60,6 +61,13 @@ inline std::string message_line(std::string_view text, size_t max_chars = 999) {
   const std::string_view gap = " ... ";
   const size_t keep = max_chars - gap.size(), head = keep / 2, tail = keep - head;
   return out.substr(0, head) + std::string(gap) + out.substr(out.size() - tail);
+}
+
+// Writes `text` to stderr as one message line (message_line). Best-effort: a closed stderr loses
+// the message, nothing else.
+inline void print_message(std::string_view text) {
+  const std::string line = message_line(text);
+  std::fprintf(stderr, "%s\n", line.c_str());
 }
 
 // A JSON document as text, with every string in it (keys too) made valid UTF-8 by valid_utf8:
