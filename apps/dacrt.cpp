@@ -414,6 +414,7 @@ int views(const std::vector<std::string>& args) {
   if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help"))
     return std::fputs(views_help, stdout), 0;
   if (!args.empty()) throw UsageError("views takes no arguments");
+  set_color_warnings(true);  // OpenColorIO's warnings as our one-line messages
   const DisplayViews views = display_views();
   for (const std::string& name : views.names)
     std::printf("%s%s\n", name.c_str(), name == views.default_name ? " (default)" : "");
