@@ -5,9 +5,11 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <glm/gtc/quaternion.hpp>
 #include <initializer_list>
 #include <optional>
@@ -32,8 +34,31 @@ std::string str(Number n) {
   return std::to_string(n);
 }
 
+// A number from the file for messages: 1e+39, 0.5 (printf's %g).
+inline std::string num(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+
 inline bool finite(const glm::vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// The direction of v as a unit float vector, whatever v's magnitude (scaled to its largest
+// component first, so 1e-200 and 1e200 work), or nothing when v is zero or not finite.
+inline std::optional<glm::vec3> direction_of(const glm::dvec3& v) {
+  const double big = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(big > 0.0) || !std::isfinite(big)) return std::nullopt;
+  return glm::vec3(glm::normalize(v / big));
+}
+
+// A float the JSON gives as a double, or nothing when it overflows float (1e39 is finite in the
+// file and infinite as float).
+inline std::optional<float> as_float(double x) {
+  const float f = float(x);
+  if (!std::isfinite(f)) return std::nullopt;
+  return f;
 }
 
 // Normalised n, or `fallback` when n has no usable direction (zero, NaN, inf).
@@ -107,8 +132,8 @@ class MeshLoader {
  public:
   MeshLoader(const Gltf& gltf, Scene& scene);
 
-  // Mesh `mesh` (which node `node` refers to) placed by `world`.
-  void add_mesh(int mesh, const glm::mat4& world, int node);
+  // Mesh `mesh` (which node `node` refers to) placed by `world` (in double: see nodes.cpp).
+  void add_mesh(int mesh, const glm::dmat4& world, int node);
   // Moves the per-corner attributes into the scene, once every mesh is added.
   void finish();
 
@@ -138,15 +163,17 @@ class MeshLoader {
 };
 
 // Nodes (nodes.cpp): the node tree of scene `scene` walked from its roots, each node's meshes
-// given to `meshes`, its camera and light added to `out`.
+// given to `meshes`, its camera and light added to `out`. World transforms are composed in
+// double: a chain of scales that over- or underflows float (1e20 · 1e20, 1e-25 · 1e-25) keeps its
+// rotation, which cameras and lights need, and its product where it comes back into range.
 void load_nodes(const Gltf& gltf, int scene, MeshLoader& meshes, Scene& out);
 
 // Cameras (cameras.cpp): camera `index` as node `node` places it by `world`.
-Camera load_camera(const Gltf& gltf, int index, const glm::mat4& world, int node);
+Camera load_camera(const Gltf& gltf, int index, const glm::dmat4& world, int node);
 
 // Lights (lights.cpp): the KHR_lights_punctual light of node `index` (placed by `world`), if it
 // has one.
 std::optional<PunctualLight> load_light(const Gltf& gltf, const tinygltf::Node& node,
-                                        const glm::mat4& world, int index);
+                                        const glm::dmat4& world, int index);
 
 }  // namespace dacrt::gltf

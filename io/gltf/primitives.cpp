@@ -23,13 +23,27 @@ glm::vec3 geometric_normal(const glm::vec3& a, const glm::vec3& b, const glm::ve
 
 }  // namespace
 
-// The part of a node's world transform that positions, normals and winding need.
+// The part of a node's world transform that positions, normals, tangents and winding need.
 struct MeshLoader::Transform {
-  glm::mat4 world;
-  glm::mat3 normal;  // inverse-transpose of world's 3x3, up to a positive factor
-  bool flips;        // negative determinant: mirrored, so the winding must be swapped back
+  glm::dmat4 world;   // positions are transformed in double, then rounded to float
+  glm::mat3 normal;   // inverse-transpose of world's 3x3, up to a positive factor
+  glm::mat3 tangent;  // world's 3x3, up to a positive factor
+  bool flips;         // negative determinant: mirrored, so the winding must be swapped back
   int node;
 };
+
+namespace {
+
+// m over its largest entry, as float: the same directions, whatever m's scale (1e-25 squares to
+// 0 in float, 1e20 to infinity).
+glm::mat3 direction_matrix(const glm::dmat3& m) {
+  double big = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) big = std::max(big, std::abs(m[c][r]));
+  return big > 0.0 && std::isfinite(big) ? glm::mat3(m / big) : glm::mat3(0.f);
+}
+
+}  // namespace
 
 MeshLoader::MeshLoader(const Gltf& gltf, Scene& scene)
     : gltf_(gltf),
@@ -38,20 +52,26 @@ MeshLoader::MeshLoader(const Gltf& gltf, Scene& scene)
       texture_used_(gltf.model.textures.size(), false),
       mesh_seen_(gltf.model.meshes.size(), false) {}
 
-void MeshLoader::add_mesh(int mesh, const glm::mat4& world, int node) {
+void MeshLoader::add_mesh(int mesh, const glm::dmat4& world, int node) {
   if (mesh < 0 || size_t(mesh) >= gltf_.model.meshes.size())
     gltf_.fail("node " + str(node) + " refers to mesh " + str(mesh) + ", which does not exist");
   bool first_instance = !mesh_seen_[size_t(mesh)];
   mesh_seen_[size_t(mesh)] = true;
   scene_.mesh_count += first_instance;
 
-  Transform xf{world, glm::mat3(1.f), false, node};
-  glm::mat3 linear(world);
+  const glm::dmat3 linear(world);
   // The cofactor matrix is det × inverse-transpose: always finite, even for a zero scale.
-  xf.normal = glm::mat3(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
-                        glm::cross(linear[0], linear[1]));
-  xf.flips = glm::determinant(linear) < 0.f;
-  if (xf.flips) xf.normal = -xf.normal;
+  const glm::dmat3 cofactor(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
+                            glm::cross(linear[0], linear[1]));
+  // The determinant's sign, from the columns scaled to their largest entries (which keeps it).
+  glm::dmat3 unit = linear;
+  for (int c = 0; c < 3; ++c) {
+    const double big = std::max({std::abs(unit[c].x), std::abs(unit[c].y), std::abs(unit[c].z)});
+    if (big > 0.0) unit[c] /= big;
+  }
+  const bool flips = glm::determinant(unit) < 0.0;
+  Transform xf{world, direction_matrix(flips ? -cofactor : cofactor), direction_matrix(linear),
+               flips, node};
   for (size_t p = 0; p < gltf_.model.meshes[size_t(mesh)].primitives.size(); ++p)
     add_primitive(mesh, int(p), xf, first_instance);
 }
@@ -118,7 +138,7 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     if (!finite(points[i]))
       gltf_.fail("accessor " + str(position->second) + " (POSITION of " + where + ") vertex " +
                  str(i) + " is not finite");
-    points[i] = glm::vec3(xf.world * glm::vec4(points[i], 1.f));
+    points[i] = glm::vec3(xf.world * glm::dvec4(points[i], 1.0));
     if (!finite(points[i]))
       gltf_.fail("node " + str(xf.node) + " puts vertex " + str(i) + " of " + where +
                  " at a non-finite position");
@@ -179,10 +199,9 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     const std::string role = "TANGENT of " + where;
     tangents = read_floats(gltf_, attribute->second, role, 4, 4, {}, 0.f);
     same_count(attribute->second, role, tangents.size());
-    const glm::mat3 linear(xf.world);
     for (glm::vec4& t : tangents) {
       // A mirroring transform turns the bitangent cross(n, t) around: flip its sign back.
-      t = glm::vec4(linear * glm::vec3(t), (t.w < 0.f) != xf.flips ? -1.f : 1.f);
+      t = glm::vec4(xf.tangent * glm::vec3(t), (t.w < 0.f) != xf.flips ? -1.f : 1.f);
       if (!finite(glm::vec3(t))) t = glm::vec4(0.f);
     }
   }
