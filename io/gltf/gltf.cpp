@@ -89,7 +89,7 @@ Scene load(const std::string& path, const GltfOptions& options, Read read) {
   try {
     std::vector<std::string> files;
     tinygltf::Model model = read(files);
-    Scene scene = gltf::run({path, model}, options.scene);
+    Scene scene = gltf::run(gltf::Gltf(path, model), options.scene);
     scene.files = std::move(files);
     return scene;
   } catch (const Error&) {

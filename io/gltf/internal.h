@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <glm/gtc/quaternion.hpp>
 #include <initializer_list>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,11 +22,17 @@
 
 namespace dacrt::gltf {
 
-// The file being loaded: its path (which starts every message) and tinygltf's model of it.
+// The file being loaded: its path (which starts every message) and tinygltf's model of it, and
+// what reading its accessors has worked out once for all their reads.
 struct Gltf {
   const std::string& path;
   const tinygltf::Model& model;
+  // Sparse accessors' patches, by accessor: (element, its value's bytes), by element, the last
+  // of equal elements winning. Built once an accessor, however often it is read.
+  mutable std::map<int, std::vector<std::pair<uint32_t, const unsigned char*>>> sparse_patches;
+  mutable uint64_t sparse_entries = 0;  // in all of them, which is bounded
 
+  Gltf(const std::string& path, const tinygltf::Model& model) : path(path), model(model) {}
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
 };
 
@@ -79,14 +86,21 @@ struct Span {
 
 // The bytes of bufferView `index`, checked against its buffer; `user` names who refers to it.
 Span buffer_view(const Gltf& gltf, int index, const std::string& user);
+// Accessor `accessor`'s element count, checked against its bufferView (nothing is read).
+size_t accessor_count(const Gltf& gltf, int accessor, const std::string& role);
+// Which elements the readers below read: all of them (nullptr), or those listed, in that order
+// (a primitive reads only the vertices its indices refer to). Each listed element must exist.
+using Elements = const std::vector<uint32_t>*;
 // POSITION and NORMAL: FLOAT VEC3, copied out of their (possibly strided) view.
-std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role);
+std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role,
+                                 Elements which = nullptr);
 // An attribute of `min_components`..`max_components` components, FLOAT or one of the normalised
 // integer types `integers` (the accessor must then say normalized), as floats; components the
 // accessor lacks are `fill`.
 std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::string& role,
                                    int min_components, int max_components,
-                                   std::initializer_list<int> integers, float fill);
+                                   std::initializer_list<int> integers, float fill,
+                                   Elements which = nullptr);
 // Unit quaternions (x, y, z, w): FLOAT, or normalised BYTE or SHORT as the spec allows.
 std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std::string& role);
 // A primitive's indices: an unsigned SCALAR accessor, each index below `vertex_count`.
@@ -137,6 +151,10 @@ class MeshLoader {
   // Moves the per-corner attributes into the scene, once every mesh is added.
   void finish();
 
+  // Counts `units` of work (a triangle each, or an instance read) against the memory available,
+  // failing with `where` in the message once they could not fit.
+  void add_work(uint64_t units, const std::string& where);
+
   const std::vector<bool>& texture_used() const { return texture_used_; }
   size_t skipped_modes() const { return skipped_modes_; }
   size_t skipped_unpositioned() const { return skipped_unpositioned_; }
@@ -160,6 +178,7 @@ class MeshLoader {
   int default_material_ = -1;
   std::vector<bool> mesh_seen_;
   size_t skipped_modes_ = 0, skipped_unpositioned_ = 0;
+  uint64_t work_ = 0;  // triangles asked for, every instance and primitive counted
 };
 
 // Nodes (nodes.cpp): the node tree of scene `scene` walked from its roots, each node's meshes

@@ -11,7 +11,8 @@ namespace {
 // EXT_mesh_gpu_instancing's per-instance TRANSLATION, ROTATION and SCALE as matrices (T R S);
 // nothing when the node does not use it (and an empty list for zero instances).
 std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
-                                                          const tinygltf::Node& node, int index) {
+                                                          const tinygltf::Node& node, int index,
+                                                          MeshLoader& meshes) {
   auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
   if (ext == node.extensions.end()) return std::nullopt;
   const std::string where = "node " + str(index) + " EXT_mesh_gpu_instancing";
@@ -26,6 +27,11 @@ std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
     return int(v.GetNumberAsDouble());
   };
   const int t = accessor("TRANSLATION"), r = accessor("ROTATION"), s = accessor("SCALE");
+  // Reading the instances is work of its own (a mesh without triangles costs nothing else), so
+  // it is bounded with the triangles before it is done.
+  for (const auto& [a, name] : {std::pair{t, "TRANSLATION"}, {r, "ROTATION"}, {s, "SCALE"}})
+    if (a != -1)
+      meshes.add_work(accessor_count(gltf, a, std::string(name) + " of " + where), where);
   std::vector<glm::vec3> translation, scale;
   std::vector<glm::quat> rotation;
   size_t count = 0;
@@ -134,7 +140,7 @@ void load_nodes(const Gltf& gltf, int scene, MeshLoader& meshes, Scene& out) {
     const glm::dmat4 world = item.parent_world * local_transform(gltf, item.node);
     if (node.mesh != -1) {
       // EXT_mesh_gpu_instancing: the mesh once per instance, never at the node itself.
-      if (auto instances = instance_transforms(gltf, node, item.node); !instances)
+      if (auto instances = instance_transforms(gltf, node, item.node, meshes); !instances)
         meshes.add_mesh(node.mesh, world, item.node);
       else
         for (const glm::mat4& m : *instances)
