@@ -283,10 +283,10 @@ void plan_external_files(const nlohmann::json& doc, const std::string& base_dir,
 }
 
 // Reads `want` bytes of regular file `file` into `out` (all of it when `want` is nothing),
-// checking its size first; false with `why` set if it is not a regular file, is shorter, or
-// cannot be read.
+// checking its size first; false with `why` set if it is not a regular file, is shorter, needs
+// more than `max_size` bytes (`max_what` says what that is), or cannot be read.
 bool read_bytes(const std::string& file, std::optional<uint64_t> want, uint64_t max_size,
-                std::vector<unsigned char>& out, std::string& why) {
+                const std::string& max_what, std::vector<unsigned char>& out, std::string& why) {
   // O_NONBLOCK: a FIFO swapped in after tinygltf's existence check must not block the open.
   const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return why = std::strerror(errno), false;
@@ -304,8 +304,7 @@ bool read_bytes(const std::string& file, std::optional<uint64_t> want, uint64_t 
            false;
   const uint64_t n = want ? *want : size;
   if (n > max_size)
-    return why = "it would take " + format_bytes(n) + ", more than " + format_bytes(max_size),
-           false;
+    return why = "it would take " + format_bytes(n) + ", more than " + max_what, false;
   out.resize(size_t(n));
   for (size_t done = 0; done < n;) {
     const ssize_t got = ::pread(fd, out.data() + done, n - done, off_t(done));
@@ -343,7 +342,10 @@ bool read_external(std::vector<unsigned char>* out, std::string* err, const std:
     const uint64_t room = files.available_memory > files.buffer_bytes
                               ? files.available_memory - files.buffer_bytes
                               : 0;
-    if (!read_bytes(file, buffer.byte_length, room, *out, why))
+    if (!read_bytes(file, buffer.byte_length, room,
+                    "the " + format_bytes(room) + " of memory available" +
+                        (files.buffer_bytes ? " besides the buffers before it" : ""),
+                    *out, why))
       return fail(buffer.name + " cannot be read: " + why);
     files.buffer_bytes += out->size();
     return true;
@@ -352,7 +354,8 @@ bool read_external(std::vector<unsigned char>* out, std::string* err, const std:
     return true;  // an image the render does not use: not read
   // tinygltf hands the bytes on with an int size; decoded images are far smaller anyway.
   constexpr uint64_t kMaxImageFile = uint64_t(1) << 30;
-  if (!read_bytes(file, std::nullopt, kMaxImageFile, *out, why)) {
+  if (!read_bytes(file, std::nullopt, kMaxImageFile,
+                  "the " + format_bytes(kMaxImageFile) + " an image file may have", *out, why)) {
     auto name = files.image_name.find(file);
     return fail((name != files.image_name.end() ? name->second : "file " + one_line(file)) +
                 " cannot be read: " + why);

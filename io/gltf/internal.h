@@ -152,8 +152,8 @@ class MeshLoader {
   void finish();
 
   // Counts `units` of work (a triangle each, or an instance read) against the memory available,
-  // failing with `where` in the message once they could not fit.
-  void add_work(uint64_t units, const std::string& where);
+  // failing with `where` (at node `node`) in the message once they could not fit.
+  void add_work(uint64_t units, const std::string& where, int node);
 
   const std::vector<bool>& texture_used() const { return texture_used_; }
   size_t skipped_modes() const { return skipped_modes_; }

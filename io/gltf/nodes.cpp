@@ -31,7 +31,7 @@ std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
   // it is bounded with the triangles before it is done.
   for (const auto& [a, name] : {std::pair{t, "TRANSLATION"}, {r, "ROTATION"}, {s, "SCALE"}})
     if (a != -1)
-      meshes.add_work(accessor_count(gltf, a, std::string(name) + " of " + where), where);
+      meshes.add_work(accessor_count(gltf, a, std::string(name) + " of " + where), where, index);
   std::vector<glm::vec3> translation, scale;
   std::vector<glm::quat> rotation;
   size_t count = 0;

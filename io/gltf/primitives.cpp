@@ -115,12 +115,12 @@ void MeshLoader::start_normals() {
                     geometric_normal(g.vertex(t, 0), g.vertex(t, 1), g.vertex(t, 2)));
 }
 
-void MeshLoader::add_work(uint64_t units, const std::string& where) {
+void MeshLoader::add_work(uint64_t units, const std::string& where, int node) {
   work_ = units > UINT64_MAX - work_ ? UINT64_MAX : work_ + units;
   if (work_ > available_memory_ / kBytesPerTriangle)
-    gltf_.fail(where + " brings the scene to " + str(work_) +
-               " triangles (every instance of every primitive counted as one more, degenerate "
-               "ones too), which need about " +
+    gltf_.fail(where + " brings the scene to " + str(work_) + " triangles (at node " + str(node) +
+               "; every instance of every primitive counted as one more, degenerate ones too), "
+               "which need about " +
                format_bytes(work_ > UINT64_MAX / kBytesPerTriangle ? UINT64_MAX
                                                                    : work_ * kBytesPerTriangle) +
                ", more than the " + format_bytes(available_memory_) + " of memory available");
@@ -130,7 +130,7 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   const tinygltf::Primitive& prim = gltf_.model.meshes[size_t(mesh)].primitives[size_t(index)];
   std::string where = "mesh " + str(mesh) + " primitive " + str(index);
   const int mode = prim.mode;
-  add_work(1, where + " (node " + str(xf.node) + ")");
+  add_work(1, where, xf.node);
   if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
       mode != TINYGLTF_MODE_TRIANGLE_FAN) {
     skipped_modes_ += first_instance;  // points and lines
@@ -161,7 +161,7 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     gltf_.fail("has more than " + str(kMaxTriangles) + " triangles");
   // A small file can instance a large mesh many times: the triangles are bounded by memory as
   // they are added, before they are.
-  add_work(triangles, where + " (node " + str(xf.node) + ")");
+  add_work(triangles, where, xf.node);
 
   std::vector<uint32_t> indices;
   if (prim.indices != -1)
