@@ -205,7 +205,9 @@ TEST_CASE("gltf untrusted: an image only another scene shows is read only for th
   GltfWriter w = textured_triangle();
   const std::vector<unsigned char> png = grey_png(10);
   dacrt::test::write_bytes(dir / "used.png", png.data(), png.size());
-  dacrt::test::write_text(dir / "broken.png", "garbage");
+  // Costly to read: 2 GiB of holes, which a reader refuses by its size (over 1 GiB).
+  dacrt::test::write_text(dir / "broken.png", "");
+  REQUIRE(grow(dir / "broken.png", 2048 * kMiB));
   w.doc["images"] = {{{"uri", "used.png"}}, {{"uri", "broken.png"}}};
   w.doc["textures"] = {{{"source", 0}}, {{"source", 1}}};
   // Scene 1: a second node with its own mesh and material showing the broken image.
@@ -217,7 +219,7 @@ TEST_CASE("gltf untrusted: an image only another scene shows is read only for th
   w.doc["scenes"].push_back({{"nodes", {1}}});
   const std::string path = w.write_gltf(dir / "scenes.gltf");
   CHECK(load_gltf(path).images[0].width == 1);  // the default scene, 0
-  check_error(path, {"image 1 (broken.png)"}, GltfOptions{1});
+  check_error(path, {"image 1 (broken.png)", "2.0 GiB"}, GltfOptions{1});
 }
 
 // ---------------------------------------------------------------------------------------------
