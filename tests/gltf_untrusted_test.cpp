@@ -152,6 +152,24 @@ TEST_CASE("gltf untrusted: a buffer file shorter than its byteLength is refused 
   }
 }
 
+TEST_CASE(
+    "gltf untrusted: a buffer is looked for beside the file only, not in the working directory") {
+  TempDir scene_dir("beside"), cwd("cwd");
+  GltfWriter w;
+  w.add_triangles(kTriangle);
+  const std::string path = w.write_gltf(scene_dir / "a.gltf", /*embed=*/false);
+  std::filesystem::rename(scene_dir / "a.bin", cwd / "a.bin");  // some file of the user's
+  const std::filesystem::path saved = std::filesystem::current_path();
+  std::filesystem::current_path(cwd.path());
+  try {
+    check_error(path, {"buffer 0", "a.bin"});
+  } catch (...) {
+    std::filesystem::current_path(saved);
+    throw;
+  }
+  std::filesystem::current_path(saved);
+}
+
 // ---------------------------------------------------------------------------------------------
 // 7. Images the render does not use are not read.
 

@@ -118,17 +118,19 @@ int json_depth(const unsigned char* s, size_t n) {
 // render uses (the others are never read, and their encoded bytes not kept).
 struct ExternalFiles {
   struct Buffer {
-    std::array<std::string, 2> paths;  // where tinygltf looks for it
+    std::string path;  // its URI's path
     uint64_t byte_length;
     std::string name;  // "buffer 2 (a.bin)"
   };
   // Every buffer with a URI, in order. tinygltf reads the external ones first, in order, once
   // each: a call is for the first buffer from `next_buffer` on with its path, else for an image.
+  // (Paths are those tinygltf makes of URIs relative to the glTF file.)
   std::vector<Buffer> buffers;
   size_t next_buffer = 0;
   std::set<std::string> image_paths, used_image_paths;  // of all images, of those the render uses
   std::map<std::string, std::string> image_name;        // "image 0 (b.png)" by path
   std::vector<bool> image_used;                         // by image index
+  std::set<std::string> uri_paths;                      // of every buffer and image
   uint64_t buffer_bytes = 0, available_memory = 0;
   std::vector<std::string> noted;  // every external file the scene names and tinygltf finds
   std::string error;               // the first failure, a message after the scene's path
@@ -157,13 +159,11 @@ std::string url_decode(const std::string& s) {
   return out;
 }
 
-// The paths tinygltf tries for a URI: beside the file, then in the working directory.
-std::array<std::string, 2> uri_paths(const std::string& base_dir, const std::string& uri) {
+// The path tinygltf makes of a URI relative to the glTF file (it would then try the working
+// directory, which regular_file_exists refuses).
+std::string uri_path(const std::string& base_dir, const std::string& uri) {
   const std::string file = url_decode(uri);
-  auto join = [&](const std::string& dir) {
-    return dir.empty() ? file : dir.back() == '/' ? dir + file : dir + "/" + file;
-  };
-  return {join(base_dir), join(".")};
+  return base_dir.empty() ? file : base_dir.back() == '/' ? base_dir + file : base_dir + "/" + file;
 }
 
 // Member `key` of `object` as an index below `limit` (any number >= 0 truncated, as the loader
@@ -266,19 +266,20 @@ void plan_external_files(const nlohmann::json& doc, const std::string& base_dir,
     const nlohmann::json& uri = member(buffers[i], "uri");
     const nlohmann::json& length = member(buffers[i], "byteLength");
     if (!uri.is_string() || !length.is_number_unsigned()) continue;  // the schema refused these
-    files.buffers.push_back({uri_paths(base_dir, uri.get<std::string>()), length.get<uint64_t>(),
+    files.buffers.push_back({uri_path(base_dir, uri.get<std::string>()), length.get<uint64_t>(),
                              named("buffer", i, uri)});
+    files.uri_paths.insert(files.buffers.back().path);
   }
   files.image_used = used_images(doc, scene);
   const nlohmann::json& images = member(doc, "images");
   for (size_t i = 0; i < array_size(doc, "images"); ++i) {
     const nlohmann::json& uri = member(images[i], "uri");
     if (!uri.is_string()) continue;
-    for (const std::string& path : uri_paths(base_dir, uri.get<std::string>())) {
-      files.image_paths.insert(path);
-      if (files.image_used[i]) files.used_image_paths.insert(path);
-      files.image_name.emplace(path, named("image", i, uri));
-    }
+    const std::string path = uri_path(base_dir, uri.get<std::string>());
+    files.uri_paths.insert(path);
+    files.image_paths.insert(path);
+    if (files.image_used[i]) files.used_image_paths.insert(path);
+    files.image_name.emplace(path, named("image", i, uri));
   }
 }
 
@@ -336,7 +337,7 @@ bool read_external(std::vector<unsigned char>* out, std::string* err, const std:
   std::string why;
   for (size_t b = files.next_buffer; b < files.buffers.size(); ++b) {
     const ExternalFiles::Buffer& buffer = files.buffers[b];
-    if (file != buffer.paths[0] && file != buffer.paths[1]) continue;
+    if (file != buffer.path) continue;
     files.next_buffer = b + 1;
     // All buffers are held at once: their sum is bounded by the memory available.
     const uint64_t room = files.available_memory > files.buffer_bytes
@@ -378,8 +379,11 @@ bool keep_encoded_image(tinygltf::Image* image, const int index, std::string*, s
 }
 
 // Buffer and image URIs may name any path. tinygltf tests existence with fopen, which blocks
-// forever on a FIFO: accept only regular files.
-bool regular_file_exists(const std::string& path, void*) {
+// forever on a FIFO: accept only regular files. And only where the spec puts them, relative to
+// the glTF file: tinygltf would then look in the working directory, and read whatever file of the
+// user's has that name.
+bool regular_file_exists(const std::string& path, void* user) {
+  if (!static_cast<const ExternalFiles*>(user)->uri_paths.count(path)) return false;
   std::error_code ec;
   return std::filesystem::is_regular_file(path, ec);
 }
