@@ -1,6 +1,7 @@
 // glTF accessors: every attribute, index and instance array is read through one validated strided
 // view (bufferView and buffer bounds, strides, sparse patches, accessors without a bufferView),
 // then converted to floats, vectors, quaternions or indices with the spec's normalisation.
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <limits>
@@ -14,8 +15,8 @@ static_assert(std::endian::native == std::endian::little, "glTF buffers are litt
 
 using Bytes = std::vector<unsigned char>;
 
-// Accessors without a bufferView (all zeros, maybe sparse-patched) are materialised; their size is
-// not bounded by any buffer, so bound it here.
+// Accessors without a bufferView (all zeros, maybe sparse-patched) are never materialised, but
+// what is read of them is: their size is not bounded by any buffer, so bound it here.
 constexpr size_t kMaxSynthesisedBytes = size_t(1) << 30;
 
 // a + b for messages, saturating instead of wrapping.
@@ -23,18 +24,31 @@ size_t sat_add(size_t a, size_t b) {
   return a > SIZE_MAX - b ? SIZE_MAX : a + b;
 }
 
+// What a View reads where an accessor has no bufferView: zeros (the largest element is a VEC4 of
+// 4-byte components).
+constexpr unsigned char kZeros[16] = {};
+
+// Sparse patches, in all accessors of a file, at most (each is kept, 16 bytes, for the load).
+constexpr uint64_t kMaxSparseEntries = uint64_t(1) << 26;
+
 // A validated strided window onto an accessor's elements: element i is the `components` values of
-// `component_type` at data + i * stride. Accessors that are sparse or have no bufferView are
-// materialised into `owned` (which `data` then points into, so a View is move-only).
+// `component_type` at data + i * stride, unless a sparse patch replaces it. Nothing is copied or
+// materialised: reading k elements costs k, whatever the accessor's count.
 struct View {
   const unsigned char* data = nullptr;
   size_t count = 0, stride = 0;
   int component_type = 0, components = 0;
-  std::vector<unsigned char> owned;
+  const std::vector<std::pair<uint32_t, const unsigned char*>>* patches = nullptr;
 
-  View() = default;
-  View(View&&) = default;
-  View(const View&) = delete;
+  const unsigned char* element(size_t i) const {
+    if (patches) {
+      auto after = std::upper_bound(patches->begin(), patches->end(), i,
+                                    [](size_t e, const auto& p) { return e < p.first; });
+      if (after != patches->begin() && std::prev(after)->first == i)
+        return std::prev(after)->second;
+    }
+    return data + i * stride;
+  }
 };
 
 // Bytes per component; 0 for INT (5124) and DOUBLE, which glTF 2.0 accessors do not allow.
@@ -111,21 +125,20 @@ const unsigned char* region(const Gltf& gltf, int view, int offset, size_t bytes
   return span.data + offset;
 }
 
-void apply_sparse(const Gltf& gltf, const tinygltf::Accessor& a, View& v, const std::string& what) {
+// The sparse patches of accessor `index` (of `v.count` elements of `element` bytes), checked and
+// sorted once for the whole load.
+void apply_sparse(const Gltf& gltf, int index, const tinygltf::Accessor& a, View& v, size_t element,
+                  const std::string& what) {
+  if (auto known = gltf.sparse_patches.find(index); known != gltf.sparse_patches.end()) {
+    v.patches = &known->second;
+    return;
+  }
   const auto& s = a.sparse;
   if (s.count < 0 || size_t(s.count) > v.count)
     gltf.fail(what + " has sparse count " + str(s.count) + ", outside [0, " + str(v.count) + "]");
-  size_t element = component_size(v.component_type) * size_t(v.components);
-  if (a.bufferView != -1) {
-    // Patch a packed copy, never the file's buffer (other accessors may share it). The copy is no
-    // bigger than the bufferView, which was bounds-checked above.
-    Bytes dense(v.count * element);
-    for (size_t i = 0; i < v.count; ++i)
-      std::memcpy(&dense[i * element], v.data + i * v.stride, element);
-    v.owned = std::move(dense);
-    v.data = v.owned.data();
-    v.stride = element;
-  }
+  if (gltf.sparse_entries + uint64_t(s.count) > kMaxSparseEntries)
+    gltf.fail(what + " brings the file's sparse accessors to more than " + str(kMaxSparseEntries) +
+              " patched elements");
   size_t index_size = component_size(s.indices.componentType);
   if (!unsigned_index_type(s.indices.componentType))
     gltf.fail(what + " has sparse indices of componentType " + str(s.indices.componentType) +
@@ -135,12 +148,18 @@ void apply_sparse(const Gltf& gltf, const tinygltf::Accessor& a, View& v, const 
                                         n * index_size, "the sparse index array of " + what);
   const unsigned char* values = region(gltf, s.values.bufferView, s.values.byteOffset, n * element,
                                        "the sparse value array of " + what);
+  std::vector<std::pair<uint32_t, const unsigned char*>> patches(n);
   for (size_t k = 0; k < n; ++k) {
     uint32_t i = read_uint(indices + k * index_size, index_size);
     if (i >= v.count)
       gltf.fail(what + " has sparse index " + str(i) + ", past its count " + str(v.count));
-    std::memcpy(&v.owned[i * element], values + k * element, element);
+    patches[k] = {i, values + k * element};
   }
+  // The spec wants the indices increasing; a repeated one is applied in order (the last wins).
+  std::stable_sort(patches.begin(), patches.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  gltf.sparse_entries += n;
+  v.patches = &(gltf.sparse_patches[index] = std::move(patches));
 }
 
 View view(const Gltf& gltf, int index, const std::string& role) {
@@ -180,20 +199,35 @@ View view(const Gltf& gltf, int index, const std::string& role) {
                 " bytes, has " + str(span.size) + ")");
     v.data = span.data + (v.count > 0 ? a.byteOffset : 0);
   } else {
-    // No bufferView: the spec says zeros (then patched by `sparse`). Nothing bounds the count.
+    // No bufferView: the spec says zeros (then patched by `sparse`). Nothing but the file's
+    // word bounds the count: it is held to what a buffer could hold.
     size_t bytes = 0;
     bool overflows = __builtin_mul_overflow(v.count, element, &bytes);
     if (overflows || bytes > kMaxSynthesisedBytes)
       gltf.fail(what + " has no bufferView and count " + str(v.count) + ": it would need " +
                 (overflows ? std::string("more than 2^64") : str(bytes)) + " bytes");
-    v.owned.assign(bytes, 0);
-    v.data = v.owned.data();
+    v.data = kZeros;
+    v.stride = 0;
   }
-  if (a.sparse.isSparse) apply_sparse(gltf, a, v, what);
+  if (a.sparse.isSparse) apply_sparse(gltf, index, a, v, element, what);
   return v;
 }
 
+// The k-th element a reader reads: k itself, or the k-th of those listed.
+size_t element_index(const Gltf& gltf, const View& v, Elements which, size_t k,
+                     const std::string& what) {
+  if (!which) return k;
+  const size_t i = (*which)[k];
+  if (i >= v.count)
+    gltf.fail(what + " has " + str(v.count) + " elements, not the " + str(i + 1) + " it needs");
+  return i;
+}
+
 }  // namespace
+
+size_t accessor_count(const Gltf& gltf, int accessor, const std::string& role) {
+  return view(gltf, accessor, role).count;  // checked against its bufferView; nothing is read
+}
 
 Span buffer_view(const Gltf& gltf, int index, const std::string& user) {
   if (index < 0 || size_t(index) >= gltf.model.bufferViews.size())
@@ -228,8 +262,9 @@ std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std:
 
 std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::string& role,
                                    int min_components, int max_components,
-                                   std::initializer_list<int> integers, float fill) {
-  View v = view(gltf, accessor, role);
+                                   std::initializer_list<int> integers, float fill,
+                                   Elements which) {
+  const View v = view(gltf, accessor, role);
   const int type = v.component_type;
   const std::string what = "accessor " + str(accessor) + " (" + role + ")";
   bool allowed = type == TINYGLTF_COMPONENT_TYPE_FLOAT;
@@ -241,34 +276,37 @@ std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::st
               " components (it is " + type_name(type) + " with " + str(v.components) + ")");
   if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !gltf.model.accessors[size_t(accessor)].normalized)
     gltf.fail(what + " must be normalized (" + type_name(type) + ")");
-  std::vector<glm::vec4> out(v.count, glm::vec4(fill));
-  for (size_t i = 0; i < v.count; ++i)
-    for (int c = 0; c < v.components; ++c)
-      out[i][c] = component_value(v.data + i * v.stride, c, type);
+  std::vector<glm::vec4> out(which ? which->size() : v.count, glm::vec4(fill));
+  for (size_t k = 0; k < out.size(); ++k) {
+    const size_t i = element_index(gltf, v, which, k, what);
+    for (int c = 0; c < v.components; ++c) out[k][c] = component_value(v.element(i), c, type);
+  }
   return out;
 }
 
-std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role) {
-  View v = view(gltf, accessor, role);
+std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role,
+                                 Elements which) {
+  const View v = view(gltf, accessor, role);
+  const std::string what = "accessor " + str(accessor) + " (" + role + ")";
   if (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || v.components != 3)
-    gltf.fail("accessor " + str(accessor) + " (" + role + ") must be FLOAT VEC3 (componentType " +
-              str(v.component_type) + ", " + str(v.components) + " components)");
-  std::vector<glm::vec3> out(v.count);
-  for (size_t i = 0; i < v.count; ++i)
-    std::memcpy(&out[i], v.data + i * v.stride, sizeof(glm::vec3));
+    gltf.fail(what + " must be FLOAT VEC3 (componentType " + str(v.component_type) + ", " +
+              str(v.components) + " components)");
+  std::vector<glm::vec3> out(which ? which->size() : v.count);
+  for (size_t k = 0; k < out.size(); ++k)
+    std::memcpy(&out[k], v.element(element_index(gltf, v, which, k, what)), sizeof(glm::vec3));
   return out;
 }
 
 std::vector<uint32_t> read_indices(const Gltf& gltf, int accessor, const std::string& role,
                                    size_t vertex_count) {
-  View v = view(gltf, accessor, role);
+  const View v = view(gltf, accessor, role);
   size_t size = component_size(v.component_type);
   if (v.components != 1 || !unsigned_index_type(v.component_type))
     gltf.fail("accessor " + str(accessor) + " (" + role +
               ") must be an UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT SCALAR");
   std::vector<uint32_t> indices(v.count);
   for (size_t k = 0; k < v.count; ++k) {
-    indices[k] = read_uint(v.data + k * v.stride, size);
+    indices[k] = read_uint(v.element(k), size);
     if (indices[k] >= vertex_count)
       gltf.fail("accessor " + str(accessor) + " (" + role + ") element " + str(k) + " is index " +
                 str(indices[k]) + ", past the vertex count " + str(vertex_count));

@@ -1,10 +1,11 @@
 // glTF cameras: perspective and orthographic, placed by their node with its scale and shear
-// removed.
+// removed (in double, so that a scale of 1e20 or 1e-25, which float cannot square, still gives
+// the rotation).
 #include "io/gltf/internal.h"
 
 namespace dacrt::gltf {
 
-Camera load_camera(const Gltf& gltf, int index, const glm::mat4& world, int node) {
+Camera load_camera(const Gltf& gltf, int index, const glm::dmat4& world, int node) {
   if (index < 0 || size_t(index) >= gltf.model.cameras.size())
     gltf.fail("node " + str(node) + " refers to camera " + str(index) + ", which does not exist");
   const tinygltf::Camera& src = gltf.model.cameras[size_t(index)];
@@ -16,9 +17,15 @@ Camera load_camera(const Gltf& gltf, int index, const glm::mat4& world, int node
     const double xmag = std::abs(src.orthographic.xmag), ymag = std::abs(src.orthographic.ymag);
     if (!(xmag > 0.0 && ymag > 0.0) || !std::isfinite(xmag / ymag) || !std::isfinite(ymag))
       gltf.fail(what + ": orthographic xmag and ymag must be finite and non-zero");
+    // As float, the view's half height and its aspect ratio (0 would mean "unknown") must stay
+    // finite and non-zero.
     cam.orthographic = true;
     cam.ymag = float(ymag);
     cam.aspect = float(xmag / ymag);
+    if (!(cam.ymag > 0.f) || !std::isfinite(cam.ymag) || !(cam.aspect > 0.f) ||
+        !std::isfinite(cam.aspect))
+      gltf.fail(what + ": orthographic xmag " + num(xmag) + " and ymag " + num(ymag) +
+                " are beyond float's range");
     cam.znear = float(src.orthographic.znear);
   } else if (src.type == "perspective") {
     cam.yfov = float(src.perspective.yfov);
@@ -34,13 +41,26 @@ Camera load_camera(const Gltf& gltf, int index, const glm::mat4& world, int node
   if (!(cam.znear >= 0.f) || !std::isfinite(cam.znear))
     gltf.fail(what + ": znear is not a finite number >= 0");
 
-  // Remove scale (and shear) with Gram-Schmidt, keeping the viewing axis (-Z) and then +Y.
-  glm::vec3 z = unit_or(glm::vec3(world[2]), glm::vec3(0.f));
-  glm::vec3 y = unit_or(glm::vec3(world[1]) - glm::dot(glm::vec3(world[1]), z) * z, glm::vec3(0.f));
-  if (z == glm::vec3(0.f) || y == glm::vec3(0.f))
-    gltf.fail("node " + str(node) + " gives " + what + " a degenerate transform (zero scale)");
-  cam.to_world = glm::mat4(glm::vec4(glm::cross(y, z), 0.f), glm::vec4(y, 0.f), glm::vec4(z, 0.f),
-                           glm::vec4(glm::vec3(world[3]), 1.f));
+  // Remove scale (and shear) with Gram-Schmidt, keeping the viewing axis (-Z) and then +Y, in
+  // double and each axis scaled to its largest component first.
+  const std::string placed = "node " + str(node) + " gives " + what;
+  const std::optional<glm::vec3> z_axis = direction_of(glm::dvec3(world[2]));
+  if (!z_axis) gltf.fail(placed + " a zero scale along its viewing axis (Z): it has no direction");
+  const glm::dvec3 z(*z_axis);
+  const std::optional<glm::vec3> y_axis = direction_of(glm::dvec3(world[1]));
+  if (!y_axis) gltf.fail(placed + " a zero scale along its Y axis: it has no up direction");
+  const glm::dvec3 y_off = glm::dvec3(*y_axis) - glm::dot(glm::dvec3(*y_axis), z) * z;
+  if (!(glm::length(y_off) > 1e-6))
+    gltf.fail(placed +
+              " a Y axis along its viewing axis (a degenerate shear): it has no up "
+              "direction");
+  const glm::vec3 y = glm::vec3(glm::normalize(y_off)), zf(z);
+  const glm::vec3 position(world[3]);
+  if (!finite(position))
+    gltf.fail(placed + " a position beyond float's range (" + num(world[3].x) + ", " +
+              num(world[3].y) + ", " + num(world[3].z) + ")");
+  cam.to_world = glm::mat4(glm::vec4(glm::cross(y, zf), 0.f), glm::vec4(y, 0.f), glm::vec4(zf, 0.f),
+                           glm::vec4(position, 1.f));
   return cam;
 }
 

@@ -2,18 +2,27 @@
 // (nesting depth, then io/gltf/schema.h), external files, and tinygltf's messages made one line.
 #include "io/gltf/file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <array>
 #include <bit>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
 #include <string_view>
 #include <vector>
 
 #include "io/gltf/schema.h"
 #include "util/error.h"
+#include "util/memory.h"
 #include "util/paths.h"
 
 namespace dacrt {
@@ -103,20 +112,278 @@ int json_depth(const unsigned char* s, size_t n) {
   return deepest;
 }
 
+// What the file's external references ask of tinygltf's file reader, worked out from the JSON
+// before tinygltf runs: each external buffer's byteLength (the spec: its file holds at least that
+// many bytes, and more is allowed, so only byteLength bytes are read), and which images the
+// render uses (the others are never read, and their encoded bytes not kept).
+struct ExternalFiles {
+  struct Buffer {
+    std::string path;  // its URI's path
+    uint64_t byte_length;
+    std::string name;  // "buffer 2 (a.bin)"
+  };
+  // Every buffer with a URI, in order. tinygltf reads the external ones first, in order, once
+  // each: a call is for the first buffer from `next_buffer` on with its path, else for an image.
+  // (Paths are those tinygltf makes of URIs relative to the glTF file.)
+  std::vector<Buffer> buffers;
+  size_t next_buffer = 0;
+  std::set<std::string> image_paths, used_image_paths;  // of all images, of those the render uses
+  std::map<std::string, std::string> image_name;        // "image 0 (b.png)" by path
+  std::vector<bool> image_used;                         // by image index
+  std::set<std::string> uri_paths;                      // of every buffer and image
+  uint64_t buffer_bytes = 0, available_memory = 0;
+  std::vector<std::string> noted;  // every external file the scene names and tinygltf finds
+  std::string error;               // the first failure, a message after the scene's path
+};
+
+// tinygltf 2.7's dlib::urldecode ('+' is a space, %XX a byte, bad hex digits 0), for the same path.
+std::string url_decode(const std::string& s) {
+  auto hex = [](unsigned char c) -> unsigned {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return 0;
+  };
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '+') {
+      out += ' ';
+    } else if (s[i] == '%' && s.size() > i + 2) {
+      out += char(hex(static_cast<unsigned char>(s[i + 1])) << 4 |
+                  hex(static_cast<unsigned char>(s[i + 2])));
+      i += 2;
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
+// The path tinygltf makes of a URI relative to the glTF file (it would then try the working
+// directory, which regular_file_exists refuses).
+std::string uri_path(const std::string& base_dir, const std::string& uri) {
+  const std::string file = url_decode(uri);
+  return base_dir.empty() ? file : base_dir.back() == '/' ? base_dir + file : base_dir + "/" + file;
+}
+
+// Member `key` of `object` as an index below `limit` (any number >= 0 truncated, as the loader
+// reads it), or nothing.
+std::optional<size_t> index_at(const nlohmann::json& object, const char* key, size_t limit) {
+  if (!object.is_object()) return std::nullopt;
+  auto it = object.find(key);
+  if (it == object.end() || !it->is_number()) return std::nullopt;
+  const double d = it->get<double>();
+  if (!(d >= 0.0 && d < double(limit))) return std::nullopt;
+  return size_t(d);
+}
+
+const nlohmann::json& member(const nlohmann::json& j, const char* key) {
+  static const nlohmann::json none;
+  if (!j.is_object()) return none;
+  auto it = j.find(key);
+  return it == j.end() ? none : *it;
+}
+
+size_t array_size(const nlohmann::json& doc, const char* key) {
+  const nlohmann::json& a = member(doc, key);
+  return a.is_array() ? a.size() : 0;
+}
+
+// The images the render of scene `scene` (-1: the default) can show: those of the textures in
+// the material slots the loader samples (Material::sampled_textures) of the materials of the
+// triangle primitives of the meshes of the nodes under the scene's roots. A superset of what the
+// loader decodes (which leaves out primitives a failure skips, and materials whose emission
+// rounds to 0 as float).
+std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
+  const size_t nodes = array_size(doc, "nodes"), meshes = array_size(doc, "meshes"),
+               materials = array_size(doc, "materials"), textures = array_size(doc, "textures"),
+               images = array_size(doc, "images");
+  std::vector<bool> mesh_used(meshes), material_used(materials), texture_used(textures),
+      image_used(images), node_seen(nodes);
+  if (scene == -1) scene = int(index_at(doc, "scene", SIZE_MAX).value_or(0));
+  const nlohmann::json& scenes = member(doc, "scenes");
+  std::vector<size_t> stack;
+  auto push_all = [&](const nlohmann::json& list) {
+    if (!list.is_array()) return;
+    for (const nlohmann::json& n : list)
+      if (n.is_number() && n.get<double>() >= 0.0 && n.get<double>() < double(nodes) &&
+          !node_seen[size_t(n.get<double>())])
+        node_seen[size_t(n.get<double>())] = true, stack.push_back(size_t(n.get<double>()));
+  };
+  if (scenes.is_array() && scene >= 0 && size_t(scene) < scenes.size())
+    push_all(member(scenes[size_t(scene)], "nodes"));
+  while (!stack.empty()) {
+    const nlohmann::json& node = doc["nodes"][stack.back()];
+    stack.pop_back();
+    if (auto m = index_at(node, "mesh", meshes)) mesh_used[*m] = true;
+    push_all(member(node, "children"));
+  }
+  for (size_t m = 0; m < meshes; ++m) {
+    const nlohmann::json& primitives = member(doc["meshes"][m], "primitives");
+    if (mesh_used[m] && primitives.is_array())
+      for (const nlohmann::json& p : primitives) {
+        // Points, lines and primitives without POSITION are skipped.
+        const bool drawn = index_at(p, "mode", 7).value_or(4) >= 4 &&
+                           member(member(p, "attributes"), "POSITION").is_number();
+        if (auto material = index_at(p, "material", materials); drawn && material)
+          material_used[*material] = true;
+      }
+  }
+  for (size_t i = 0; i < materials; ++i) {
+    if (!material_used[i]) continue;
+    const nlohmann::json& m = doc["materials"][i];
+    const nlohmann::json& pbr = member(m, "pbrMetallicRoughness");
+    const nlohmann::json& transmission =
+        member(member(m, "extensions"), "KHR_materials_transmission");
+    // The emissive and transmission textures are sampled only where their factors are not 0.
+    bool emissive = false;
+    if (const nlohmann::json& e = member(m, "emissiveFactor"); e.is_array())
+      for (const nlohmann::json& c : e) emissive |= c.is_number() && c.get<double>() > 0.0;
+    const nlohmann::json& t = member(transmission, "transmissionFactor");
+    const bool transmits = t.is_number() && t.get<double>() > 0.0;
+    for (const nlohmann::json* slot :
+         {&member(pbr, "baseColorTexture"), &member(pbr, "metallicRoughnessTexture"),
+          &member(m, "normalTexture"), emissive ? &member(m, "emissiveTexture") : nullptr,
+          transmits ? &member(transmission, "transmissionTexture") : nullptr})
+      if (auto texture = slot ? index_at(*slot, "index", textures) : std::nullopt)
+        texture_used[*texture] = true;
+  }
+  for (size_t t = 0; t < textures; ++t)
+    if (auto source = index_at(doc["textures"][t], "source", images); texture_used[t] && source)
+      image_used[*source] = true;
+  return image_used;
+}
+
+// Works out what the file's buffers and images ask for (ExternalFiles).
+void plan_external_files(const nlohmann::json& doc, const std::string& base_dir, int scene,
+                         ExternalFiles& files) {
+  auto named = [](const char* kind, size_t i, const nlohmann::json& uri) {
+    return std::string(kind) + " " + std::to_string(i) + " (" +
+           one_line(uri.get<std::string>().substr(0, 200)) + ")";
+  };
+  const nlohmann::json& buffers = member(doc, "buffers");
+  for (size_t i = 0; i < array_size(doc, "buffers"); ++i) {
+    const nlohmann::json& uri = member(buffers[i], "uri");
+    const nlohmann::json& length = member(buffers[i], "byteLength");
+    if (!uri.is_string() || !length.is_number_unsigned()) continue;  // the schema refused these
+    files.buffers.push_back({uri_path(base_dir, uri.get<std::string>()), length.get<uint64_t>(),
+                             named("buffer", i, uri)});
+    files.uri_paths.insert(files.buffers.back().path);
+  }
+  files.image_used = used_images(doc, scene);
+  const nlohmann::json& images = member(doc, "images");
+  for (size_t i = 0; i < array_size(doc, "images"); ++i) {
+    const nlohmann::json& uri = member(images[i], "uri");
+    if (!uri.is_string()) continue;
+    const std::string path = uri_path(base_dir, uri.get<std::string>());
+    files.uri_paths.insert(path);
+    files.image_paths.insert(path);
+    if (files.image_used[i]) files.used_image_paths.insert(path);
+    files.image_name.emplace(path, named("image", i, uri));
+  }
+}
+
+// Reads `want` bytes of regular file `file` into `out` (all of it when `want` is nothing),
+// checking its size first; false with `why` set if it is not a regular file, is shorter, needs
+// more than `max_size` bytes (`max_what` says what that is), or cannot be read.
+bool read_bytes(const std::string& file, std::optional<uint64_t> want, uint64_t max_size,
+                const std::string& max_what, std::vector<unsigned char>& out, std::string& why) {
+  // O_NONBLOCK: a FIFO swapped in after tinygltf's existence check must not block the open.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) return why = std::strerror(errno), false;
+  struct FdCloser {
+    int fd;
+    ~FdCloser() { ::close(fd); }
+  } closer{fd};
+  struct stat st;
+  if (::fstat(fd, &st) != 0) return why = std::strerror(errno), false;
+  if (!S_ISREG(st.st_mode)) return why = "it is not a regular file", false;
+  const uint64_t size = uint64_t(st.st_size);
+  if (want && size < *want)
+    return why = "its file has " + std::to_string(size) + " bytes, fewer than its byteLength " +
+                 std::to_string(*want),
+           false;
+  const uint64_t n = want ? *want : size;
+  if (n > max_size)
+    return why = "it would take " + format_bytes(n) + ", more than " + max_what, false;
+  out.resize(size_t(n));
+  for (size_t done = 0; done < n;) {
+    const ssize_t got = ::pread(fd, out.data() + done, n - done, off_t(done));
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) {
+      why = got < 0 ? std::strerror(errno) : "the file ended early";
+      out.clear();
+      return false;
+    }
+    done += size_t(got);
+  }
+  return true;
+}
+
+// tinygltf's file reader (its ReadWholeFile reads a whole file, however large, before checking
+// its size): an external buffer's byteLength bytes, the whole file of an image the render uses,
+// nothing of an image it does not use (tinygltf then keeps the image without data, which the
+// loader never looks at). Every file is noted in ExternalFiles::noted.
+bool read_external(std::vector<unsigned char>* out, std::string* err, const std::string& file,
+                   void* user) {
+  ExternalFiles& files = *static_cast<ExternalFiles*>(user);
+  files.noted.push_back(file);
+  out->clear();
+  auto fail = [&](const std::string& what) {
+    if (files.error.empty()) files.error = what;
+    if (err) *err = what;
+    return false;
+  };
+  std::string why;
+  for (size_t b = files.next_buffer; b < files.buffers.size(); ++b) {
+    const ExternalFiles::Buffer& buffer = files.buffers[b];
+    if (file != buffer.path) continue;
+    files.next_buffer = b + 1;
+    // All buffers are held at once: their sum is bounded by the memory available.
+    const uint64_t room = files.available_memory > files.buffer_bytes
+                              ? files.available_memory - files.buffer_bytes
+                              : 0;
+    if (!read_bytes(file, buffer.byte_length, room,
+                    "the " + format_bytes(room) + " of memory available" +
+                        (files.buffer_bytes ? " besides the buffers before it" : ""),
+                    *out, why))
+      return fail(buffer.name + " cannot be read: " + why);
+    files.buffer_bytes += out->size();
+    return true;
+  }
+  if (files.image_paths.count(file) && !files.used_image_paths.count(file))
+    return true;  // an image the render does not use: not read
+  // tinygltf hands the bytes on with an int size; decoded images are far smaller anyway.
+  constexpr uint64_t kMaxImageFile = uint64_t(1) << 30;
+  if (!read_bytes(file, std::nullopt, kMaxImageFile,
+                  "the " + format_bytes(kMaxImageFile) + " an image file may have", *out, why)) {
+    auto name = files.image_name.find(file);
+    return fail((name != files.image_name.end() ? name->second : "file " + one_line(file)) +
+                " cannot be read: " + why);
+  }
+  return true;
+}
+
 // Images are decoded later, and only those a material uses (io/gltf/images.cpp): here the encoded
-// bytes of a data URI or an external file are kept in Image::image as they are. Images in a
-// bufferView are left alone: tinygltf passes them without checking the view against its buffer, and
-// the loader reads them through its own bounds checks. A missing external file leaves the image
-// empty.
-bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                        const unsigned char* bytes, int size, void*) {
-  if (image->bufferView == -1 && bytes && size > 0) image->image.assign(bytes, bytes + size);
+// bytes of a data URI or an external file are kept in Image::image as they are, for the images the
+// render uses (ExternalFiles::image_used). Images in a bufferView are left alone: tinygltf passes
+// them without checking the view against its buffer, and the loader reads them through its own
+// bounds checks. A missing external file leaves the image empty.
+bool keep_encoded_image(tinygltf::Image* image, const int index, std::string*, std::string*, int,
+                        int, const unsigned char* bytes, int size, void* user) {
+  const auto& used = static_cast<const ExternalFiles*>(user)->image_used;
+  const bool needed = index < 0 || size_t(index) >= used.size() || used[size_t(index)];
+  if (needed && image->bufferView == -1 && bytes && size > 0)
+    image->image.assign(bytes, bytes + size);
   return true;
 }
 
 // Buffer and image URIs may name any path. tinygltf tests existence with fopen, which blocks
-// forever on a FIFO: accept only regular files.
-bool regular_file_exists(const std::string& path, void*) {
+// forever on a FIFO: accept only regular files. And only where the spec puts them, relative to
+// the glTF file: tinygltf would then look in the working directory, and read whatever file of the
+// user's has that name.
+bool regular_file_exists(const std::string& path, void* user) {
+  if (!static_cast<const ExternalFiles*>(user)->uri_paths.count(path)) return false;
   std::error_code ec;
   return std::filesystem::is_regular_file(path, ec);
 }
@@ -137,15 +404,8 @@ bool regular_file_exists(const std::string& path, void*) {
   throw Error(path + ": is not valid glTF: " + why);
 }
 
-// tinygltf's file reader, noting each file it reads (external buffers and images) in the
-// std::vector<std::string> at `files`.
-bool read_and_note(std::vector<unsigned char>* out, std::string* err, const std::string& file,
-                   void* files) {
-  static_cast<std::vector<std::string>*>(files)->push_back(file);
-  return tinygltf::ReadWholeFile(out, err, file, nullptr);
-}
-
-tinygltf::Model parse(const std::string& path, const Bytes& data, std::vector<std::string>* files) {
+tinygltf::Model parse(const std::string& path, const Bytes& data, int scene,
+                      std::vector<std::string>* files) {
   bool binary = data.size() >= 4 && std::memcmp(data.data(), "glTF", 4) == 0;
   std::string ext = std::filesystem::path(path).extension().string();
   if (!binary && (ext == ".glb" || ext == ".GLB"))
@@ -166,34 +426,39 @@ tinygltf::Model parse(const std::string& path, const Bytes& data, std::vector<st
   for (const std::string& warning : check_gltf_schema(path, doc))
     std::cerr << "warning: " << warning << "\n";
 
+  const std::string base_dir = std::filesystem::path(path).parent_path().string();
+  ExternalFiles external;
+  external.available_memory = available_memory();
+  plan_external_files(doc, base_dir, scene, external);
+
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(&keep_encoded_image, nullptr);
-  std::vector<std::string> read;
-  loader.SetFsCallbacks({&regular_file_exists, &tinygltf::ExpandFilePath, &read_and_note,
-                         &tinygltf::WriteWholeFile, &read});
+  loader.SetImageLoader(&keep_encoded_image, &external);
+  loader.SetFsCallbacks({&regular_file_exists, &tinygltf::ExpandFilePath, &read_external,
+                         &tinygltf::WriteWholeFile, &external});
   tinygltf::Model model;
   std::string err, warn;  // warnings only concern images, which the loader checks itself
-  std::string base_dir = std::filesystem::path(path).parent_path().string();
   auto size = static_cast<unsigned int>(data.size());
   bool ok =
       binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data.data(), size, base_dir)
              : loader.LoadASCIIFromString(
                    &model, &err, &warn, reinterpret_cast<const char*>(data.data()), size, base_dir);
+  if (!external.error.empty()) throw Error(path + ": " + external.error);
   if (!ok) parse_failed(path, model, err, warn);
-  if (files) *files = std::move(read);
+  if (files) *files = std::move(external.noted);
   return model;
 }
 
 }  // namespace
 
-tinygltf::Model read_gltf_model(const std::string& path, std::vector<std::string>* files) {
+tinygltf::Model read_gltf_model(const std::string& path, int scene,
+                                std::vector<std::string>* files) {
   Bytes data = read_file(path);
-  return parse(path, data, files);  // a GLB's BIN chunk is copied into model.buffers
+  return parse(path, data, scene, files);  // a GLB's BIN chunk is copied into model.buffers
 }
 
 tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size,
-                                 std::vector<std::string>* files) {
-  return parse(path, Bytes(data, data + size), files);
+                                 int scene, std::vector<std::string>* files) {
+  return parse(path, Bytes(data, data + size), scene, files);
 }
 
 }  // namespace dacrt

@@ -89,7 +89,7 @@ Scene load(const std::string& path, const GltfOptions& options, Read read) {
   try {
     std::vector<std::string> files;
     tinygltf::Model model = read(files);
-    Scene scene = gltf::run({path, model}, options.scene);
+    Scene scene = gltf::run(gltf::Gltf(path, model), options.scene);
     scene.files = std::move(files);
     return scene;
   } catch (const Error&) {
@@ -104,14 +104,15 @@ Scene load(const std::string& path, const GltfOptions& options, Read read) {
 }  // namespace
 
 Scene load_gltf(const std::string& path, const GltfOptions& options) {
-  return load(path, options,
-              [&](std::vector<std::string>& files) { return read_gltf_model(path, &files); });
+  return load(path, options, [&](std::vector<std::string>& files) {
+    return read_gltf_model(path, options.scene, &files);
+  });
 }
 
 Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
                        const GltfOptions& options) {
   return load(path, options, [&](std::vector<std::string>& files) {
-    return parse_gltf_model(path, data, size, &files);
+    return parse_gltf_model(path, data, size, options.scene, &files);
   });
 }
 

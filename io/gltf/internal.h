@@ -5,11 +5,14 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <glm/gtc/quaternion.hpp>
 #include <initializer_list>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,11 +22,17 @@
 
 namespace dacrt::gltf {
 
-// The file being loaded: its path (which starts every message) and tinygltf's model of it.
+// The file being loaded: its path (which starts every message) and tinygltf's model of it, and
+// what reading its accessors has worked out once for all their reads.
 struct Gltf {
   const std::string& path;
   const tinygltf::Model& model;
+  // Sparse accessors' patches, by accessor: (element, its value's bytes), by element, the last
+  // of equal elements winning. Built once an accessor, however often it is read.
+  mutable std::map<int, std::vector<std::pair<uint32_t, const unsigned char*>>> sparse_patches;
+  mutable uint64_t sparse_entries = 0;  // in all of them, which is bounded
 
+  Gltf(const std::string& path, const tinygltf::Model& model) : path(path), model(model) {}
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
 };
 
@@ -32,8 +41,31 @@ std::string str(Number n) {
   return std::to_string(n);
 }
 
+// A number from the file for messages: 1e+39, 0.5 (printf's %g).
+inline std::string num(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+
 inline bool finite(const glm::vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// The direction of v as a unit float vector, whatever v's magnitude (scaled to its largest
+// component first, so 1e-200 and 1e200 work), or nothing when v is zero or not finite.
+inline std::optional<glm::vec3> direction_of(const glm::dvec3& v) {
+  const double big = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(big > 0.0) || !std::isfinite(big)) return std::nullopt;
+  return glm::vec3(glm::normalize(v / big));
+}
+
+// A float the JSON gives as a double, or nothing when it overflows float (1e39 is finite in the
+// file and infinite as float).
+inline std::optional<float> as_float(double x) {
+  const float f = float(x);
+  if (!std::isfinite(f)) return std::nullopt;
+  return f;
 }
 
 // Normalised n, or `fallback` when n has no usable direction (zero, NaN, inf).
@@ -54,14 +86,21 @@ struct Span {
 
 // The bytes of bufferView `index`, checked against its buffer; `user` names who refers to it.
 Span buffer_view(const Gltf& gltf, int index, const std::string& user);
+// Accessor `accessor`'s element count, checked against its bufferView (nothing is read).
+size_t accessor_count(const Gltf& gltf, int accessor, const std::string& role);
+// Which elements the readers below read: all of them (nullptr), or those listed, in that order
+// (a primitive reads only the vertices its indices refer to). Each listed element must exist.
+using Elements = const std::vector<uint32_t>*;
 // POSITION and NORMAL: FLOAT VEC3, copied out of their (possibly strided) view.
-std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role);
+std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role,
+                                 Elements which = nullptr);
 // An attribute of `min_components`..`max_components` components, FLOAT or one of the normalised
 // integer types `integers` (the accessor must then say normalized), as floats; components the
 // accessor lacks are `fill`.
 std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::string& role,
                                    int min_components, int max_components,
-                                   std::initializer_list<int> integers, float fill);
+                                   std::initializer_list<int> integers, float fill,
+                                   Elements which = nullptr);
 // Unit quaternions (x, y, z, w): FLOAT, or normalised BYTE or SHORT as the spec allows.
 std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std::string& role);
 // A primitive's indices: an unsigned SCALAR accessor, each index below `vertex_count`.
@@ -107,10 +146,14 @@ class MeshLoader {
  public:
   MeshLoader(const Gltf& gltf, Scene& scene);
 
-  // Mesh `mesh` (which node `node` refers to) placed by `world`.
-  void add_mesh(int mesh, const glm::mat4& world, int node);
+  // Mesh `mesh` (which node `node` refers to) placed by `world` (in double: see nodes.cpp).
+  void add_mesh(int mesh, const glm::dmat4& world, int node);
   // Moves the per-corner attributes into the scene, once every mesh is added.
   void finish();
+
+  // Counts `units` of work (a triangle each, or an instance read) against the memory available,
+  // failing with `where` (at node `node`) in the message once they could not fit.
+  void add_work(uint64_t units, const std::string& where, int node);
 
   const std::vector<bool>& texture_used() const { return texture_used_; }
   size_t skipped_modes() const { return skipped_modes_; }
@@ -135,18 +178,21 @@ class MeshLoader {
   int default_material_ = -1;
   std::vector<bool> mesh_seen_;
   size_t skipped_modes_ = 0, skipped_unpositioned_ = 0;
+  uint64_t work_ = 0;  // triangles asked for, every instance and primitive counted
 };
 
 // Nodes (nodes.cpp): the node tree of scene `scene` walked from its roots, each node's meshes
-// given to `meshes`, its camera and light added to `out`.
+// given to `meshes`, its camera and light added to `out`. World transforms are composed in
+// double: a chain of scales that over- or underflows float (1e20 · 1e20, 1e-25 · 1e-25) keeps its
+// rotation, which cameras and lights need, and its product where it comes back into range.
 void load_nodes(const Gltf& gltf, int scene, MeshLoader& meshes, Scene& out);
 
 // Cameras (cameras.cpp): camera `index` as node `node` places it by `world`.
-Camera load_camera(const Gltf& gltf, int index, const glm::mat4& world, int node);
+Camera load_camera(const Gltf& gltf, int index, const glm::dmat4& world, int node);
 
 // Lights (lights.cpp): the KHR_lights_punctual light of node `index` (placed by `world`), if it
 // has one.
 std::optional<PunctualLight> load_light(const Gltf& gltf, const tinygltf::Node& node,
-                                        const glm::mat4& world, int index);
+                                        const glm::dmat4& world, int index);
 
 }  // namespace dacrt::gltf

@@ -1,11 +1,13 @@
 // glTF lights: KHR_lights_punctual's point, spot and directional lights, placed by their node.
+#include <limits>
+
 #include "io/gltf/internal.h"
 
 namespace dacrt::gltf {
 
 // KHR_lights_punctual: {"extensions": {"KHR_lights_punctual": {"light": index}}} on a node.
 std::optional<PunctualLight> load_light(const Gltf& gltf, const tinygltf::Node& node,
-                                        const glm::mat4& world, int index) {
+                                        const glm::dmat4& world, int index) {
   auto ext = node.extensions.find("KHR_lights_punctual");
   if (ext == node.extensions.end()) return std::nullopt;
   const std::string where = "node " + str(index);
@@ -27,20 +29,29 @@ std::optional<PunctualLight> load_light(const Gltf& gltf, const tinygltf::Node& 
     l.type = PunctualLight::Type::directional;
   else
     gltf.fail(what + ": type \"" + src.type + "\" is not point, spot or directional");
-  glm::vec3 color(1.f);
+  // Each number must hold in float, as the renderer keeps it: 1e39 is finite in the file and
+  // infinite as float, which would make every sample of the light NaN.
+  glm::dvec3 color(1.0);
   if (!src.color.empty()) {
     if (src.color.size() != 3)
       gltf.fail(what + ": color has " + str(src.color.size()) + " numbers");
-    color = glm::vec3(src.color[0], src.color[1], src.color[2]);
+    color = glm::dvec3(src.color[0], src.color[1], src.color[2]);
   }
-  if (!finite(color) || glm::any(glm::lessThan(color, glm::vec3(0.f))))
-    gltf.fail(what + ": color is not 3 finite numbers >= 0");
-  if (!(src.intensity >= 0.0) || !std::isfinite(src.intensity))
-    gltf.fail(what + ": intensity is not a finite number >= 0");
-  if (!(src.range >= 0.0) || !std::isfinite(src.range))
-    gltf.fail(what + ": range is not a finite number > 0");
-  l.intensity = color * float(src.intensity);
-  l.range = float(src.range);
+  for (int c = 0; c < 3; ++c)
+    if (!(color[c] >= 0.0) || !as_float(color[c]))
+      gltf.fail(what + ": color " + num(color[c]) + " is not a number in [0, 3.4e38] (float)");
+  if (!(src.intensity >= 0.0) || !as_float(src.intensity))
+    gltf.fail(what + ": intensity " + num(src.intensity) +
+              " is not a number in [0, 3.4e38] (float)");
+  l.intensity = glm::vec3(color * src.intensity);
+  if (!finite(l.intensity))
+    gltf.fail(what + ": color times intensity (" + num(src.intensity) +
+              ") is beyond float's range");
+  if (!(src.range >= 0.0) || !as_float(src.range))
+    gltf.fail(what + ": range " + num(src.range) + " is not a number in [0, 3.4e38] (float)");
+  // 0 means unlimited: a range too small for float stays the smallest one, not unlimited.
+  l.range =
+      src.range > 0.0 ? std::max(float(src.range), std::numeric_limits<float>::denorm_min()) : 0.f;
   if (l.type == PunctualLight::Type::spot) {
     const double inner = src.spot.innerConeAngle, outer = src.spot.outerConeAngle;
     if (!(inner >= 0.0 && inner < outer && outer <= 0.5 * M_PI))
@@ -49,9 +60,15 @@ std::optional<PunctualLight> load_light(const Gltf& gltf, const tinygltf::Node& 
     l.cos_inner = float(std::cos(inner)), l.cos_outer = float(std::cos(outer));
   }
   l.position = glm::vec3(world[3]);
-  l.direction = unit_or(-glm::vec3(world[2]), glm::vec3(0.f));
-  if (l.direction == glm::vec3(0.f) && l.type != PunctualLight::Type::point)
-    gltf.fail(where + " gives " + what + " a degenerate transform (zero scale)");
+  if (!finite(l.position))
+    gltf.fail(where + " places " + what + " beyond float's range (" + num(world[3].x) + ", " +
+              num(world[3].y) + ", " + num(world[3].z) + ")");
+  // In double and scaled first: the scale is removed whatever its size.
+  const std::optional<glm::vec3> z = direction_of(glm::dvec3(world[2]));
+  l.direction = z ? -*z : glm::vec3(0.f);
+  if (!z && l.type != PunctualLight::Type::point)
+    gltf.fail(where + " gives " + what +
+              " a zero scale along its Z axis: the light has no direction");
   return l;
 }
 

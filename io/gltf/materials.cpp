@@ -61,8 +61,9 @@ TextureRef texture_ref(const Gltf& gltf, const Info& info, const std::string& wh
     const glm::vec2 offset = pair("offset", glm::vec2(0.f)), scale = pair("scale", glm::vec2(1.f));
     float rotation = 0.f;
     if (t.Has("rotation")) {
-      if (!t.Get("rotation").IsNumber() || !std::isfinite(t.Get("rotation").GetNumberAsDouble()))
-        gltf.fail(where + ": rotation is not a finite number");
+      // A rotation beyond float's range would make the transform NaN.
+      if (!t.Get("rotation").IsNumber() || !as_float(t.Get("rotation").GetNumberAsDouble()))
+        gltf.fail(where + ": rotation is not a finite number (as float)");
       rotation = float(t.Get("rotation").GetNumberAsDouble());
     }
     if (t.Has("texCoord")) {
@@ -167,9 +168,12 @@ std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored) 
       if (!c.IsArray() || c.ArrayLen() != 3)
         gltf.fail(what + ": KHR_materials_specular.specularColorFactor is not 3 numbers");
       for (int k = 0; k < 3; ++k) {
-        if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble()) ||
+        // Infinite as float, the specular layer would make every sample of the surface NaN.
+        if (!c.Get(k).IsNumber() || !as_float(c.Get(k).GetNumberAsDouble()) ||
             c.Get(k).GetNumberAsDouble() < 0.0)
-          gltf.fail(what + ": KHR_materials_specular.specularColorFactor is not 3 numbers >= 0");
+          gltf.fail(what +
+                    ": KHR_materials_specular.specularColorFactor is not 3 numbers in [0, 3.4e38] "
+                    "(float)");
         m.specular_color[k] = float(c.Get(k).GetNumberAsDouble());
       }
     }
@@ -179,8 +183,9 @@ std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored) 
         texture_ref(gltf, pbr.metallicRoughnessTexture, what + " metallicRoughnessTexture");
     m.emissive_texture = texture_ref(gltf, src.emissiveTexture, what + " emissiveTexture");
     m.normal_texture = texture_ref(gltf, src.normalTexture, what + " normalTexture");
-    if (!std::isfinite(src.normalTexture.scale))
-      gltf.fail(what + ": normalTexture.scale is not a finite number");
+    if (!as_float(src.normalTexture.scale))
+      gltf.fail(what + ": normalTexture.scale " + num(src.normalTexture.scale) +
+                " is beyond float's range");
     m.normal_scale = float(src.normalTexture.scale);
     materials.push_back(m);
   }

@@ -11,7 +11,8 @@ namespace {
 // EXT_mesh_gpu_instancing's per-instance TRANSLATION, ROTATION and SCALE as matrices (T R S);
 // nothing when the node does not use it (and an empty list for zero instances).
 std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
-                                                          const tinygltf::Node& node, int index) {
+                                                          const tinygltf::Node& node, int index,
+                                                          MeshLoader& meshes) {
   auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
   if (ext == node.extensions.end()) return std::nullopt;
   const std::string where = "node " + str(index) + " EXT_mesh_gpu_instancing";
@@ -26,6 +27,11 @@ std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
     return int(v.GetNumberAsDouble());
   };
   const int t = accessor("TRANSLATION"), r = accessor("ROTATION"), s = accessor("SCALE");
+  // Reading the instances is work of its own (a mesh without triangles costs nothing else), so
+  // it is bounded with the triangles before it is done.
+  for (const auto& [a, name] : {std::pair{t, "TRANSLATION"}, {r, "ROTATION"}, {s, "SCALE"}})
+    if (a != -1)
+      meshes.add_work(accessor_count(gltf, a, std::string(name) + " of " + where), where, index);
   std::vector<glm::vec3> translation, scale;
   std::vector<glm::quat> rotation;
   size_t count = 0;
@@ -57,7 +63,7 @@ std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
   return out;
 }
 
-glm::mat4 local_transform(const Gltf& gltf, int index) {
+glm::dmat4 local_transform(const Gltf& gltf, int index) {
   const tinygltf::Node& n = gltf.model.nodes[size_t(index)];
   std::string what = "node " + str(index);
   auto expect = [&](const std::vector<double>& v, size_t size, const char* name) {
@@ -65,32 +71,34 @@ glm::mat4 local_transform(const Gltf& gltf, int index) {
       gltf.fail(what + ": " + name + " has " + str(v.size()) + " numbers, not " + str(size));
     return !v.empty();
   };
-  glm::mat4 m(1.f);
+  glm::dmat4 m(1.0);
   if (expect(n.matrix, 16, "matrix")) {
-    for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = float(n.matrix[size_t(i)]);  // both column-major
+    for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = n.matrix[size_t(i)];  // both column-major
     // glTF requires the bottom row to be 0 0 0 1; keep the transform affine whatever the file
     // says.
-    m[0][3] = m[1][3] = m[2][3] = 0.f;
-    m[3][3] = 1.f;
+    m[0][3] = m[1][3] = m[2][3] = 0.0;
+    m[3][3] = 1.0;
   } else {
-    glm::mat4 t(1.f), r(1.f), s(1.f);
+    glm::dmat4 t(1.0), r(1.0), s(1.0);
     if (expect(n.translation, 3, "translation"))
-      t[3] =
-          glm::vec4(float(n.translation[0]), float(n.translation[1]), float(n.translation[2]), 1.f);
+      t[3] = glm::dvec4(n.translation[0], n.translation[1], n.translation[2], 1.0);
     if (expect(n.rotation, 4, "rotation")) {
-      glm::quat q(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]),
-                  float(n.rotation[2]));
-      float len = glm::length(q);
-      if (!(len > 0.f) || !std::isfinite(len))
+      // Normalised in double: files round their unit quaternions, and a quaternion of huge or
+      // tiny components still has a direction.
+      const glm::dvec4 q(n.rotation[0], n.rotation[1], n.rotation[2], n.rotation[3]);
+      const double big = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z), std::abs(q.w)});
+      if (!(big > 0.0) || !std::isfinite(big))
         gltf.fail(what + ": rotation is not a usable quaternion");
-      r = glm::mat4_cast(q / len);  // files round their unit quaternions; renormalise
+      const glm::dvec4 u = glm::normalize(q / big);
+      r = glm::mat4_cast(glm::dquat(u.w, u.x, u.y, u.z));
     }
     if (expect(n.scale, 3, "scale"))
-      for (int axis = 0; axis < 3; ++axis) s[axis][axis] = float(n.scale[size_t(axis)]);
+      for (int axis = 0; axis < 3; ++axis) s[axis][axis] = n.scale[size_t(axis)];
     m = t * r * s;
   }
   for (int c = 0; c < 4; ++c)
-    if (!finite(glm::vec3(m[c]))) gltf.fail(what + ": transform is not finite");
+    for (int r = 0; r < 3; ++r)
+      if (!std::isfinite(m[c][r])) gltf.fail(what + ": transform is not finite");
   return m;
 }
 
@@ -104,10 +112,10 @@ void load_nodes(const Gltf& gltf, int scene, MeshLoader& meshes, Scene& out) {
   std::vector<int> parent(gltf.model.nodes.size(), kUnreached);
   struct Pending {
     int node;
-    glm::mat4 parent_world;
+    glm::dmat4 parent_world;
   };
   std::vector<Pending> stack;
-  auto push = [&](int child, int from, const glm::mat4& parent_world) {
+  auto push = [&](int child, int from, const glm::dmat4& parent_world) {
     std::string by = from == kRoot ? "scene " + str(scene) : "node " + str(from);
     if (child < 0 || size_t(child) >= gltf.model.nodes.size())
       gltf.fail(by + " refers to node " + str(child) + ", which does not exist");
@@ -123,19 +131,20 @@ void load_nodes(const Gltf& gltf, int scene, MeshLoader& meshes, Scene& out) {
   };
 
   const auto& roots = gltf.model.scenes[size_t(scene)].nodes;
-  for (auto it = roots.rbegin(); it != roots.rend(); ++it) push(*it, kRoot, glm::mat4(1.f));
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) push(*it, kRoot, glm::dmat4(1.0));
   while (!stack.empty()) {
     Pending item = stack.back();
     stack.pop_back();
     const tinygltf::Node& node = gltf.model.nodes[size_t(item.node)];
     ++out.node_count;
-    glm::mat4 world = item.parent_world * local_transform(gltf, item.node);
+    const glm::dmat4 world = item.parent_world * local_transform(gltf, item.node);
     if (node.mesh != -1) {
       // EXT_mesh_gpu_instancing: the mesh once per instance, never at the node itself.
-      if (auto instances = instance_transforms(gltf, node, item.node); !instances)
+      if (auto instances = instance_transforms(gltf, node, item.node, meshes); !instances)
         meshes.add_mesh(node.mesh, world, item.node);
       else
-        for (const glm::mat4& m : *instances) meshes.add_mesh(node.mesh, world * m, item.node);
+        for (const glm::mat4& m : *instances)
+          meshes.add_mesh(node.mesh, world * glm::dmat4(m), item.node);
     }
     if (node.camera != -1) out.cameras.push_back(load_camera(gltf, node.camera, world, item.node));
     if (auto light = load_light(gltf, node, world, item.node)) out.lights.push_back(*light);

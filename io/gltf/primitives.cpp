@@ -2,6 +2,7 @@
 // triangles, each with its material and the per-corner shading normals, texture coordinates,
 // colours and tangents (from the file or generated) that some primitive of the scene has.
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 
 #include "io/gltf/internal.h"
@@ -23,13 +24,27 @@ glm::vec3 geometric_normal(const glm::vec3& a, const glm::vec3& b, const glm::ve
 
 }  // namespace
 
-// The part of a node's world transform that positions, normals and winding need.
+// The part of a node's world transform that positions, normals, tangents and winding need.
 struct MeshLoader::Transform {
-  glm::mat4 world;
-  glm::mat3 normal;  // inverse-transpose of world's 3x3, up to a positive factor
-  bool flips;        // negative determinant: mirrored, so the winding must be swapped back
+  glm::dmat4 world;   // positions are transformed in double, then rounded to float
+  glm::mat3 normal;   // inverse-transpose of world's 3x3, up to a positive factor
+  glm::mat3 tangent;  // world's 3x3, up to a positive factor
+  bool flips;         // negative determinant: mirrored, so the winding must be swapped back
   int node;
 };
+
+namespace {
+
+// m over its largest entry, as float: the same directions, whatever m's scale (1e-25 squares to
+// 0 in float, 1e20 to infinity).
+glm::mat3 direction_matrix(const glm::dmat3& m) {
+  double big = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) big = std::max(big, std::abs(m[c][r]));
+  return big > 0.0 && std::isfinite(big) ? glm::mat3(m / big) : glm::mat3(0.f);
+}
+
+}  // namespace
 
 MeshLoader::MeshLoader(const Gltf& gltf, Scene& scene)
     : gltf_(gltf),
@@ -38,20 +53,26 @@ MeshLoader::MeshLoader(const Gltf& gltf, Scene& scene)
       texture_used_(gltf.model.textures.size(), false),
       mesh_seen_(gltf.model.meshes.size(), false) {}
 
-void MeshLoader::add_mesh(int mesh, const glm::mat4& world, int node) {
+void MeshLoader::add_mesh(int mesh, const glm::dmat4& world, int node) {
   if (mesh < 0 || size_t(mesh) >= gltf_.model.meshes.size())
     gltf_.fail("node " + str(node) + " refers to mesh " + str(mesh) + ", which does not exist");
   bool first_instance = !mesh_seen_[size_t(mesh)];
   mesh_seen_[size_t(mesh)] = true;
   scene_.mesh_count += first_instance;
 
-  Transform xf{world, glm::mat3(1.f), false, node};
-  glm::mat3 linear(world);
+  const glm::dmat3 linear(world);
   // The cofactor matrix is det × inverse-transpose: always finite, even for a zero scale.
-  xf.normal = glm::mat3(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
-                        glm::cross(linear[0], linear[1]));
-  xf.flips = glm::determinant(linear) < 0.f;
-  if (xf.flips) xf.normal = -xf.normal;
+  const glm::dmat3 cofactor(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
+                            glm::cross(linear[0], linear[1]));
+  // The determinant's sign, from the columns scaled to their largest entries (which keeps it).
+  glm::dmat3 unit = linear;
+  for (int c = 0; c < 3; ++c) {
+    const double big = std::max({std::abs(unit[c].x), std::abs(unit[c].y), std::abs(unit[c].z)});
+    if (big > 0.0) unit[c] /= big;
+  }
+  const bool flips = glm::determinant(unit) < 0.0;
+  Transform xf{world, direction_matrix(flips ? -cofactor : cofactor), direction_matrix(linear),
+               flips, node};
   for (size_t p = 0; p < gltf_.model.meshes[size_t(mesh)].primitives.size(); ++p)
     add_primitive(mesh, int(p), xf, first_instance);
 }
@@ -94,10 +115,22 @@ void MeshLoader::start_normals() {
                     geometric_normal(g.vertex(t, 0), g.vertex(t, 1), g.vertex(t, 2)));
 }
 
+void MeshLoader::add_work(uint64_t units, const std::string& where, int node) {
+  work_ = units > UINT64_MAX - work_ ? UINT64_MAX : work_ + units;
+  if (work_ > available_memory_ / kBytesPerTriangle)
+    gltf_.fail(where + " brings the scene to " + str(work_) + " triangles (at node " + str(node) +
+               "; every instance of every primitive counted as one more, degenerate ones too), "
+               "which need about " +
+               format_bytes(work_ > UINT64_MAX / kBytesPerTriangle ? UINT64_MAX
+                                                                   : work_ * kBytesPerTriangle) +
+               ", more than the " + format_bytes(available_memory_) + " of memory available");
+}
+
 void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool first_instance) {
   const tinygltf::Primitive& prim = gltf_.model.meshes[size_t(mesh)].primitives[size_t(index)];
   std::string where = "mesh " + str(mesh) + " primitive " + str(index);
   const int mode = prim.mode;
+  add_work(1, where, xf.node);
   if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
       mode != TINYGLTF_MODE_TRIANGLE_FAN) {
     skipped_modes_ += first_instance;  // points and lines
@@ -112,87 +145,12 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   const Material& mat = scene_.materials[material];
   use_textures(mat);
 
-  std::vector<glm::vec3> points = read_vec3(gltf_, position->second, "POSITION of " + where);
-  size_t vertex_count = points.size();
-  for (size_t i = 0; i < vertex_count; ++i) {
-    if (!finite(points[i]))
-      gltf_.fail("accessor " + str(position->second) + " (POSITION of " + where + ") vertex " +
-                 str(i) + " is not finite");
-    points[i] = glm::vec3(xf.world * glm::vec4(points[i], 1.f));
-    if (!finite(points[i]))
-      gltf_.fail("node " + str(xf.node) + " puts vertex " + str(i) + " of " + where +
-                 " at a non-finite position");
-  }
-
-  auto same_count = [&](int accessor, const std::string& role, size_t n) {
-    if (n != vertex_count)
-      gltf_.fail("accessor " + str(accessor) + " (" + role + ") has " + str(n) +
-                 " elements but POSITION has " + str(vertex_count));
-  };
-  std::vector<glm::vec3> normals;
-  if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
-    normals = read_vec3(gltf_, normal->second, "NORMAL of " + where);
-    same_count(normal->second, "NORMAL of " + where, normals.size());
-    for (glm::vec3& n : normals) n = xf.normal * n;  // normalised per corner below
-    if (!keep_normals_) start_normals();
-  }
-  const size_t before = scene_.geometry.size();
-  // Texture coordinates, only for the sets some material samples.
-  std::vector<glm::vec2> uv[2];
-  for (int set = 0; set < 2; ++set) {
-    const std::string name = set ? "TEXCOORD_1" : "TEXCOORD_0";
-    auto attribute = prim.attributes.find(name);
-    bool needed = false;  // does this primitive's material sample set `set`?
-    for (const TextureRef* ref : mat.sampled_textures())
-      needed |= ref && *ref && ref->texcoord == set;
-    if (!needed || attribute == prim.attributes.end()) continue;
-    const std::string role = name + " of " + where;
-    std::vector<glm::vec4> values = read_floats(
-        gltf_, attribute->second, role, 2, 2,
-        {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}, 0.f);
-    same_count(attribute->second, role, values.size());
-    uv[set].resize(values.size());
-    for (size_t i = 0; i < values.size(); ++i) uv[set][i] = glm::vec2(values[i]);
-    texcoords_[set].start(before, glm::vec2(0.f));
-  }
-  std::vector<glm::vec4> colors;
-  if (auto attribute = prim.attributes.find("COLOR_0"); attribute != prim.attributes.end()) {
-    const std::string role = "COLOR_0 of " + where;
-    colors = read_floats(
-        gltf_, attribute->second, role, 3, 4,
-        {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}, 1.f);
-    same_count(attribute->second, role, colors.size());
-    for (size_t i = 0; i < colors.size(); ++i) {
-      if (!finite(glm::vec3(colors[i])) || !std::isfinite(colors[i].w))
-        gltf_.fail("accessor " + str(attribute->second) + " (" + role + ") element " + str(i) +
-                   " is not finite");
-      colors[i] = glm::clamp(colors[i], 0.f, 1.f);
-    }
-    colors_.start(before, glm::vec4(1.f));
-  }
-  // Tangents, only for normal-mapped materials: from the file, else generated below. The spec
-  // says to ignore TANGENT when NORMAL is absent (the normals are then flat).
-  const TextureRef& normal_map = mat.normal_texture;
-  std::vector<glm::vec4> tangents;
-  if (auto attribute = prim.attributes.find("TANGENT");
-      normal_map && !normals.empty() && attribute != prim.attributes.end()) {
-    const std::string role = "TANGENT of " + where;
-    tangents = read_floats(gltf_, attribute->second, role, 4, 4, {}, 0.f);
-    same_count(attribute->second, role, tangents.size());
-    const glm::mat3 linear(xf.world);
-    for (glm::vec4& t : tangents) {
-      // A mirroring transform turns the bitangent cross(n, t) around: flip its sign back.
-      t = glm::vec4(linear * glm::vec3(t), (t.w < 0.f) != xf.flips ? -1.f : 1.f);
-      if (!finite(glm::vec3(t))) t = glm::vec4(0.f);
-    }
-  }
-
-  std::vector<uint32_t> indices;
-  size_t corner_count = vertex_count;
-  if (prim.indices != -1) {
-    indices = read_indices(gltf_, prim.indices, "indices of " + where, vertex_count);
-    corner_count = indices.size();
-  }
+  // The work is bounded from the accessors' counts, before anything is read: an instance costs
+  // its triangles, never its accessors' sizes (only the vertices its indices use are read).
+  const size_t vertex_count = accessor_count(gltf_, position->second, "POSITION of " + where);
+  const size_t corner_count = prim.indices == -1
+                                  ? vertex_count
+                                  : accessor_count(gltf_, prim.indices, "indices of " + where);
   // Lists: a trailing incomplete triangle is ignored. Strips and fans: the spec's corner order
   // (every strip triangle keeps the first one's winding); their degenerate triangles (repeated
   // indices, used to join strips) are dropped.
@@ -203,12 +161,11 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     gltf_.fail("has more than " + str(kMaxTriangles) + " triangles");
   // A small file can instance a large mesh many times: the triangles are bounded by memory as
   // they are added, before they are.
-  const uint64_t total = uint64_t(scene_.geometry.size() + triangles);
-  if (total * kBytesPerTriangle > available_memory_)
-    gltf_.fail(where + " brings the scene to " + str(total) + " triangles, which need about " +
-               format_bytes(total * kBytesPerTriangle) + ", more than the " +
-               format_bytes(available_memory_) + " of memory available");
+  add_work(triangles, where, xf.node);
 
+  std::vector<uint32_t> indices;
+  if (prim.indices != -1)
+    indices = read_indices(gltf_, prim.indices, "indices of " + where, vertex_count);
   // The triangles' corners (vertex indices), in the order the front face winds.
   std::vector<std::array<uint32_t, 3>> corners;
   corners.reserve(triangles);
@@ -225,6 +182,99 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     if (xf.flips) std::swap(c[1], c[2]);
     corners.push_back({uint32_t(c[0]), uint32_t(c[1]), uint32_t(c[2])});
   }
+  // The vertices read: all of them when the corners use about as many, else only those the
+  // corners use (renumbered in order), so that a handful of indices into a million vertices
+  // costs a handful.
+  std::vector<uint32_t> used;
+  Elements which = nullptr;
+  if (vertex_count > 2 * 3 * corners.size()) {
+    used.reserve(3 * corners.size());
+    for (const auto& c : corners) used.insert(used.end(), c.begin(), c.end());
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    for (auto& c : corners)
+      for (uint32_t& k : c)
+        k = uint32_t(std::lower_bound(used.begin(), used.end(), k) - used.begin());
+    which = &used;
+  }
+  auto vertex = [&](size_t i) { return which ? size_t(used[i]) : i; };  // its number in the file
+
+  std::vector<glm::vec3> points = read_vec3(gltf_, position->second, "POSITION of " + where, which);
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!finite(points[i]))
+      gltf_.fail("accessor " + str(position->second) + " (POSITION of " + where + ") vertex " +
+                 str(vertex(i)) + " is not finite");
+    points[i] = glm::vec3(xf.world * glm::dvec4(points[i], 1.0));
+    if (!finite(points[i]))
+      gltf_.fail("node " + str(xf.node) + " puts vertex " + str(vertex(i)) + " of " + where +
+                 " at a non-finite position");
+  }
+
+  auto same_count = [&](int accessor, const std::string& role) {
+    const size_t n = accessor_count(gltf_, accessor, role);
+    if (n != vertex_count)
+      gltf_.fail("accessor " + str(accessor) + " (" + role + ") has " + str(n) +
+                 " elements but POSITION has " + str(vertex_count));
+  };
+  std::vector<glm::vec3> normals;
+  if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
+    same_count(normal->second, "NORMAL of " + where);
+    normals = read_vec3(gltf_, normal->second, "NORMAL of " + where, which);
+    for (glm::vec3& n : normals) n = xf.normal * n;  // normalised per corner below
+    if (!keep_normals_) start_normals();
+  }
+  const size_t before = scene_.geometry.size();
+  // Texture coordinates, only for the sets some material samples.
+  std::vector<glm::vec2> uv[2];
+  for (int set = 0; set < 2; ++set) {
+    const std::string name = set ? "TEXCOORD_1" : "TEXCOORD_0";
+    auto attribute = prim.attributes.find(name);
+    bool needed = false;  // does this primitive's material sample set `set`?
+    for (const TextureRef* ref : mat.sampled_textures())
+      needed |= ref && *ref && ref->texcoord == set;
+    if (!needed || attribute == prim.attributes.end()) continue;
+    const std::string role = name + " of " + where;
+    same_count(attribute->second, role);
+    std::vector<glm::vec4> values =
+        read_floats(gltf_, attribute->second, role, 2, 2,
+                    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+                    0.f, which);
+    uv[set].resize(values.size());
+    for (size_t i = 0; i < values.size(); ++i) uv[set][i] = glm::vec2(values[i]);
+    texcoords_[set].start(before, glm::vec2(0.f));
+  }
+  std::vector<glm::vec4> colors;
+  if (auto attribute = prim.attributes.find("COLOR_0"); attribute != prim.attributes.end()) {
+    const std::string role = "COLOR_0 of " + where;
+    same_count(attribute->second, role);
+    colors =
+        read_floats(gltf_, attribute->second, role, 3, 4,
+                    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+                    1.f, which);
+    for (size_t i = 0; i < colors.size(); ++i) {
+      if (!finite(glm::vec3(colors[i])) || !std::isfinite(colors[i].w))
+        gltf_.fail("accessor " + str(attribute->second) + " (" + role + ") element " +
+                   str(vertex(i)) + " is not finite");
+      colors[i] = glm::clamp(colors[i], 0.f, 1.f);
+    }
+    colors_.start(before, glm::vec4(1.f));
+  }
+  // Tangents, only for normal-mapped materials: from the file, else generated below. The spec
+  // says to ignore TANGENT when NORMAL is absent (the normals are then flat).
+  const TextureRef& normal_map = mat.normal_texture;
+  std::vector<glm::vec4> tangents;
+  if (auto attribute = prim.attributes.find("TANGENT");
+      normal_map && !normals.empty() && attribute != prim.attributes.end()) {
+    const std::string role = "TANGENT of " + where;
+    same_count(attribute->second, role);
+    tangents = read_floats(gltf_, attribute->second, role, 4, 4, {}, 0.f, which);
+    for (glm::vec4& t : tangents) {
+      // A mirroring transform turns the bitangent cross(n, t) around: flip its sign back.
+      t = glm::vec4(xf.tangent * glm::vec3(t), (t.w < 0.f) != xf.flips ? -1.f : 1.f);
+      if (!finite(glm::vec3(t))) t = glm::vec4(0.f);
+    }
+  }
+
   // Shading normals per corner, as stored: computed once, when they are kept or tangents are
   // generated from them.
   const bool generate = tangents.empty() && normal_map && !uv[normal_map.texcoord].empty();
