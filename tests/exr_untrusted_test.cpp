@@ -5,7 +5,11 @@
 // must be refused with one line naming the file and what is wrong, allocating almost nothing.
 // The kept fuzzing inputs in tests/fuzz-exr/ go through fuzz/exr_input.h as the fuzzer runs them.
 #include <doctest/doctest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +21,7 @@
 #include "../fuzz/exr_input.h"
 #include "allocations.h"
 #include "io/exr.h"
+#include "scene/environment.h"
 #include "temp_dir.h"
 #include "util/error.h"
 
@@ -274,4 +279,57 @@ TEST_CASE("EXR: every kept fuzzing input and seed map loads or is refused in one
   }
   MESSAGE(inputs << " inputs, " << loaded << " loaded");
   CHECK(loaded >= 10);
+}
+
+namespace {
+
+// This process's address space, from /proc/self/status (0 when it cannot be read).
+uint64_t vm_size() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) * 1024;
+  return 0;
+}
+
+}  // namespace
+
+TEST_CASE("EXR: an environment map whose sampling tables do not fit in memory is refused") {
+#if defined(__SANITIZE_ADDRESS__)
+  MESSAGE("skipped under AddressSanitizer: its shadow memory needs an unlimited address space");
+#else
+  // 4096 x 2048 pixels: 160 MiB of weights and alias tables, in a child process whose address
+  // space is limited to 64 MiB more than it has (available_memory() reads RLIMIT_AS).
+  dacrt::Image image(4096, 2048);
+  std::fill(image.rgb.begin(), image.rgb.end(), 1.f);
+  int fds[2];
+  REQUIRE(pipe(fds) == 0);
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    close(fds[0]);
+    const rlimit limit{vm_size() + (64u << 20), vm_size() + (64u << 20)};
+    std::string message = "the limit could not be set";
+    if (vm_size() > 0 && setrlimit(RLIMIT_AS, &limit) == 0) {
+      try {
+        const dacrt::EnvironmentMap map(std::move(image), "sky.exr");
+        message = "the map was built";
+      } catch (const dacrt::Error& e) {
+        message = e.what();
+      } catch (const std::bad_alloc&) {
+        message = "std::bad_alloc";
+      }
+    }
+    const ssize_t written = write(fds[1], message.data(), message.size());
+    _exit(written == ssize_t(message.size()) ? 0 : 1);
+  }
+  close(fds[1]);
+  std::string message;
+  char buffer[512];
+  for (ssize_t n; (n = read(fds[0], buffer, sizeof buffer)) > 0;) message.append(buffer, size_t(n));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  CHECK(WIFEXITED(status));
+  CHECK(has(message, "sky.exr: the environment map's sampling tables need 160.0 MiB, more than "));
+#endif
 }
