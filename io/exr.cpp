@@ -4,6 +4,7 @@
 // would swallow.
 #include "io/exr.h"
 
+#include <Iex.h>
 #include <ImfChannelList.h>
 #include <ImfDoubleAttribute.h>
 #include <ImfFrameBuffer.h>
@@ -19,13 +20,17 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <istream>
 #include <system_error>
 
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/memory.h"
 #include "util/paths.h"
 
 namespace dacrt {
@@ -97,6 +102,289 @@ void write_scanlines(std::ostream& stream, const std::string& path, const Imf::H
   file.writePixels(header.dataWindow().max.y + 1);
 }
 
+// An Imf::IStream over a std::istream (a file, or bytes in memory for the fuzzer), reporting
+// errors as Imf::StdIFStream does.
+class StreamIn : public Imf::IStream {
+ public:
+  StreamIn(std::istream& in, const char* name) : Imf::IStream(name), in_(in) {}
+  bool read(char c[], int n) override {
+    if (!in_) throw Iex::InputExc("unexpected end of file");
+    in_.read(c, n);
+    if (in_.gcount() < n)
+      throw Iex::InputExc("early end of file: read " + std::to_string(in_.gcount()) + " of " +
+                          std::to_string(n) + " bytes");
+    return true;
+  }
+  uint64_t tellg() override { return uint64_t(std::streamoff(in_.tellg())); }
+  void seekg(uint64_t pos) override {
+    in_.seekg(std::streamoff(pos));
+    if (!in_) throw Iex::InputExc("cannot seek to byte " + std::to_string(pos));
+  }
+  void clear() override { in_.clear(); }
+
+ private:
+  std::istream& in_;
+};
+
+// What scan_header learnt of a header it accepted.
+struct HeaderScan {
+  int64_t width = 0, height = 0;
+};
+
+// Bounds, above what any real environment map or reference needs.
+constexpr uint32_t kExrMagic = 0x01312f76;  // 76 2f 31 01, read little-endian
+constexpr uint32_t kTiledFlag = 0x200, kLongNamesFlag = 0x400, kDeepFlag = 0x800,
+                   kMultipartFlag = 0x1000;
+// Float bytes a file may decode to per byte it holds. Real files compress far less (zlib at most
+// ~1000:1; a constant image in DWAB a few times that), so only a forged header reaches this.
+constexpr uint64_t kMaxDecodeRatio = uint64_t(1) << 18;
+// OpenEXR decodes one block (a group of scanlines, or a tile) of every channel at a time.
+constexpr uint64_t kMaxBlockBytes = uint64_t(256) << 20;
+constexpr int64_t kMaxChannels = 4096;
+
+// Lines per chunk, by the compression attribute's value (NO, RLE, ZIPS, ZIP, PIZ, PXR24, B44,
+// B44A, DWAA, DWAB); 0 for a value OpenEXR does not know.
+int lines_per_block(int compression) {
+  static constexpr int lines[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+  return compression >= 0 && compression < 10 ? lines[compression] : 0;
+}
+
+// Reads the header byte by byte, allocating nothing that the file's size does not bound.
+class HeaderReader {
+ public:
+  HeaderReader(std::istream& in, const std::string& name, uint64_t size)
+      : in_(in), name_(name), size_(size) {}
+  uint64_t left() const { return size_ - pos_; }
+  uint64_t pos() const { return pos_; }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error("cannot read EXR '" + name_ + "': " + what);
+  }
+  void bytes(void* out, uint64_t n, const std::string& what) {
+    if (n > left()) fail("the file ends inside " + what);
+    in_.read(static_cast<char*>(out), std::streamsize(n));
+    if (uint64_t(in_.gcount()) != n) fail("the file ends inside " + what);
+    pos_ += n;
+  }
+  void skip(uint64_t n, const std::string& what) {
+    if (n > left()) fail("the file ends inside " + what);
+    in_.seekg(std::streamoff(n), std::ios::cur);
+    if (!in_) fail("cannot seek past " + what);
+    pos_ += n;
+  }
+  uint32_t u32(const std::string& what) {
+    unsigned char b[4];
+    bytes(b, 4, what);
+    return uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24;
+  }
+  int32_t i32(const std::string& what) { return int32_t(u32(what)); }
+  uint8_t u8(const std::string& what) {
+    uint8_t b;
+    bytes(&b, 1, what);
+    return b;
+  }
+  // A NUL-terminated string of at most `max` bytes.
+  std::string text(size_t max, const std::string& what) {
+    std::string s;
+    for (;;) {
+      const char c = char(u8(what));
+      if (c == '\0') return s;
+      if (s.size() == max) fail(what + " is longer than " + std::to_string(max) + " bytes");
+      s += c;
+    }
+  }
+
+ private:
+  std::istream& in_;
+  const std::string& name_;
+  uint64_t size_, pos_ = 0;
+};
+
+int64_t tiles(int64_t pixels, int64_t tile) {
+  return (pixels + tile - 1) / tile;
+}
+
+// Levels of a mipmap over n pixels, and the size of level l (OpenEXR's ImfTiledMisc rules).
+int64_t level_count(int64_t n, bool round_up) {
+  int64_t levels = 1;
+  if (round_up)
+    while ((int64_t(1) << (levels - 1)) < n) ++levels;
+  else
+    while ((n >> levels) > 0) ++levels;
+  return levels;
+}
+int64_t level_size(int64_t n, int64_t l, bool round_up) {
+  const int64_t s = round_up ? (n + (int64_t(1) << l) - 1) >> l : n >> l;
+  return std::max<int64_t>(s, 1);
+}
+
+// The tiles of every level of a tiled file: the entries of its offset table.
+int64_t tile_count(int64_t w, int64_t h, int64_t tx, int64_t ty, int mode, bool round_up) {
+  if (mode == 0) return tiles(w, tx) * tiles(h, ty);
+  if (mode == 1) {
+    int64_t n = 0;
+    for (int64_t l = 0, levels = level_count(std::max(w, h), round_up); l < levels; ++l)
+      n += tiles(level_size(w, l, round_up), tx) * tiles(level_size(h, l, round_up), ty);
+    return n;
+  }
+  int64_t nx = 0, ny = 0;
+  for (int64_t l = 0, levels = level_count(w, round_up); l < levels; ++l)
+    nx += tiles(level_size(w, l, round_up), tx);
+  for (int64_t l = 0, levels = level_count(h, round_up); l < levels; ++l)
+    ny += tiles(level_size(h, l, round_up), ty);
+  return nx * ny;
+}
+
+// Checks, before OpenEXR allocates anything, that every size the header of the file in `in`
+// declares fits in the file and in memory, and that the file is one we decode (a single part of
+// flat scanlines or tiles). Follows the OpenEXR file layout: magic, version and flags, then
+// attributes (name\0 type\0 int32 size, value) up to an empty name, then the offset table.
+HeaderScan scan_header(std::istream& in, const std::string& name) {
+  in.seekg(0, std::ios::end);
+  const std::streamoff end = in.tellg();
+  in.seekg(0);
+  if (!in || end < 0) throw Error("cannot read EXR '" + name + "': cannot find its size");
+  HeaderReader r(in, name, uint64_t(end));
+  if (r.left() < 8 || r.u32("the magic number") != kExrMagic)
+    r.fail("it is not an OpenEXR file (no 76 2f 31 01 magic number)");
+  const uint32_t version = r.u32("the version");
+  if ((version & 0xff) != 2)
+    r.fail("OpenEXR file format version " + std::to_string(version & 0xff) + " is not supported");
+  if (version & kMultipartFlag) r.fail("multipart EXR files are not supported");
+  if (version & kDeepFlag) r.fail("deep EXR files are not supported");
+  if (version & ~uint32_t(0xff | kTiledFlag | kLongNamesFlag))
+    r.fail("unknown version flags 0x" + [&] {
+      char hex[16];
+      std::snprintf(hex, sizeof hex, "%x", version & ~0xffu);
+      return std::string(hex);
+    }());
+  const bool tiled = version & kTiledFlag;
+  const size_t max_name = version & kLongNamesFlag ? 255 : 31;
+
+  int64_t channel_count = -1, compression = -1, tile_x = 0, tile_y = 0;
+  int tile_mode = -1;
+  bool have_window = false, tiled_type = false;
+  int32_t window[4] = {0, 0, 0, 0};
+  for (;;) {
+    const std::string attr = r.text(max_name, "an attribute name");
+    if (attr.empty()) break;
+    const std::string what = "attribute '" + attr + "'";
+    const std::string type = r.text(max_name, what + "'s type name");
+    const int32_t size = r.i32(what + "'s size");
+    if (size < 0) r.fail(what + " declares a negative size (" + std::to_string(size) + ")");
+    if (uint64_t(size) > r.left())
+      r.fail(what + " declares " + std::to_string(size) + " bytes, more than the " +
+             std::to_string(r.left()) + " left in the file");
+    const uint64_t value_end = r.pos() + uint64_t(size);
+    const auto fixed = [&](int32_t n) {
+      if (size != n)
+        r.fail(what + " of type " + type + " has " + std::to_string(size) + " bytes, not " +
+               std::to_string(n));
+    };
+    if (type == "chlist") {
+      int64_t n = 0;
+      for (;;) {
+        if (r.pos() >= value_end) r.fail(what + " is not terminated");
+        const std::string channel = r.text(max_name, "a channel name in " + what);
+        if (channel.empty()) break;
+        r.skip(16, "channel '" + channel + "' in " + what);
+        ++n;
+      }
+      if (r.pos() != value_end) r.fail(what + " does not fill its declared size");
+      if (attr == "channels") channel_count = n;
+    } else if (type == "compression") {
+      fixed(1);
+      const int c = r.u8(what);
+      if (attr == "compression") {
+        if (!lines_per_block(c)) r.fail("unknown compression " + std::to_string(c));
+        compression = c;
+      }
+    } else if (type == "box2i" && attr == "dataWindow") {
+      fixed(16);
+      for (int32_t& v : window) v = r.i32(what);
+      have_window = true;
+    } else if (type == "tiledesc" && attr == "tiles") {
+      fixed(9);
+      tile_x = r.u32(what), tile_y = r.u32(what);
+      tile_mode = r.u8(what);
+    } else if (type == "string" && attr == "type") {
+      std::string value(size_t(size), '\0');
+      r.bytes(value.data(), uint64_t(size), what);
+      tiled_type = value == "tiledimage";
+      if (value != "scanlineimage" && value != "tiledimage")
+        r.fail("EXR parts of type '" + one_line(value) + "' are not supported");
+    } else if (type == "stringvector") {
+      while (r.pos() < value_end) {
+        const int32_t n = r.i32("a string in " + what);
+        if (n < 0 || uint64_t(n) > value_end - r.pos())
+          r.fail("a string in " + what + " declares " + std::to_string(n) +
+                 " bytes, more than the " + std::to_string(value_end - r.pos()) +
+                 " left in the attribute");
+        r.skip(uint64_t(n), what);
+      }
+    } else if (type == "preview") {
+      if (size < 8) r.fail(what + " is shorter than its preview size");
+      const uint64_t w = r.u32(what), h = r.u32(what);  // each below 2^32: no overflow
+      if (w * h != (uint64_t(size) - 8) / 4 || (uint64_t(size) - 8) % 4 != 0)
+        r.fail(what + " declares a " + std::to_string(w) + " x " + std::to_string(h) +
+               " preview in " + std::to_string(size - 8) + " bytes");
+    }
+    if (r.pos() > value_end) r.fail(what + " is longer than its declared size");
+    r.skip(value_end - r.pos(), what);
+  }
+
+  if (channel_count < 0) r.fail("the header has no channels attribute");
+  if (channel_count == 0) r.fail("it has no channels");
+  if (channel_count > kMaxChannels)
+    r.fail(std::to_string(channel_count) + " channels are more than the " +
+           std::to_string(kMaxChannels) + " accepted");
+  if (compression < 0) r.fail("the header has no compression attribute");
+  if (!have_window) r.fail("the header has no dataWindow attribute");
+  const int64_t width = int64_t(window[2]) - window[0] + 1,
+                height = int64_t(window[3]) - window[1] + 1;
+  if (width < 1 || height < 1) r.fail("its data window is empty");
+  const std::string pixels_text = std::to_string(width) + " x " + std::to_string(height) +
+                                  " pixels in " + std::to_string(channel_count) + " channels";
+  if (width * height > kMaxExrPixels)
+    r.fail(std::to_string(width) + " x " + std::to_string(height) +
+           " pixels is more than the 2^27 accepted");
+  // At most 2^27 pixels, and channels bounded by the file's size: no overflow.
+  const uint64_t decoded = uint64_t(width * height) * uint64_t(channel_count) * 4;
+  if (decoded / kMaxDecodeRatio > uint64_t(end))
+    r.fail("its " + pixels_text + " would decode to " + format_bytes(decoded) + ", more than a " +
+           std::to_string(end) + "-byte file can hold");
+  if (decoded > available_memory())
+    r.fail("its " + pixels_text + " need " + format_bytes(decoded) + ", more than the " +
+           format_bytes(available_memory()) + " of memory available");
+
+  // The scanline blocks, and the tiles when the header describes any (whichever way OpenEXR
+  // takes the file, its buffers stay bounded).
+  const auto check_block = [&](int64_t block) {
+    if (uint64_t(block) > kMaxBlockBytes / 4 / uint64_t(channel_count))
+      r.fail("its blocks of " + std::to_string(block) + " pixels in " +
+             std::to_string(channel_count) + " channels decode to more than " +
+             format_bytes(kMaxBlockBytes) + " each");
+  };
+  check_block(width * lines_per_block(int(compression)));
+  int64_t chunks = tiles(height, lines_per_block(int(compression)));
+  if (tiled && tile_mode < 0) r.fail("the tiled file has no tiles attribute");
+  if (tile_mode >= 0) {
+    const int level_mode = tile_mode & 0xf, rounding = tile_mode >> 4;
+    if (level_mode > 2 || rounding > 1)
+      r.fail("unknown tile level mode " + std::to_string(tile_mode));
+    if (tile_x < 1 || tile_y < 1 || tile_x > (int64_t(1) << 30) || tile_y > (int64_t(1) << 30))
+      r.fail("tiles of " + std::to_string(tile_x) + " x " + std::to_string(tile_y) +
+             " pixels are not supported");
+    check_block(tile_x * tile_y);
+    if (tiled || tiled_type)
+      chunks = tile_count(width, height, tile_x, tile_y, level_mode, rounding == 1);
+  }
+  if (uint64_t(chunks) > r.left() / 8)
+    r.fail("its offset table of " + std::to_string(chunks) + " chunks needs " +
+           std::to_string(uint64_t(chunks) * 8) + " bytes, more than the " +
+           std::to_string(r.left()) + " left in the file");
+  return {width, height};
+}
+
 }  // namespace
 
 void write_exr(const std::string& path, const Image& image, const ExrMetadata& metadata) {
@@ -126,21 +414,27 @@ void write_exr(const std::string& path, int width, int height, const std::vector
 
 Image read_exr(const std::string& path) {
   check_input_file(path, "EXR image");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read EXR '" + path + "': " + std::strerror(errno));
+  return read_exr(in, path);
+}
+
+Image read_exr(std::istream& in, const std::string& name) {
   try {
-    Imf::InputFile file(path.c_str());
+    const HeaderScan scan = scan_header(in, name);
+    in.clear();
+    in.seekg(0);
+    StreamIn stream(in, name.c_str());
+    Imf::InputFile file(stream);
     const Imath::Box2i window = file.header().dataWindow();
-    // Bounded before anything is allocated: a header may claim any window.
     const int64_t width = int64_t(window.max.x) - window.min.x + 1,
                   height = int64_t(window.max.y) - window.min.y + 1;
-    if (width < 1 || height < 1)
-      throw Error("cannot read EXR '" + path + "': its data window is empty");
-    if (width * height > kMaxExrPixels)
-      throw Error("cannot read EXR '" + path + "': " + std::to_string(width) + " x " +
-                  std::to_string(height) + " pixels is more than the 2^27 accepted");
+    if (width != scan.width || height != scan.height)  // the scan saw the same header
+      throw Error("cannot read EXR '" + name + "': its header changed while it was read");
     const Imf::ChannelList& channels = file.header().channels();
-    for (const char* name : {"R", "G", "B"})
-      if (!channels.findChannel(name))
-        throw Error("cannot read EXR '" + path + "': it has no " + name + " channel");
+    for (const char* c : {"R", "G", "B"})
+      if (!channels.findChannel(c))
+        throw Error("cannot read EXR '" + name + "': it has no " + c + " channel");
 
     Image image(static_cast<int>(width), static_cast<int>(height));
     const size_t x_stride = 3 * sizeof(float);
@@ -156,7 +450,9 @@ Image read_exr(const std::string& path) {
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    throw Error("cannot read EXR '" + path + "': " + one_line(e.what()));
+    throw Error("cannot read EXR '" + name + "': " + one_line(e.what()));
+  } catch (...) {
+    throw Error("cannot read EXR '" + name + "': OpenEXR failed without a message");
   }
 }
 
@@ -168,8 +464,14 @@ const Channel* ExrFile::find(const std::string& name) const {
 
 ExrFile read_exr_file(const std::string& path) {
   check_input_file(path, "EXR image");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read EXR '" + path + "': " + std::strerror(errno));
   try {
-    Imf::InputFile file(path.c_str());
+    scan_header(in, path);
+    in.clear();
+    in.seekg(0);
+    StreamIn stream(in, path.c_str());
+    Imf::InputFile file(stream);
     const Imf::Header& header = file.header();
     const Imath::Box2i window = header.dataWindow();
     const int64_t width = int64_t(window.max.x) - window.min.x + 1,
@@ -205,6 +507,8 @@ ExrFile read_exr_file(const std::string& path) {
     throw;
   } catch (const std::exception& e) {
     throw Error("cannot read EXR '" + path + "': " + one_line(e.what()));
+  } catch (...) {
+    throw Error("cannot read EXR '" + path + "': OpenEXR failed without a message");
   }
 }
 

@@ -3,6 +3,7 @@
 // beside the target and renamed, so no half-written file is left.
 #pragma once
 
+#include <istream>
 #include <map>
 #include <string>
 #include <utility>
@@ -25,7 +26,12 @@ void write_exr(const std::string& path, const Image& image, const ExrMetadata& m
 void write_exr(const std::string& path, int width, int height, const std::vector<Channel>& channels,
                const ExrMetadata& metadata);
 
-Image read_exr(const std::string& path);  // RGB channels as float (tests, comparisons)
+// RGB channels as float: environment maps, references, tests. The header is checked before
+// OpenEXR reads it: every size it declares must fit in the file, the pixels in memory, and the
+// file must be a single part of flat scanlines or tiles; anything else is one dacrt::Error.
+Image read_exr(const std::string& path);
+// The same from a stream (bytes in memory, for the fuzzer); `name` is the file in messages.
+Image read_exr(std::istream& in, const std::string& name);
 
 // Everything in a file, for tests and comparisons: every channel as float, and the header's
 // string, int and double attributes as text.

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <glm/gtc/constants.hpp>
 #include <string>
 
 #include "materials/sampling.h"
 #include "util/error.h"
+#include "util/memory.h"
 
 namespace dacrt {
 
@@ -51,6 +53,12 @@ std::string bad_radiance(const glm::vec3& c) {
 EnvironmentMap::EnvironmentMap(Image image, const std::string& what) : image_(std::move(image)) {
   const int w = image_.width, h = image_.height;
   if (w <= 0 || h <= 0) throw Error(what + ": the environment image is empty");
+  // The weights and the alias tables the map keeps (a double and three uint32_t a pixel), bounded
+  // before any of them is allocated: a map read_exr accepts may still not fit beside its image.
+  const uint64_t tables = uint64_t(w) * uint64_t(h) * (sizeof(double) + 3 * sizeof(uint32_t));
+  if (const uint64_t available = available_memory(); tables > available)
+    throw Error(what + ": the environment map's sampling tables need " + format_bytes(tables) +
+                ", more than the " + format_bytes(available) + " of memory available");
   // Pixel weights: luminance × sin θ at the row's centre (the solid angle a row covers).
   std::vector<double> weight(size_t(w) * h);
   std::vector<double> row_sum(size_t(h), 0.0);
