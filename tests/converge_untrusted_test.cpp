@@ -192,8 +192,12 @@ TEST_CASE("converge untrusted: an output that cannot be written is found before 
   TempDir dir("converge-unwritable");
   const std::string out = dir / "out";
   fs::create_directories(out + "/reference.exr");  // a directory where the reference goes
-  const Run r = run(dir, "converge " + cornell + tiny + "--reference-spp 4 -o " + out);
+  // Not --quiet: the only line on stderr is the refusal, no render was begun.
+  const Run r =
+      run(dir, "converge " + cornell +
+                   " --width 12 --height 12 --time-budget 0.02 --reference-spp 4 -o " + out);
   check_refused(r, 1, {"reference.exr"});
+  CHECK(r.err.find("rendering") == std::string::npos);
   CHECK(!fs::exists(out + "/convergence.csv"));  // refused before the renders
   // -o naming a file.
   const std::string file = dir / "file";
