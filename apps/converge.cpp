@@ -200,6 +200,11 @@ ConvergeArgs parse_converge(const std::vector<std::string>& args) {
   return c;
 }
 
+// A message quotes at most 200 characters of an argument: it stays one readable line.
+std::string shortened(const std::string& text) {
+  return text.size() <= 200 ? text : text.substr(0, 200) + "...";
+}
+
 // Creates the backend on no geometry with the options the render will give it: an unknown name, an
 // unknown key or a bad value is a usage error now rather than after the renders before it.
 void check_runs(const std::string& where, Options options, int threads, const std::string& name) {
@@ -216,7 +221,7 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
   Config c{text, shared};
   std::istringstream words(text);
   std::string word;
-  const std::string where = "--config \"" + text + "\": ";
+  const std::string where = "--config \"" + shortened(text) + "\": ";
   // The label goes into the CSV, the gnuplot script and the plot: a line break or another control
   // character in it would end a gnuplot string or a CSV row.
   for (unsigned char ch : text)
@@ -226,7 +231,7 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
   while (words >> word) {
     const size_t eq = word.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw UsageError(where + "'" + word + "' is not KEY=VALUE");
+      throw UsageError(where + "'" + shortened(word) + "' is not KEY=VALUE");
     std::string key = word.substr(0, eq);
     if (key.rfind("--", 0) == 0) key = key.substr(2);
     const std::string flag = "--" + key;
@@ -244,7 +249,8 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
     } catch (const UsageError& e) {
       throw UsageError(where + e.what());
     }
-    if (!known) throw UsageError(where + "unknown key '" + key + "' (see dacrt render --help)");
+    if (!known)
+      throw UsageError(where + "unknown key '" + shortened(key) + "' (see dacrt render --help)");
   }
   words.clear();
   c.label = text;
@@ -279,7 +285,7 @@ std::vector<Config> parse_configs(const ConvergeArgs& c) {
   for (const std::string& text : texts) {
     configs.push_back(parse_config(text, c.shared));
     if (!labels.insert(configs.back().label).second)
-      throw UsageError("--config \"" + text + "\" is given twice");
+      throw UsageError("--config \"" + shortened(text) + "\" is given twice");
   }
   return configs;
 }

@@ -77,9 +77,15 @@ TEST_CASE(
       {"--config '' --config 'backend=nosuch'", {"nosuch"}},
       {"--config '' --config 'integrator=nosuch'", {"nosuch"}},
   };
+  // A configuration of 5000 characters is quoted in part: the message stays short.
+  cases.push_back({"--config 'seed=3 " + std::string(5000, 'x') + "'", {"is not KEY=VALUE"}});
+  cases.push_back(
+      {"--config 'seed=3' --config 'seed=3 --" + std::string(5000, 'x') + "=1'", {"unknown key"}});
   for (const Case& c : cases) {
-    INFO(c.args);
-    check_refused(run(dir, base + " " + c.args), 2, c.words);
+    INFO(c.args.substr(0, 300));
+    const Run r = run(dir, base + " " + c.args);
+    check_refused(r, 2, c.words);
+    CHECK(r.err.size() < 1000);
     CHECK(!fs::exists(out));  // not even the reference
   }
   // The same options, well formed, run.
