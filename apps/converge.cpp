@@ -33,6 +33,7 @@
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/interrupt.h"
+#include "util/memory.h"
 #include "util/paths.h"
 #include "util/progress.h"
 
@@ -290,6 +291,24 @@ std::vector<Config> parse_configs(const ConvergeArgs& c) {
   return configs;
 }
 
+// The largest allocations of the renders, estimated before any is made (as `dacrt render` does):
+// a configuration's film and path state, twice with --noise, beside the reference image. Throws
+// Error when they exceed the memory this process may still take.
+void check_memory(const ConvergeArgs& a, const std::vector<Config>& configs,
+                  const RenderSettings& base) {
+  const RenderMemory reference = render_memory(base, false);
+  uint64_t need = reference.image + reference.paths;
+  for (const Config& c : configs) {
+    const RenderMemory m = render_memory(c.args.settings, false);
+    need = std::max(need, (a.noise ? 2 : 1) * (m.image + m.paths) + reference.image);
+  }
+  const uint64_t available = available_memory();
+  if (need <= available) return;
+  throw Error(a.shared.scene + ": converge's " + std::to_string(base.width) + " x " +
+              std::to_string(base.height) + " renders need about " + format_bytes(need) +
+              ", more than the " + format_bytes(available) + " of memory available");
+}
+
 // A reference with a NaN or an infinite value would make every error NaN or infinite.
 void check_finite(const std::string& path, const Image& image) {
   for (size_t i = 0; i < image.rgb.size(); ++i)
@@ -426,6 +445,8 @@ int converge_main(const std::vector<std::string>& args) {
                 std::to_string(base.width) + " x " + std::to_string(base.height) +
                 " (give --width " + std::to_string(reference->width) + " --height " +
                 std::to_string(reference->height) + ", or another reference)");
+
+  check_memory(a, configs, base);
 
   StopOnSignals signals;
   const std::atomic<bool>* stop = &signals.token();

@@ -212,3 +212,15 @@ TEST_CASE("converge untrusted: an output that cannot be written is found before 
                 {"not a directory"});
   CHECK(slurp(file) == "x");
 }
+
+TEST_CASE("converge untrusted: renders that cannot fit in memory are refused before any") {
+  TempDir dir("converge-memory");
+  const std::string out = dir / "out";
+  // 32768 x 32768 pixels under an address space of 3 GB: the film alone is far more.
+  const Run r = run(dir,
+                    "converge " + cornell +
+                        " --width 32768 --height 32768 --quiet --no-reference --no-plot -o " + out,
+                    "ulimit -v 3000000;");
+  check_refused(r, 1, {"32768 x 32768", "memory available"});
+  CHECK(!fs::exists(out));
+}
