@@ -383,6 +383,9 @@ int converge_main(const std::vector<std::string>& args) {
   const bool outdir_exists = fs::exists(outdir, ec);
   if (outdir_exists && !fs::is_directory(outdir, ec))
     throw Error(a.outdir + ": cannot write the outputs there: it is not a directory");
+  if (!outdir_exists && fs::is_symlink(fs::symlink_status(outdir, ec)))
+    throw Error(a.outdir + ": cannot write the outputs there: it is a symbolic link to " +
+                fs::read_symlink(outdir, ec).string() + ", which does not exist");
   const std::string csv = (outdir / "convergence.csv").string(),
                     script = (outdir / "convergence.gp").string(),
                     svg = (outdir / "convergence.svg").string(),

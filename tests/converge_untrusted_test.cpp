@@ -211,6 +211,14 @@ TEST_CASE("converge untrusted: an output that cannot be written is found before 
   check_refused(run(dir, "converge " + cornell + tiny + "--no-reference -o " + file), 1,
                 {"not a directory"});
   CHECK(slurp(file) == "x");
+  // -o a dangling symbolic link: creating the directory would fail after the renders.
+  const std::string link = dir / "link";
+  fs::create_symlink(dir / "nowhere", link);
+  const Run l =
+      run(dir, "converge " + cornell +
+                   " --width 12 --height 12 --time-budget 0.02 --no-reference -o " + link);
+  check_refused(l, 1, {"link", "symbolic link", "does not exist"});
+  CHECK(l.err.find("converge default") == std::string::npos);  // no point was rendered
 }
 
 TEST_CASE("converge untrusted: renders that cannot fit in memory are refused before any") {
