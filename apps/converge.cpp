@@ -501,6 +501,16 @@ int converge_main(const std::vector<std::string>& args) {
     write_csv(csv, all);
     write_script(script, all, metric, title);
   };
+  // On an error: the points so far are kept if they can be, the error (one line) is the
+  // command's. Out of memory, the write may fail too: the original error is the one to report.
+  auto keep_so_far = [&](const Curve* unfinished) {
+    try {
+      write_so_far(unfinished);
+      return !curves.empty() || !unfinished->points.empty();
+    } catch (...) {
+      return false;
+    }
+  };
   for (size_t k = 0; k < configs.size() && !signals.signal(); ++k) {
     const Config& c = configs[k];
     Curve curve{c.label, {}};
@@ -538,13 +548,12 @@ int converge_main(const std::vector<std::string>& args) {
         if (spp >= a.max_spp || (curve.points.size() >= 2 && p.seconds + rendered > a.budget))
           break;
       }
+    } catch (const Error& e) {
+      const bool kept = keep_so_far(&curve);
+      throw Error("--config \"" + shortened(c.label) + "\": " + e.what() +
+                  (kept ? " (the points so far are in " + csv + ")" : ""));
     } catch (...) {
-      // The points so far are kept; the error (one line) is the command's. Out of memory, the
-      // write may fail too: the original error is the one worth reporting.
-      try {
-        write_so_far(&curve);
-      } catch (...) {
-      }
+      keep_so_far(&curve);
       throw;
     }
     if (!curve.points.empty()) curves.push_back(std::move(curve));
