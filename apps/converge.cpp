@@ -54,7 +54,10 @@ Configurations
                              KEY a render option's name without its dashes (backend=embree,
                              sampler=independent, integrator=direct, max-depth=8, seed=3,
                              backend-option=dacrt.bins=8, threads=1, wavefront=65536, ...);
-                             its label is the text itself ("" is "default"). Repeatable. Default:
+                             its label is the text itself ("" is "default"; no line breaks or
+                             other control characters). Every configuration is checked (its
+                             backend built on no geometry) before anything is rendered, and the
+                             CSV and the script are rewritten after each one. Repeatable. Default:
                              "" (dacrt, sobol), "sampler=independent", "backend=embree"
   --time-budget SECONDS      per configuration (default 10): doubling stops when the next point
                              would end past it (its cost predicted from the points so far); the
