@@ -264,7 +264,6 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
   const std::vector<std::string> backends = split_list(c.args.backend);
   if (backends.size() != 1)
     throw UsageError(where + "a configuration renders with one backend (give one --config each)");
-  const std::vector<std::string> known = Backend::names();
   check_integrator(c.args.integrator);
   check_runs(where, c.args.backend_options, c.args.threads, backends[0]);
   return c;
