@@ -33,6 +33,7 @@
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/interrupt.h"
+#include "util/memory.h"
 #include "util/paths.h"
 #include "util/progress.h"
 
@@ -53,7 +54,10 @@ Configurations
                              KEY a render option's name without its dashes (backend=embree,
                              sampler=independent, integrator=direct, max-depth=8, seed=3,
                              backend-option=dacrt.bins=8, threads=1, wavefront=65536, ...);
-                             its label is the text itself ("" is "default"). Repeatable. Default:
+                             its label is the text itself ("" is "default"; no line breaks or
+                             other control characters). Every configuration is checked (its
+                             backend built on no geometry) before anything is rendered, and the
+                             CSV and the script are rewritten after each one. Repeatable. Default:
                              "" (dacrt, sobol), "sampler=independent", "backend=embree"
   --time-budget SECONDS      per configuration (default 10): doubling stops when the next point
                              would end past it (its cost predicted from the points so far); the
@@ -119,10 +123,26 @@ struct ConvergeArgs {
   std::vector<double> targets;
 };
 
+// A --backend-option's key "NAME.key" must name a backend: every backend drops the keys meant for
+// another, so a misspelt prefix ("dacr.bins=4", ".bins=4") would be ignored without a word.
+void check_backend_option(const std::string& where, const std::string& assignment) {
+  const std::string key = assignment.substr(0, assignment.find('='));
+  const size_t dot = key.find('.');
+  if (dot == std::string::npos) return;
+  const std::string prefix = key.substr(0, dot);
+  const std::vector<std::string> known = Backend::names();
+  if (std::find(known.begin(), known.end(), prefix) != known.end()) return;
+  std::string names;
+  for (const std::string& n : known) names += (names.empty() ? "" : ", ") + n;
+  throw UsageError(where + "--backend-option " + assignment + ": '" + prefix +
+                   "' is not a backend (known: " + names + ")");
+}
+
 ConvergeArgs parse_converge(const std::vector<std::string>& args) {
   ConvergeArgs c;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    if (a == "--backend-option" && i + 1 < args.size()) check_backend_option("", args[i + 1]);
     auto value = [&]() -> const std::string& {
       if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
       return args[++i];
@@ -184,16 +204,38 @@ ConvergeArgs parse_converge(const std::vector<std::string>& args) {
   return c;
 }
 
+// A message quotes at most 200 characters of an argument: it stays one readable line.
+std::string shortened(const std::string& text) {
+  return text.size() <= 200 ? text : text.substr(0, 200) + "...";
+}
+
+// Creates the backend on no geometry with the options the render will give it: an unknown name, an
+// unknown key or a bad value is a usage error now rather than after the renders before it.
+void check_runs(const std::string& where, Options options, int threads, const std::string& name) {
+  options.threads = threads;
+  try {
+    Backend::create(name, Geometry{}, options.for_plugin(name));
+  } catch (const Error& e) {
+    throw UsageError(where + e.what());
+  }
+}
+
 // A configuration: the shared options, then "KEY=VALUE ..." through the render option parser.
 Config parse_config(const std::string& text, const RenderArgs& shared) {
   Config c{text, shared};
   std::istringstream words(text);
   std::string word;
-  const std::string where = "--config \"" + text + "\": ";
+  const std::string where = "--config \"" + shortened(text) + "\": ";
+  // The label goes into the CSV, the gnuplot script and the plot: a line break or another control
+  // character in it would end a gnuplot string or a CSV row.
+  for (unsigned char ch : text)
+    if ((ch < 0x20 && ch != '\t') || ch == 0x7f)
+      throw UsageError("--config holds a control character (" + std::to_string(int(ch)) +
+                       "): a configuration is one line of printable KEY=VALUE words");
   while (words >> word) {
     const size_t eq = word.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw UsageError(where + "'" + word + "' is not KEY=VALUE");
+      throw UsageError(where + "'" + shortened(word) + "' is not KEY=VALUE");
     std::string key = word.substr(0, eq);
     if (key.rfind("--", 0) == 0) key = key.substr(2);
     const std::string flag = "--" + key;
@@ -202,6 +244,7 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
                        flag + " before the configurations");
     if (not_applicable.count(flag))
       throw UsageError(where + key + " does not apply to dacrt converge");
+    if (key == "backend-option") check_backend_option(where, word.substr(eq + 1));
     const std::vector<std::string> option = {flag, word.substr(eq + 1)};
     size_t i = 0;
     bool known = false;
@@ -210,7 +253,8 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
     } catch (const UsageError& e) {
       throw UsageError(where + e.what());
     }
-    if (!known) throw UsageError(where + "unknown key '" + key + "' (see dacrt render --help)");
+    if (!known)
+      throw UsageError(where + "unknown key '" + shortened(key) + "' (see dacrt render --help)");
   }
   words.clear();
   c.label = text;
@@ -220,10 +264,8 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
   const std::vector<std::string> backends = split_list(c.args.backend);
   if (backends.size() != 1)
     throw UsageError(where + "a configuration renders with one backend (give one --config each)");
-  const std::vector<std::string> known = Backend::names();
-  if (std::find(known.begin(), known.end(), backends[0]) == known.end())
-    Backend::create(backends[0], Geometry{});  // throws the registry's error naming the backends
   check_integrator(c.args.integrator);
+  check_runs(where, c.args.backend_options, c.args.threads, backends[0]);
   return c;
 }
 
@@ -235,14 +277,50 @@ std::vector<Config> parse_configs(const ConvergeArgs& c) {
     if (std::find(known.begin(), known.end(), "embree") != known.end())
       texts.push_back("backend=embree");
   }
+  if (c.reference.empty() && !c.no_reference) {  // the reference's render: the shared options
+    const std::vector<std::string> backends = split_list(c.shared.backend);
+    check_integrator(c.shared.integrator);
+    check_runs("the reference (the shared options): ", c.shared.backend_options, c.shared.threads,
+               backends.empty() ? "dacrt" : backends[0]);
+  }
   std::vector<Config> configs;
   std::set<std::string> labels;
   for (const std::string& text : texts) {
     configs.push_back(parse_config(text, c.shared));
     if (!labels.insert(configs.back().label).second)
-      throw UsageError("--config \"" + text + "\" is given twice");
+      throw UsageError("--config \"" + shortened(text) + "\" is given twice");
   }
   return configs;
+}
+
+// The largest allocations of the renders, estimated before any is made (as `dacrt render` does):
+// a configuration's film and path state, twice with --noise, beside the reference image. Throws
+// Error when they exceed the memory this process may still take.
+void check_memory(const ConvergeArgs& a, const std::vector<Config>& configs,
+                  const RenderSettings& base) {
+  const RenderMemory reference = render_memory(base, false);
+  uint64_t need = reference.image + reference.paths;
+  for (const Config& c : configs) {
+    const RenderMemory m = render_memory(c.args.settings, false);
+    need = std::max(need, (a.noise ? 2 : 1) * (m.image + m.paths) + reference.image);
+  }
+  const uint64_t available = available_memory();
+  if (need <= available) return;
+  throw Error(a.shared.scene + ": converge's " + std::to_string(base.width) + " x " +
+              std::to_string(base.height) + " renders need about " + format_bytes(need) +
+              ", more than the " + format_bytes(available) + " of memory available");
+}
+
+// A reference with a NaN or an infinite value would make every error NaN or infinite.
+void check_finite(const std::string& path, const Image& image) {
+  for (size_t i = 0; i < image.rgb.size(); ++i)
+    if (!std::isfinite(image.rgb[i])) {
+      const size_t pixel = i / 3;
+      throw Error(path + ": the reference's pixel (" + std::to_string(pixel % image.width) + ", " +
+                  std::to_string(pixel / image.width) + ") channel " + "RGB"[i % 3] + " is " +
+                  (std::isnan(image.rgb[i]) ? "NaN" : "infinite") +
+                  ": a reference must be finite everywhere");
+    }
 }
 
 std::optional<std::string> find_in_path(const std::string& program) {
@@ -307,18 +385,24 @@ int converge_main(const std::vector<std::string>& args) {
   const bool outdir_exists = fs::exists(outdir, ec);
   if (outdir_exists && !fs::is_directory(outdir, ec))
     throw Error(a.outdir + ": cannot write the outputs there: it is not a directory");
+  if (!outdir_exists && fs::is_symlink(fs::symlink_status(outdir, ec)))
+    throw Error(a.outdir + ": cannot write the outputs there: it is a symbolic link to " +
+                fs::read_symlink(outdir, ec).string() + ", which does not exist");
   const std::string csv = (outdir / "convergence.csv").string(),
                     script = (outdir / "convergence.gp").string(),
                     svg = (outdir / "convergence.svg").string(),
                     png = (outdir / "convergence.png").string(),
                     reference_out = (outdir / "reference.exr").string();
+  const bool render_reference = a.reference.empty() && !a.no_reference;
   if (outdir_exists) {
     for (const std::string& out : {csv, script, svg, png}) check_writable(out);
+    if (render_reference) check_writable(reference_out);
   } else {
     check_writable(a.outdir);  // its parent is a writable directory
   }
-  std::vector<NamedFile> inputs = {{"the scene", a.shared.scene}, {"--reference", a.reference}};
-  const bool render_reference = a.reference.empty() && !a.no_reference;
+  std::vector<NamedFile> inputs = {{"the scene", a.shared.scene},
+                                   {"--reference", a.reference},
+                                   {"--environment", a.shared.setup.environment_file}};
   std::vector<NamedFile> outputs = {{"-o", csv}, {"-o", script}, {"-o", svg}, {"-o", png}};
   if (render_reference) outputs.push_back({"-o", reference_out});
   check_outputs(outputs, inputs);
@@ -331,13 +415,18 @@ int converge_main(const std::vector<std::string>& args) {
                    "written, the plot is not (install gnuplot-nox)\n");
   }
   std::optional<Image> reference;
-  if (!a.reference.empty()) reference = read_exr(a.reference);
+  if (!a.reference.empty()) {
+    reference = read_exr(a.reference);
+    check_finite(a.reference, *reference);
+  }
 
   std::unique_ptr<tbb::global_control> threads;
   if (a.shared.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     size_t(a.shared.threads));
   Scene scene = load_gltf(a.shared.scene, a.shared.gltf);
+  for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
+  check_outputs(outputs, inputs);
   try {
     override_scene_camera(scene, a.shared.setup);
   } catch (const Error& e) {
@@ -361,6 +450,8 @@ int converge_main(const std::vector<std::string>& args) {
                 std::to_string(base.width) + " x " + std::to_string(base.height) +
                 " (give --width " + std::to_string(reference->width) + " --height " +
                 std::to_string(reference->height) + ", or another reference)");
+
+  check_memory(a, configs, base);
 
   StopOnSignals signals;
   const std::atomic<bool>* stop = &signals.token();
@@ -398,52 +489,80 @@ int converge_main(const std::vector<std::string>& args) {
   }
 
   const Metric metric = *a.metric;
+  const std::string title = fs::path(a.shared.scene).filename().string() + ", " +
+                            std::to_string(base.width) + " x " + std::to_string(base.height) +
+                            ": " + metric_names[int(metric)] + " against time";
   std::vector<Curve> curves;
+  // The CSV and the script hold every point measured so far: written after each configuration,
+  // and before an error of a later one ends the command, so that it loses none of them.
+  auto write_so_far = [&](const Curve* unfinished) {
+    std::vector<Curve> all = curves;
+    if (unfinished && !unfinished->points.empty()) all.push_back(*unfinished);
+    if (all.empty()) return;
+    if (!fs::exists(outdir)) fs::create_directories(outdir);
+    write_csv(csv, all);
+    write_script(script, all, metric, title);
+  };
+  // On an error: the points so far are kept if they can be, the error (one line) is the
+  // command's. Out of memory, the write may fail too: the original error is the one to report.
+  auto keep_so_far = [&](const Curve* unfinished) {
+    try {
+      write_so_far(unfinished);
+      return !curves.empty() || !unfinished->points.empty();
+    } catch (...) {
+      return false;
+    }
+  };
   for (size_t k = 0; k < configs.size() && !signals.signal(); ++k) {
     const Config& c = configs[k];
-    std::unique_ptr<tbb::global_control> own_threads;
-    if (c.args.threads > 0 && c.args.threads != a.shared.threads)
-      own_threads = std::make_unique<tbb::global_control>(
-          tbb::global_control::max_allowed_parallelism, size_t(c.args.threads));
-    const auto t0 = Clock::now();
-    Run run = start_run(scene, c, c.args.settings.seed);
-    const double setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-    std::optional<Run> second;
-    if (a.noise) second = start_run(scene, c, c.args.settings.seed + 1);
     Curve curve{c.label, {}};
-    double rendered = 0;  // the render seconds of the samples so far
-    uint32_t spp = 0;
-    for (uint32_t next = 1;; next *= 2) {
-      const std::string label = "converge " + c.label + ": " + std::to_string(next) + " spp";
-      double step = 0;
-      if (!render_to(run, spp, next, label, bar, stop, &step)) break;
-      if (second && !render_to(*second, spp, next, label + " (seed S + 1)", bar, stop, nullptr))
-        break;
-      spp = next;
-      rendered += step;
-      Point p;
-      p.spp = spp;
-      p.seconds = setup_seconds + rendered;
-      const Image image = run.film->resolve();
-      if (reference) p.error = image_error(image, *reference);
-      if (second) p.noise = noise_from_seeds(image, second->film->resolve());
-      curve.points.push_back(p);
-      if (verbose)
-        std::fprintf(stderr, "converge %s: %u spp, %.3g s, %s %.4g\n", c.label.c_str(), spp,
-                     p.seconds, metric_names[int(metric)], value_of(p, metric).value_or(NAN));
-      // Doubling renders as many samples again: it costs about what the samples so far cost.
-      if (spp >= a.max_spp || (curve.points.size() >= 2 && p.seconds + rendered > a.budget)) break;
+    try {
+      std::unique_ptr<tbb::global_control> own_threads;
+      if (c.args.threads > 0 && c.args.threads != a.shared.threads)
+        own_threads = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, size_t(c.args.threads));
+      const auto t0 = Clock::now();
+      Run run = start_run(scene, c, c.args.settings.seed);
+      const double setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+      std::optional<Run> second;
+      if (a.noise) second = start_run(scene, c, c.args.settings.seed + 1);
+      double rendered = 0;  // the render seconds of the samples so far
+      uint32_t spp = 0;
+      for (uint32_t next = 1;; next *= 2) {
+        const std::string label = "converge " + c.label + ": " + std::to_string(next) + " spp";
+        double step = 0;
+        if (!render_to(run, spp, next, label, bar, stop, &step)) break;
+        if (second && !render_to(*second, spp, next, label + " (seed S + 1)", bar, stop, nullptr))
+          break;
+        spp = next;
+        rendered += step;
+        Point p;
+        p.spp = spp;
+        p.seconds = setup_seconds + rendered;
+        const Image image = run.film->resolve();
+        if (reference) p.error = image_error(image, *reference);
+        if (second) p.noise = noise_from_seeds(image, second->film->resolve());
+        curve.points.push_back(p);
+        if (verbose)
+          std::fprintf(stderr, "converge %s: %u spp, %.3g s, %s %.4g\n", c.label.c_str(), spp,
+                       p.seconds, metric_names[int(metric)], value_of(p, metric).value_or(NAN));
+        // Doubling renders as many samples again: it costs about what the samples so far cost.
+        if (spp >= a.max_spp || (curve.points.size() >= 2 && p.seconds + rendered > a.budget))
+          break;
+      }
+    } catch (const Error& e) {
+      const bool kept = keep_so_far(&curve);
+      throw Error("--config \"" + shortened(c.label) + "\": " + e.what() +
+                  (kept ? " (the points so far are in " + csv + ")" : ""));
+    } catch (...) {
+      keep_so_far(&curve);
+      throw;
     }
     if (!curve.points.empty()) curves.push_back(std::move(curve));
+    write_so_far(nullptr);
   }
 
   if (!curves.empty()) {
-    if (!fs::exists(outdir)) fs::create_directories(outdir);
-    write_csv(csv, curves);
-    const std::string title = fs::path(a.shared.scene).filename().string() + ", " +
-                              std::to_string(base.width) + " x " + std::to_string(base.height) +
-                              ": " + metric_names[int(metric)] + " against time";
-    write_script(script, curves, metric, title);
     if (gnuplot) draw_plot(*gnuplot, fs::absolute(script).string(), svg, png);
     print_table(curves, metric, a.targets);
     if (verbose) {

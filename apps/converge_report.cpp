@@ -6,7 +6,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -44,9 +47,13 @@ std::string csv_quote(const std::string& text) {
   return q + "\"";
 }
 
+// A gnuplot string in single quotes, where only '' is special: a line break (or any other control
+// character, from a scene's file name say) would end the command, so each becomes a space.
 std::string gnuplot_quote(const std::string& text) {
   std::string q = "'";
-  for (char ch : text) q += ch == '\'' ? std::string("''") : std::string(1, ch);
+  for (char ch : text)
+    q += ch == '\'' ? std::string("''")
+                    : std::string(1, (unsigned char)ch < 0x20 || ch == 0x7f ? ' ' : ch);
   return q + "'";
 }
 
@@ -134,9 +141,17 @@ void write_script(const std::string& path, const std::vector<Curve>& curves, Met
 
 void draw_plot(const std::string& gnuplot, const std::string& script, const std::string& svg,
                const std::string& png) {
-  const std::string suffix = ".tmp-" + std::to_string(getpid());
-  const std::string svg_tmp = svg + suffix, png_tmp = png + suffix, err = script + ".err" + suffix;
-  const std::string vars = "svg=" + gnuplot_quote(svg_tmp) + "; png=" + gnuplot_quote(png_tmp);
+  // gnuplot writes into a directory of our own, made with an unpredictable name beside the
+  // outputs (a link planted at a guessable temporary name is never followed), and is given
+  // plain names there: the directory's path need not survive gnuplot's quoting. The plots are
+  // then renamed into place.
+  std::string pattern =
+      (fs::absolute(fs::path(svg)).parent_path() / ".convergence-XXXXXX").string();
+  if (!::mkdtemp(pattern.data()))
+    throw Error("cannot draw the plot beside " + svg + ": " + std::strerror(errno));
+  const fs::path dir = pattern;
+  const fs::path svg_tmp = dir / "plot.svg", png_tmp = dir / "plot.png", err = dir / "gnuplot.err";
+  const std::string vars = "svg='plot.svg'; png='plot.png'";
   std::vector<std::string> argv_s = {gnuplot, "-e", vars, script};
   std::vector<char*> argv;
   for (std::string& a : argv_s) argv.push_back(a.data());
@@ -145,7 +160,8 @@ void draw_plot(const std::string& gnuplot, const std::string& script, const std:
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+  posix_spawn_file_actions_addchdir_np(&actions, dir.c_str());
   pid_t pid = -1;
   const int spawned = posix_spawn(&pid, gnuplot.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -160,17 +176,17 @@ void draw_plot(const std::string& gnuplot, const std::string& script, const std:
       message = line;
   }
   std::error_code ec;
-  fs::remove(err, ec);
   const bool ok = spawned == 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
                   fs::exists(svg_tmp) && fs::exists(png_tmp);
   if (ok) {
     fs::rename(svg_tmp, svg, ec);
     if (!ec) fs::rename(png_tmp, png, ec);
   }
-  if (!ok || ec) {
-    fs::remove(svg_tmp, ec), fs::remove(png_tmp, ec);
-    throw Error("gnuplot could not draw " + script + (message.empty() ? "" : ": " + message));
-  }
+  std::error_code ignored;
+  fs::remove_all(dir, ignored);
+  if (!ok || ec)
+    throw Error("gnuplot could not draw " + script +
+                (message.empty() ? "" : ": " + one_line(message)));
 }
 
 void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<double> targets) {
