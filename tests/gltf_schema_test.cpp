@@ -12,6 +12,7 @@
 
 #include "io/gltf.h"
 #include "io/gltf/schema.h"
+#include "tests/captured_stderr.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_writer.h"
 #include "util/error.h"
@@ -21,6 +22,7 @@ using dacrt::load_gltf;
 using dacrt::Scene;
 using dacrt::test::check_error;
 using dacrt::test::GltfWriter;
+using dacrt::test::stderr_of;
 using dacrt::test::TempDir;
 using nlohmann::json;
 
@@ -123,21 +125,6 @@ json read_json(const std::string& path) {
 // The warnings of the schema check on file `path` (what a load writes to stderr).
 std::vector<std::string> warnings(const std::string& path) {
   return dacrt::check_gltf_schema(path, read_json(path));
-}
-
-// What a load writes to std::cerr.
-template <class Load>
-std::string stderr_of(Load&& load) {
-  std::ostringstream captured;
-  std::streambuf* old = std::cerr.rdbuf(captured.rdbuf());
-  try {
-    load();
-  } catch (...) {
-    std::cerr.rdbuf(old);
-    throw;
-  }
-  std::cerr.rdbuf(old);
-  return captured.str();
 }
 
 }  // namespace
@@ -255,6 +242,11 @@ TEST_CASE("gltf schema: primitive mode 99 is an error; points and lines still wa
     const std::string err = stderr_of([&] { CHECK(load_gltf(path).geometry.size() == 1); });
     CHECK(err == "warning: " + path + ": skipped 1 point and line primitives\n");
   }
+  // A file name with a line break in it still makes one warning line.
+  const std::string odd = w.write_gltf(dir / "two\nlines.gltf");
+  const std::string err = stderr_of([&] { CHECK(load_gltf(odd).geometry.size() == 1); });
+  CHECK(err == "warning: " + dir / "two lines.gltf" +
+                   ": skipped 1 point and line primitives\n");
 }
 
 TEST_CASE("gltf schema: extensionsRequired") {

@@ -13,43 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "tests/captured_stderr.h"
 #include "util/progress_format.h"
 
+using dacrt::test::CapturedStderr;
+
 namespace {
-
-// Redirects stderr to an unlinked temporary file while alive; text() returns what was written.
-class CapturedStderr {
- public:
-  CapturedStderr() {
-    std::fflush(stderr);
-    file_ = std::tmpfile();
-    REQUIRE(file_ != nullptr);
-    saved_ = dup(STDERR_FILENO);
-    REQUIRE(saved_ >= 0);
-    REQUIRE(dup2(fileno(file_), STDERR_FILENO) >= 0);
-  }
-  ~CapturedStderr() { restore(); }
-  std::string text() {
-    restore();
-    std::rewind(file_);
-    std::string out;
-    char buffer[4096];
-    size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, file_)) > 0) out.append(buffer, n);
-    return out;
-  }
-
- private:
-  void restore() {
-    if (saved_ < 0) return;
-    std::fflush(stderr);
-    dup2(saved_, STDERR_FILENO);
-    close(saved_);
-    saved_ = -1;
-  }
-  std::FILE* file_ = nullptr;
-  int saved_ = -1;
-};
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;

@@ -12,7 +12,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -24,6 +23,7 @@
 #include "util/error.h"
 #include "util/memory.h"
 #include "util/paths.h"
+#include "util/text.h"
 
 namespace dacrt {
 
@@ -424,7 +424,7 @@ tinygltf::Model parse(const std::string& path, const Bytes& data, int scene,
     throw Error(path + ": JSON does not parse: " + summary(e.what()));
   }
   for (const std::string& warning : check_gltf_schema(path, doc))
-    std::cerr << "warning: " << warning << "\n";
+    print_message("warning: " + warning);
 
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
   ExternalFiles external;

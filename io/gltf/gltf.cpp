@@ -26,11 +26,11 @@
 // the textures the placed meshes use. accessors.cpp and tangents.cpp serve them (internal.h).
 #include "io/gltf.h"
 
-#include <iostream>
 #include <new>
 
 #include "io/gltf/file.h"
 #include "io/gltf/internal.h"
+#include "util/text.h"
 
 namespace dacrt {
 namespace gltf {
@@ -60,7 +60,7 @@ Scene run(const Gltf& gltf, int scene) {
   if (out.cameras.empty()) out.cameras.push_back(frame_bounds(out.bounds(), 0.f));
 
   auto warn = [&](size_t n, const char* what) {
-    if (n > 0) std::cerr << "warning: " << gltf.path << ": skipped " << n << " " << what << "\n";
+    if (n > 0) print_message("warning: " + gltf.path + ": skipped " + str(n) + " " + what);
   };
   warn(meshes.skipped_modes(), "point and line primitives");
   warn(meshes.skipped_unpositioned(), "primitives without POSITION");
@@ -72,8 +72,7 @@ Scene run(const Gltf& gltf, int scene) {
     };
     add(i.specular_textures, "KHR_materials_specular textures");
     add(i.volumes, "KHR_materials_volume thicknesses (rendered thin-walled)");
-    std::cerr << "warning: " << gltf.path << ": not rendered as specified in this version: " << what
-              << "\n";
+    print_message("warning: " + gltf.path + ": not rendered as specified in this version: " + what);
   }
   return out;
 }
