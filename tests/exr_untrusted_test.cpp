@@ -20,6 +20,7 @@
 
 #include "../fuzz/exr_input.h"
 #include "allocations.h"
+#include "corpus.h"
 #include "io/exr.h"
 #include "scene/environment.h"
 #include "temp_dir.h"
@@ -257,12 +258,9 @@ TEST_CASE("EXR: OpenEXR's own errors on a header that passes the checks are one 
 TEST_CASE("EXR: every kept fuzzing input and seed map loads or is refused in one line") {
   const std::filesystem::path dir = DACRT_SOURCE_DIR "/tests/fuzz-exr";
   size_t inputs = 0, loaded = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    if (!entry.is_regular_file() || entry.path().extension() == ".md") continue;
-    std::ifstream in(entry.path(), std::ios::binary);
-    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                           std::istreambuf_iterator<char>());
-    const std::string name = entry.path().filename().string();
+  dacrt::test::for_each_corpus_file(dir, [&](const std::filesystem::path& path,
+                                             const std::vector<unsigned char>& bytes) {
+    const std::string name = path.filename().string();
     INFO(name);
     ++inputs;
     const dacrt::ExrFuzzOutcome outcome = dacrt::fuzz_exr_input(bytes.data(), bytes.size(), name);
@@ -276,7 +274,7 @@ TEST_CASE("EXR: every kept fuzzing input and seed map loads or is refused in one
     // Seeds (scanline in every compression, half and float, tiled and mipmapped) must load.
     if (name.rfind("seed-", 0) == 0) CHECK(outcome.loaded);
     if (name.rfind("hostile-", 0) == 0) CHECK(!outcome.loaded);
-  }
+  });
   MESSAGE(inputs << " inputs, " << loaded << " loaded");
   CHECK(loaded >= 10);
 }

@@ -6,21 +6,18 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <string>
 #include <vector>
 
 #include "../fuzz/fuzz_input.h"
+#include "tests/corpus.h"
 
 TEST_CASE("the glTF loader and the image decoders survive every kept fuzzing input") {
   const std::filesystem::path dir = DACRT_SOURCE_DIR "/tests/fuzz";
   size_t inputs = 0, errors = 0, traced = 0, decoded = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    if (!entry.is_regular_file() || entry.path().filename() == "README.md") continue;
-    std::ifstream in(entry.path(), std::ios::binary);
-    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                           std::istreambuf_iterator<char>());
-    const std::string name = entry.path().filename().string();
+  dacrt::test::for_each_corpus_file(dir, [&](const std::filesystem::path& path,
+                                             const std::vector<unsigned char>& bytes) {
+    const std::string name = path.filename().string();
     INFO(name);
     ++inputs;
     const dacrt::FuzzOutcome outcome = dacrt::fuzz_input(bytes.data(), bytes.size(), name);
@@ -39,12 +36,12 @@ TEST_CASE("the glTF loader and the image decoders survive every kept fuzzing inp
         break;
     }
     // A hostile image (hostile-*.hdr, .pgm…) must be refused; a seed image must decode.
-    const std::string ext = entry.path().extension().string();
+    const std::string ext = path.extension().string();
     if (name.rfind("hostile-", 0) == 0 && ext != ".gltf" && ext != ".glb")
       CHECK(outcome.kind == dacrt::FuzzOutcome::refused);
     if (name.rfind("seed-", 0) == 0 && (ext == ".png" || ext == ".jpg"))
       CHECK(outcome.kind == dacrt::FuzzOutcome::decoded);
-  }
+  });
   MESSAGE(inputs << " inputs, " << errors << " rejected with an error, " << traced << " traced, "
                  << decoded << " images decoded");
   CHECK(traced >= 2);   // the textured seed and the extent past float, at least
