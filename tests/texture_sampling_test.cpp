@@ -1,0 +1,74 @@
+// The texture sampler (materials/texture.h): nearest and bilinear filtering, sRGB decoded per
+// texel before filtering, the repeat, mirror and clamp wrap modes, and coordinates far out of range
+// or not numbers.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "materials/texture.h"
+#include "tests/texture_fixtures.h"
+
+using namespace dacrt;
+using namespace dacrt::test;
+
+namespace {
+
+TextureImage image2x2() {
+  TextureImage image;
+  image.width = image.height = 2;
+  image.rgba8 = kTexels;
+  return image;
+}
+
+}  // namespace
+
+TEST_CASE("texture sampling: nearest and bilinear, sRGB per texel, wrap modes") {
+  // The sRGB curve's known values: 188 → 0.5029, 0.5 → 0.2140, linear below 0.04045.
+  CHECK(kGrey == doctest::Approx(0.50289).epsilon(1e-4));
+  CHECK(srgb_to_linear(0.5f) == doctest::Approx(0.21404).epsilon(1e-4));
+  CHECK(srgb_to_linear(0.04f) == doctest::Approx(0.04f / 12.92f));
+  const TextureImage image = image2x2();
+  Texture t;
+  t.nearest = true;
+  // uv (0, 0) is the image's top-left corner.
+  CHECK(sample(image, t, {0.25f, 0.25f}, false) == glm::vec4(1, 0, 0, 1));
+  CHECK(sample(image, t, {0.75f, 0.25f}, false) == glm::vec4(0, 1, 0, 128.f / 255.f));
+  CHECK(sample(image, t, {0.25f, 0.75f}, false) == glm::vec4(0, 0, 1, 1));
+  CHECK(sample(image, t, {0.75f, 0.75f}, true) == glm::vec4(kGrey, kGrey, kGrey, 1));
+
+  t.nearest = false;
+  // At a texel centre bilinear filtering returns the texel; at the middle, the mean of the four
+  // texels after sRGB decoding (not the decoded mean of the bytes).
+  CHECK(sample(image, t, {0.75f, 0.75f}, true) == glm::vec4(kGrey, kGrey, kGrey, 1));
+  const glm::vec4 mid = sample(image, t, {0.5f, 0.5f}, true);
+  CHECK(mid.r == doctest::Approx((1.f + kGrey) / 4));
+  CHECK(mid.a == doctest::Approx((3.f + 128.f / 255.f) / 4));
+  // Halfway between the two top texels, a quarter of the way down from the top edge: with
+  // repeat, the top row blends with the bottom row (the texel above wraps around).
+  const glm::vec4 edge = sample(image, t, {0.5f, 0.0f}, false);
+  CHECK(edge.r == doctest::Approx(0.25f * (1.f + 0.f + 0.f + 188.f / 255.f)));
+  t.wrap_t = Wrap::clamp;
+  CHECK(sample(image, t, {0.5f, 0.0f}, false).r == doctest::Approx(0.5f));
+
+  t.nearest = true;
+  t.wrap_s = t.wrap_t = Wrap::repeat;
+  CHECK(sample(image, t, {1.25f, 0.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+  CHECK(sample(image, t, {-0.75f, 2.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+  t.wrap_s = Wrap::mirror;
+  CHECK(sample(image, t, {1.25f, 0.25f}, false) == sample(image, t, {0.75f, 0.25f}, false));
+  CHECK(sample(image, t, {2.25f, 0.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+  CHECK(sample(image, t, {-0.25f, 0.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+  t.wrap_s = Wrap::clamp;
+  CHECK(sample(image, t, {7.f, 0.25f}, false) == sample(image, t, {0.75f, 0.25f}, false));
+  CHECK(sample(image, t, {-7.f, 0.25f}, false) == sample(image, t, {0.25f, 0.25f}, false));
+
+  // Coordinates far out or not numbers still give a texel, never an out-of-bounds read.
+  for (Wrap wrap : {Wrap::repeat, Wrap::mirror, Wrap::clamp})
+    for (bool nearest : {true, false})
+      for (float u : {1e30f, -1e30f, INFINITY, NAN, 16777217.f}) {
+        t.wrap_s = t.wrap_t = wrap;
+        t.nearest = nearest;
+        const glm::vec4 c = sample(image, t, {u, u}, false);
+        CHECK((std::isfinite(c.r) && c.r >= 0.f && c.r <= 1.f));
+      }
+}
