@@ -22,7 +22,7 @@
 
 #include "integrators/integrator.h"
 #include "io/texture_decode.h"
-#include "materials/surface.h"
+#include "scene/surface.h"
 #include "render/render_job.h"
 #include "tests/allocations.h"
 #include "tests/gltf_check.h"
