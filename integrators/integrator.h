@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "integrators/sampler.h"
-#include "render/film.h"
+#include "film/film.h"
 #include "scene/environment.h"
 #include "scene/scene.h"
 #include "tracer/backend.h"

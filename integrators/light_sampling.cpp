@@ -8,7 +8,7 @@
 
 #include "integrators/lambert_lanes.h"
 #include "integrators/spherical_triangle.h"
-#include "materials/surface.h"
+#include "scene/surface.h"
 #include "tracer/ray.h"
 
 namespace dacrt {

@@ -4,7 +4,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "materials/sampling.h"
-#include "materials/surface.h"
+#include "scene/surface.h"
 
 namespace dacrt {
 namespace {

@@ -15,7 +15,7 @@
 #include <bit>
 
 #include "materials/sampling.h"
-#include "materials/surface.h"
+#include "scene/surface.h"
 #include "tracer/ray.h"
 
 namespace dacrt {

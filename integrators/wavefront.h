@@ -23,7 +23,7 @@
 #include "integrators/queues.h"
 #include "integrators/sampler.h"
 #include "materials/gltf_brdf.h"
-#include "materials/surface.h"
+#include "scene/surface.h"
 #include "tracer/ray_batch.h"
 #include "util/random.h"
 

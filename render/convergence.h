@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/image.h"
+#include "util/image.h"
 
 namespace dacrt {
 

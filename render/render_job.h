@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "integrators/integrator.h"
-#include "render/film.h"
+#include "film/film.h"
 #include "scene/scene.h"
 #include "tracer/backend.h"
 #include "util/progress.h"

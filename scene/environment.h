@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "io/image.h"
+#include "util/image.h"
 #include "util/alias_table.h"
 
 namespace dacrt {

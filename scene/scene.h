@@ -9,68 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "materials/gltf_brdf.h"
+#include "materials/material.h"
+#include "materials/texture.h"
 #include "scene/camera.h"
 #include "scene/environment.h"
-#include "materials/texture.h"
 #include "tracer/geometry.h"
 
 namespace dacrt {
-
-// The glTF material, as far as this version renders it: the metallic-roughness BRDF (with
-// KHR_materials_ior and KHR_materials_specular), its textures, and an emitter. Defaults are
-// glTF's. Textures multiply their factors (see materials/surface.h).
-struct Material {
-  std::string name;
-  glm::vec3 base_color{1.f};      // baseColorFactor.rgb
-  float metallic = 1.f;           // metallicFactor
-  float roughness = 1.f;          // roughnessFactor (perceptual)
-  float ior = 1.5f;               // KHR_materials_ior
-  float specular = 1.f;           // KHR_materials_specular.specularFactor
-  glm::vec3 specular_color{1.f};  // KHR_materials_specular.specularColorFactor
-  float transmission = 0.f;       // KHR_materials_transmission.transmissionFactor (thin-walled)
-  glm::vec3 emission{0.f};        // emissiveFactor × KHR_materials_emissive_strength (radiance)
-  bool double_sided = false;      // emitters emit from their back face too
-  float alpha = 1.f;              // baseColorFactor.a
-  // alphaMode: OPAQUE ignores alpha; MASK draws where alpha >= alpha_cutoff; BLEND draws with
-  // probability alpha (stochastic transparency: unbiased, no sorting).
-  enum class AlphaMode : uint8_t { opaque, mask, blend };
-  AlphaMode alpha_mode = AlphaMode::opaque;
-  float alpha_cutoff = 0.5f;
-
-  TextureRef base_color_texture;          // sRGB; alpha in .a
-  TextureRef metallic_roughness_texture;  // linear; roughness in .g, metallic in .b
-  TextureRef normal_texture;              // tangent space, scaled by normal_scale
-  TextureRef emissive_texture;            // sRGB
-  TextureRef transmission_texture;        // linear; transmission in .r
-  float normal_scale = 1.f;
-
-  // The textures shading reads (null entries for the rest): an emissive texture only when the
-  // emissive factor is not black, a transmission texture only when the factor is not 0.
-  std::array<const TextureRef*, 5> sampled_textures() const {
-    return {&base_color_texture, &metallic_roughness_texture, &normal_texture,
-            emissive() ? &emissive_texture : nullptr,
-            transmission > 0.f ? &transmission_texture : nullptr};
-  }
-  bool textured() const {
-    for (const TextureRef* t : sampled_textures())
-      if (t && *t) return true;
-    return false;
-  }
-
-  bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
-  BrdfParams brdf() const {
-    return {base_color, metallic, roughness, ior, specular, specular_color, transmission};
-  }
-  // A Lambertian surface: no metal, no specular layer.
-  static Material lambert(const glm::vec3& color) {
-    Material m;
-    m.base_color = color;
-    m.metallic = 0.f;
-    m.specular = 0.f;
-    return m;
-  }
-};
 
 // A KHR_lights_punctual light, placed by its node. Intensities are taken as renderer units, like
 // emissive factors: `intensity` (colour × intensity) is radiant intensity for point and spot lights

@@ -5,7 +5,6 @@
 // must be refused with one line naming the file and what is wrong, allocating almost nothing.
 // The kept fuzzing inputs in tests/fuzz-exr/ go through fuzz/exr_input.h as the fuzzer runs them.
 #include <doctest/doctest.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,6 +18,7 @@
 #include <vector>
 
 #include "../fuzz/exr_input.h"
+#include "address_space.h"
 #include "allocations.h"
 #include "corpus.h"
 #include "io/exr.h"
@@ -279,18 +279,6 @@ TEST_CASE("EXR: every kept fuzzing input and seed map loads or is refused in one
   CHECK(loaded >= 10);
 }
 
-namespace {
-
-// This process's address space, from /proc/self/status (0 when it cannot be read).
-uint64_t vm_size() {
-  std::ifstream status("/proc/self/status");
-  for (std::string line; std::getline(status, line);)
-    if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) * 1024;
-  return 0;
-}
-
-}  // namespace
-
 TEST_CASE("EXR: an environment map whose sampling tables do not fit in memory is refused") {
 #if defined(__SANITIZE_ADDRESS__)
   MESSAGE("skipped under AddressSanitizer: its shadow memory needs an unlimited address space");
@@ -305,9 +293,9 @@ TEST_CASE("EXR: an environment map whose sampling tables do not fit in memory is
   REQUIRE(pid >= 0);
   if (pid == 0) {
     close(fds[0]);
-    const rlimit limit{vm_size() + (64u << 20), vm_size() + (64u << 20)};
+    const dacrt::test::AddressSpaceRoom room(64u << 20);
     std::string message = "the limit could not be set";
-    if (vm_size() > 0 && setrlimit(RLIMIT_AS, &limit) == 0) {
+    if (room.ok()) {
       try {
         const dacrt::EnvironmentMap map(std::move(image), "sky.exr");
         message = "the map was built";

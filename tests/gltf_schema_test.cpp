@@ -14,6 +14,7 @@
 #include "io/gltf/schema.h"
 #include "tests/captured_stderr.h"
 #include "tests/gltf_check.h"
+#include "tests/gltf_triangle.h"
 #include "tests/gltf_writer.h"
 #include "util/error.h"
 
@@ -22,13 +23,12 @@ using dacrt::load_gltf;
 using dacrt::Scene;
 using dacrt::test::check_error;
 using dacrt::test::GltfWriter;
+using dacrt::test::kTriangle;
 using dacrt::test::stderr_of;
 using dacrt::test::TempDir;
 using nlohmann::json;
 
 namespace {
-
-const std::vector<glm::vec3> kTriangle = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
 
 // A valid file with one of nearly everything the check looks at: an indexed triangle with a used
 // material, an unused textured material (its image is never decoded), two cameras, a spot light,

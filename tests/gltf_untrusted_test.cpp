@@ -5,7 +5,6 @@
 // Files are generated here; what must not be read is made costly to read (sparse files of many
 // MiB, FIFOs) and the peak allocation is measured (tests/allocations.h).
 #include <doctest/doctest.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
 
 #include <cmath>
@@ -14,8 +13,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "io/gltf.h"
+#include "tests/address_space.h"
 #include "tests/allocations.h"
 #include "tests/gltf_check.h"
+#include "tests/gltf_triangle.h"
 #include "tests/gltf_writer.h"
 #include "tests/png.h"
 #include "util/error.h"
@@ -25,16 +26,17 @@ using dacrt::Error;
 using dacrt::GltfOptions;
 using dacrt::load_gltf;
 using dacrt::Scene;
+using dacrt::test::AddressSpaceRoom;
 using dacrt::test::AllocationWatch;
 using dacrt::test::check_error;
 using dacrt::test::GltfWriter;
 using dacrt::test::kFloat;
+using dacrt::test::kTriangle;
 using dacrt::test::TempDir;
 using nlohmann::json;
 
 namespace {
 
-const std::vector<glm::vec3> kTriangle = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
 constexpr uint64_t kMiB = uint64_t(1) << 20;
 
 bool near(const glm::vec3& a, const glm::vec3& b, float eps = 1e-5f) {
@@ -60,30 +62,6 @@ GltfWriter textured_triangle() {
   w.doc["textures"] = {{{"source", 0}}};
   return w;
 }
-
-// While it lives, the address space may grow by about `room` bytes only (RLIMIT_AS, which
-// dacrt::available_memory() reads), so that a bound on memory trips after little work.
-class AddressSpaceRoom {
- public:
-  explicit AddressSpaceRoom(uint64_t room) {
-    getrlimit(RLIMIT_AS, &saved_);
-    std::ifstream status("/proc/self/status");
-    std::string line;
-    uint64_t vm_kib = 0;
-    while (std::getline(status, line))
-      if (line.rfind("VmSize:", 0) == 0) vm_kib = std::stoull(line.substr(7));
-    rlimit lower = saved_;
-    lower.rlim_cur = vm_kib * 1024 + room;
-    ok_ = vm_kib > 0 && (saved_.rlim_max == RLIM_INFINITY || lower.rlim_cur <= saved_.rlim_max) &&
-          setrlimit(RLIMIT_AS, &lower) == 0;
-  }
-  ~AddressSpaceRoom() { setrlimit(RLIMIT_AS, &saved_); }
-  bool ok() const { return ok_; }
-
- private:
-  rlimit saved_{};
-  bool ok_ = false;
-};
 
 // "<prefix><n>.gltf" (built so that GCC 12 sees no overlapping copy in it).
 std::string numbered(const char* prefix, int n) {

@@ -8,7 +8,7 @@
 
 #include "integrators/integrator.h"
 #include "io/gltf.h"
-#include "materials/surface.h"
+#include "scene/surface.h"
 #include "render/render_job.h"
 #include "tests/gltf_check.h"
 #include "tests/temp_dir.h"

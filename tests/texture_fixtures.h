@@ -13,8 +13,8 @@
 
 #include "gltf_writer.h"
 #include "io/texture_decode.h"
-#include "materials/surface.h"
 #include "materials/texture.h"
+#include "scene/surface.h"
 #include "png.h"
 #include "util/error.h"
 

@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "io/image.h"
+#include "util/image.h"
 
 namespace dacrt {
 

@@ -1,4 +1,4 @@
-#include "materials/surface.h"
+#include "scene/surface.h"
 
 #include <cmath>
 
