@@ -264,7 +264,7 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
   const std::vector<std::string> backends = split_list(c.args.backend);
   if (backends.size() != 1)
     throw UsageError(where + "a configuration renders with one backend (give one --config each)");
-  check_integrator(c.args.integrator);
+  check_integrator(c.args.settings.integrator);
   check_runs(where, c.args.backend_options, c.args.threads, backends[0]);
   return c;
 }
@@ -279,7 +279,7 @@ std::vector<Config> parse_configs(const ConvergeArgs& c) {
   }
   if (c.reference.empty() && !c.no_reference) {  // the reference's render: the shared options
     const std::vector<std::string> backends = split_list(c.shared.backend);
-    check_integrator(c.shared.integrator);
+    check_integrator(c.shared.settings.integrator);
     check_runs("the reference (the shared options): ", c.shared.backend_options, c.shared.threads,
                backends.empty() ? "dacrt" : backends[0]);
   }
@@ -297,17 +297,17 @@ std::vector<Config> parse_configs(const ConvergeArgs& c) {
 // a configuration's film and path state, twice with --noise, beside the reference image. Throws
 // Error when they exceed the memory this process may still take.
 void check_memory(const ConvergeArgs& a, const std::vector<Config>& configs,
-                  const RenderSettings& base) {
-  const RenderMemory reference = render_memory(base, false);
+                  const Shot& shot) {
+  const RenderMemory reference = render_memory(shot, a.shared.settings, false);
   uint64_t need = reference.image + reference.paths;
   for (const Config& c : configs) {
-    const RenderMemory m = render_memory(c.args.settings, false);
+    const RenderMemory m = render_memory(shot, c.args.settings, false);
     need = std::max(need, (a.noise ? 2 : 1) * (m.image + m.paths) + reference.image);
   }
   const uint64_t available = available_memory();
   if (need <= available) return;
-  throw Error(a.shared.scene + ": converge's " + std::to_string(base.width) + " x " +
-              std::to_string(base.height) + " renders need about " + format_bytes(need) +
+  throw Error(a.shared.scene + ": converge's " + std::to_string(shot.width) + " x " +
+              std::to_string(shot.height) + " renders need about " + format_bytes(need) +
               ", more than the " + format_bytes(available) + " of memory available");
 }
 
@@ -341,7 +341,7 @@ struct Run {
   std::optional<Film> film;
 };
 
-Run start_run(const Scene& scene, const Config& c, uint64_t seed) {
+Run start_run(const Scene& scene, const Shot& shot, const Config& c, uint64_t seed) {
   Run run;
   RenderSettings s = c.args.settings;
   s.seed = seed;
@@ -349,7 +349,7 @@ Run start_run(const Scene& scene, const Config& c, uint64_t seed) {
   options.threads = c.args.threads;
   const std::string name = split_list(c.args.backend)[0];
   run.backend = Backend::create(name, scene.geometry, options.for_plugin(name));
-  run.job = std::make_unique<RenderJob>(scene, *run.backend, s, c.args.integrator);
+  run.job = std::make_unique<RenderJob>(scene, *run.backend, s, shot);
   run.film.emplace(run.job->film());
   return run;
 }
@@ -357,8 +357,7 @@ Run start_run(const Scene& scene, const Config& c, uint64_t seed) {
 // Adds samples up to `spp` to the run's film; false when a signal stopped it.
 bool render_to(Run& run, uint32_t from, uint32_t spp, const std::string& label, bool bar,
                const std::atomic<bool>* stop, double* seconds) {
-  const RenderSettings& s = run.job->settings();
-  Progress progress(label, uint64_t(s.width) * s.height * spp, bar);
+  Progress progress(label, run.job->shot().pixels() * spp, bar);
   PassOptions passes;
   passes.stop = stop;
   const RenderOutcome outcome = run.job->run(*run.film, from, spp, progress, passes);
@@ -378,8 +377,8 @@ int converge_main(const std::vector<std::string>& args) {
   // Inputs and outputs checked before anything is rendered.
   check_input_file(a.shared.scene, "scene");
   if (!a.reference.empty()) check_input_file(a.reference, "reference");
-  if (!a.shared.setup.environment_file.empty())
-    check_input_file(a.shared.setup.environment_file, "environment map");
+  if (!a.shared.settings.environment_file.empty())
+    check_input_file(a.shared.settings.environment_file, "environment map");
   const fs::path outdir(a.outdir);
   std::error_code ec;
   const bool outdir_exists = fs::exists(outdir, ec);
@@ -402,7 +401,7 @@ int converge_main(const std::vector<std::string>& args) {
   }
   std::vector<NamedFile> inputs = {{"the scene", a.shared.scene},
                                    {"--reference", a.reference},
-                                   {"--environment", a.shared.setup.environment_file}};
+                                   {"--environment", a.shared.settings.environment_file}};
   std::vector<NamedFile> outputs = {{"-o", csv}, {"-o", script}, {"-o", svg}, {"-o", png}};
   if (render_reference) outputs.push_back({"-o", reference_out});
   check_outputs(outputs, inputs);
@@ -427,37 +426,24 @@ int converge_main(const std::vector<std::string>& args) {
   Scene scene = load_gltf(a.shared.scene, a.shared.gltf);
   for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
   check_outputs(outputs, inputs);
-  try {
-    override_scene_camera(scene, a.shared.setup);
-  } catch (const Error& e) {
-    if (a.shared.setup.camera_override.any() &&
-        size_t(a.shared.setup.camera) < scene.cameras.size())
-      throw UsageError(e.what());
-    throw;
-  }
-  RenderSetup setup = a.shared.setup;
-  setup.camera_override = {};  // applied
-  RenderSettings base = a.shared.settings;
-  const std::vector<std::string> notes = prepare_render(scene, base, setup);
+  // Every configuration renders the same shot (the options that change it are shared_only).
+  const Shot shot = make_shot(scene, a.shared.settings);
+  const RenderSettings& base = a.shared.settings;
   if (verbose)
-    for (const std::string& note : notes) std::fprintf(stderr, "%s\n", note.c_str());
-  for (Config& c : configs)
-    c.args.settings.width = base.width, c.args.settings.height = base.height,
-    c.args.settings.camera = base.camera;
-  if (reference && (reference->width != base.width || reference->height != base.height))
+    for (const std::string& note : shot.notes) std::fprintf(stderr, "%s\n", note.c_str());
+  if (reference && (reference->width != shot.width || reference->height != shot.height))
     throw Error(a.reference + ": the reference is " + std::to_string(reference->width) + " x " +
                 std::to_string(reference->height) + ", the renders are " +
-                std::to_string(base.width) + " x " + std::to_string(base.height) +
+                std::to_string(shot.width) + " x " + std::to_string(shot.height) +
                 " (give --width " + std::to_string(reference->width) + " --height " +
                 std::to_string(reference->height) + ", or another reference)");
 
-  check_memory(a, configs, base);
+  check_memory(a, configs, shot);
 
   StopOnSignals signals;
   const std::atomic<bool>* stop = &signals.token();
   if (render_reference) {
     Config shared{"reference", a.shared};
-    shared.args.settings = base;
     shared.args.backend =
         split_list(a.shared.backend).empty() ? "dacrt" : split_list(a.shared.backend)[0];
     const uint64_t seed = base.seed + (uint64_t(1) << 32);
@@ -467,7 +453,7 @@ int converge_main(const std::vector<std::string>& args) {
                    "(--reference-spp, or --reference REF.exr)\n",
                    a.reference_spp, shared.args.backend.c_str(), sampler_name(base.sampler).c_str(),
                    (unsigned long long)seed);
-    Run run = start_run(scene, shared, seed);
+    Run run = start_run(scene, shot, shared, seed);
     double seconds = 0;
     if (!render_to(run, 0, uint32_t(a.reference_spp), "reference", bar, stop, &seconds))
       return 128 + signals.signal();
@@ -476,7 +462,7 @@ int converge_main(const std::vector<std::string>& args) {
     ExrMetadata meta;
     meta.spp = a.reference_spp;
     meta.backend = shared.args.backend;
-    meta.integrator = shared.args.integrator;
+    meta.integrator = base.integrator;
     meta.render_seconds = seconds;
     meta.extra = {{"scene", a.shared.scene},
                   {"sampler", sampler_name(base.sampler)},
@@ -490,7 +476,7 @@ int converge_main(const std::vector<std::string>& args) {
 
   const Metric metric = *a.metric;
   const std::string title = fs::path(a.shared.scene).filename().string() + ", " +
-                            std::to_string(base.width) + " x " + std::to_string(base.height) +
+                            std::to_string(shot.width) + " x " + std::to_string(shot.height) +
                             ": " + metric_names[int(metric)] + " against time";
   std::vector<Curve> curves;
   // The CSV and the script hold every point measured so far: written after each configuration,
@@ -522,10 +508,10 @@ int converge_main(const std::vector<std::string>& args) {
         own_threads = std::make_unique<tbb::global_control>(
             tbb::global_control::max_allowed_parallelism, size_t(c.args.threads));
       const auto t0 = Clock::now();
-      Run run = start_run(scene, c, c.args.settings.seed);
+      Run run = start_run(scene, shot, c, c.args.settings.seed);
       const double setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
       std::optional<Run> second;
-      if (a.noise) second = start_run(scene, c, c.args.settings.seed + 1);
+      if (a.noise) second = start_run(scene, shot, c, c.args.settings.seed + 1);
       double rendered = 0;  // the render seconds of the samples so far
       uint32_t spp = 0;
       for (uint32_t next = 1;; next *= 2) {

@@ -128,12 +128,12 @@ Other
 // The render's largest allocations, estimated before any is made: the film, the resolved image
 // (and its preview), the path state. Throws Error naming the file and what is too big when they
 // exceed the memory this process may still take.
-void check_memory(const RenderArgs& r, const RenderSettings& s) {
-  const RenderMemory need = render_memory(s, !r.preview.empty());
+void check_memory(const RenderArgs& r, const Shot& shot) {
+  const RenderMemory need = render_memory(shot, r.settings, !r.preview.empty());
   const uint64_t film = need.image, paths = need.paths;
   const uint64_t available = available_memory();
   if (film + paths <= available) return;
-  throw Error(r.scene + ": a " + std::to_string(s.width) + " x " + std::to_string(s.height) +
+  throw Error(r.scene + ": a " + std::to_string(shot.width) + " x " + std::to_string(shot.height) +
               " render needs about " + format_bytes(film + paths) + " (" + format_bytes(film) +
               " for the image, " + format_bytes(paths) + " of path state), more than the " +
               format_bytes(available) + " of memory available");
@@ -142,21 +142,23 @@ void check_memory(const RenderArgs& r, const RenderSettings& s) {
 // The EXR (every channel asked, and the per-pixel counts when they differ: a pass cut short, or
 // samples dropped as NaN) and the preview of a film, with the header saying what it holds: `spp`
 // is the count every pixel has.
-void write_outputs(const RenderArgs& r, const Scene& scene, const BackendRun& run, const Film& film,
-                   const RenderOutcome& outcome, const RenderSettings& s) {
+void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, const BackendRun& run,
+                   const Film& film, const RenderOutcome& outcome) {
+  const RenderSettings& s = r.settings;
   const uint32_t least = film.min_count(), most = film.max_count();
   const std::vector<Channel> channels = film.channels(least != most);
   ExrMetadata meta;
   meta.spp = int(least);
   meta.backend = run.backend;
-  meta.integrator = r.integrator;
+  meta.integrator = s.integrator;
   meta.render_seconds = outcome.seconds;
-  const Camera& camera = scene.cameras[s.camera];
+  const Camera& camera = shot.camera;
   const Box b = scene.bounds();
   meta.extra = {
       {"scene", r.scene},
-      {"camera", std::to_string(s.camera) + (camera.name.empty() ? "" : " (" + camera.name + ")") +
-                     ": " + camera_flags(camera, b.empty() ? glm::vec3(0.f) : b.center())},
+      {"camera", std::to_string(shot.camera_index) +
+                     (camera.name.empty() ? "" : " (" + camera.name + ")") + ": " +
+                     camera_flags(camera, b.empty() ? glm::vec3(0.f) : b.center())},
       {"sampler", sampler_name(s.sampler)},
       {"seed", std::to_string(s.seed)},
       {"sppRequested", std::to_string(s.spp)},
@@ -166,7 +168,7 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const BackendRun& ru
       {"software", std::string("dacrt ") + version()},
       {"dacrtVersion", version()}};
   if (!run.stopped.empty()) meta.extra.push_back({"stoppedBy", run.stopped});
-  write_exr(run.output, s.width, s.height, channels, meta);
+  write_exr(run.output, shot.width, shot.height, channels, meta);
   if (!run.preview.empty()) write_preview_png(run.preview, film.resolve(), r.display);
 }
 
@@ -177,7 +179,7 @@ int render(const std::vector<std::string>& args) {
   // writable and distinct output files that are not inputs, the display transform of a preview.
   const std::vector<std::string> backends = split_list(r.backend);
   if (backends.empty()) throw UsageError("--backend needs at least one backend name");
-  check_integrator(r.integrator);
+  check_integrator(r.settings.integrator);
   std::vector<BackendRun> runs;
   const std::vector<std::string> known = Backend::names();
   for (const std::string& name : backends) {
@@ -201,9 +203,9 @@ int render(const std::vector<std::string>& args) {
     throw UsageError(std::string("--backend-option: ") + e.what());
   }
   std::vector<NamedFile> inputs = {{"the scene", r.scene}}, outputs;
-  if (!r.setup.environment_file.empty()) {
-    check_input_file(r.setup.environment_file, "environment map");
-    inputs.push_back({"the environment map", r.setup.environment_file});
+  if (!r.settings.environment_file.empty()) {
+    check_input_file(r.settings.environment_file, "environment map");
+    inputs.push_back({"the environment map", r.settings.environment_file});
   }
   for (const BackendRun& run : runs)
     outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
@@ -229,19 +231,11 @@ int render(const std::vector<std::string>& args) {
   for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
   check_outputs(outputs, inputs);
 
-  RenderSettings& s = r.settings;
-  try {
-    override_scene_camera(scene, r.setup);
-  } catch (const Error& e) {
-    if (r.setup.camera_override.any() && size_t(r.setup.camera) < scene.cameras.size())
-      throw UsageError(e.what());
-    throw;
-  }
-  r.setup.camera_override = {};  // applied
-  const std::vector<std::string> notes = prepare_render(scene, s, r.setup);
-  check_memory(r, s);
+  const RenderSettings& s = r.settings;
+  const Shot shot = make_shot(scene, s);
+  check_memory(r, shot);
   if (!r.quiet)
-    for (const std::string& note : notes) print_message(note);
+    for (const std::string& note : shot.notes) print_message(note);
 
   // From here on SIGINT and SIGTERM stop the render and write what it has.
   StopOnSignals signals;
@@ -253,13 +247,13 @@ int render(const std::vector<std::string>& args) {
     const auto t0 = std::chrono::steady_clock::now();
     auto backend =
         Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
-    RenderJob job(scene, *backend, s, r.integrator);
+    RenderJob job(scene, *backend, s, shot);
     Film film = job.film();
     Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
-                      uint64_t(s.width) * s.height * s.spp, !r.quiet);
+                      shot.pixels() * uint64_t(s.spp), !r.quiet);
     const RenderOutcome outcome = job.run(film, 0, uint32_t(s.spp), progress, r.passes,
                                           [&](const Film& so_far, const RenderOutcome& o) {
-                                            write_outputs(r, scene, run, so_far, o, s);
+                                            write_outputs(r, scene, shot, run, so_far, o);
                                           });
     run.stats = job.stats();
     run.backend_stats = backend->stats();
@@ -269,8 +263,8 @@ int render(const std::vector<std::string>& args) {
     if (outcome.timed_out) run.stopped = "the time limit";
     // A render stopped before its first sample leaves the previous outputs as they were.
     if (film.max_count() == 0 && outcome.stopped) break;
-    write_outputs(r, scene, run, film, outcome, s);
-    if (!r.quiet) print_summary(run, s, r.integrator);
+    write_outputs(r, scene, shot, run, film, outcome);
+    if (!r.quiet) print_summary(run, shot, s);
     if (outcome.stopped) break;  // the backends after it are not rendered
   }
 
@@ -281,11 +275,11 @@ int render(const std::vector<std::string>& args) {
     auto describe = [&](const BackendRun& run) {
       nlohmann::json j = {{"scene", r.scene},
                           {"triangles", scene.geometry.size()},
-                          {"width", s.width},
-                          {"height", s.height},
+                          {"width", shot.width},
+                          {"height", shot.height},
                           {"spp", run.spp},
                           {"spp_requested", s.spp},
-                          {"integrator", r.integrator},
+                          {"integrator", s.integrator},
                           {"sampler", sampler_name(s.sampler)},
                           {"threads", tbb::this_task_arena::max_concurrency()},
                           {"load_seconds", load_seconds}};
@@ -472,6 +466,8 @@ int main(int argc, char** argv) {
     return fail(2, "dacrt: ", e.what(), " (see dacrt --help)");
   } catch (const std::invalid_argument& e) {  // usage errors of `dacrt bench`
     return fail(2, "dacrt bench: ", e.what(), " (see dacrt bench --help)");
+  } catch (const SettingError& e) {  // a camera override that cannot make a view
+    return fail(2, "dacrt: ", e.what(), " (see dacrt --help)");
   } catch (const Error& e) {
     return fail(1, "dacrt: error: ", e.what(), "");
   } catch (const std::bad_alloc&) {

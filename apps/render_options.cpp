@@ -93,17 +93,17 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
   else if (a == "--spp")
     r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
   else if (a == "--width")
-    r.setup.width = int(parse_int(a, value(), 1, max_image_side));
+    r.settings.width = int(parse_int(a, value(), 1, max_image_side));
   else if (a == "--height")
-    r.setup.height = int(parse_int(a, value(), 1, max_image_side));
+    r.settings.height = int(parse_int(a, value(), 1, max_image_side));
   else if (a == "--camera")
-    r.setup.camera = int(parse_int(a, value(), 0, 1 << 20));
+    r.settings.camera = int(parse_int(a, value(), 0, 1 << 20));
   else if (a == "--look-from")
-    r.setup.camera_override.from = parse_point(a, value());
+    r.settings.camera_override.from = parse_point(a, value());
   else if (a == "--look-at")
-    r.setup.camera_override.at = parse_point(a, value());
+    r.settings.camera_override.at = parse_point(a, value());
   else if (a == "--up")
-    r.setup.camera_override.up = parse_point(a, value());
+    r.settings.camera_override.up = parse_point(a, value());
   else if (a == "--aov") {
     try {
       r.settings.aovs = AovSet::parse(value());
@@ -124,7 +124,7 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     const float degrees = std::strtof(v.c_str(), &end);
     if (v.empty() || *end != '\0' || !(degrees > 0.f && degrees < 180.f))
       throw UsageError("--fov wants degrees in (0, 180), got '" + v + "'");
-    r.setup.camera_override.fov_degrees = degrees;
+    r.settings.camera_override.fov_degrees = degrees;
   } else if (a == "--scene")
     r.gltf.scene = int(parse_int(a, value(), 0, 1 << 20));
   else if (a == "--backend")
@@ -136,15 +136,15 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
       throw UsageError(std::string("--backend-option: ") + e.what());
     }
   } else if (a == "--integrator")
-    r.integrator = value();
+    r.settings.integrator = value();
   else if (a == "--environment") {
     const std::string v = value();
     const bool exr = v.size() > 4 && (v.compare(v.size() - 4, 4, ".exr") == 0 ||
                                       v.compare(v.size() - 4, 4, ".EXR") == 0);
     if (exr)
-      r.setup.environment_file = v, r.setup.environment.reset();
+      r.settings.environment_file = v, r.settings.environment.reset();
     else
-      r.setup.environment = parse_rgb(a, v), r.setup.environment_file.clear();
+      r.settings.environment = parse_rgb(a, v), r.settings.environment_file.clear();
   } else if (a == "--point-light") {
     const std::string v = value();
     const size_t eq = v.find('=');
@@ -154,7 +154,7 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     if (eq == std::string::npos)
       throw UsageError(a + " wants X,Y,Z=R,G,B (a position and an intensity), got '" + v + "'");
     light.intensity = parse_rgb(a, v.substr(eq + 1));
-    r.setup.lights.push_back(light);
+    r.settings.lights.push_back(light);
   } else if (a == "--max-depth")
     r.settings.max_depth = int(parse_int(a, value(), 0, 1 << 16));
   else if (a == "--sampler") {

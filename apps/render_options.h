@@ -26,13 +26,12 @@ struct RenderArgs {
   DisplayOptions display;
   std::string display_flag;  // --view or --exposure, when given: they need --preview
   GltfOptions gltf;
-  std::string backend = "dacrt", integrator = "path";
+  std::string backend = "dacrt";
   Options backend_options;
   int threads = 0;
   bool quiet = false, help = false;
-  RenderSettings settings;
-  RenderSetup setup;
-  PassOptions passes;
+  RenderSettings settings;  // what is rendered: the image's options
+  PassOptions passes;       // how the samples are scheduled: --pass-spp, --time-limit, --checkpoint
 };
 
 // Parses the render option args[i] (and its value, args[i + 1], advancing i past it) into `r`.

@@ -73,15 +73,15 @@ nlohmann::json to_json(const BackendRun& run) {
   return j;
 }
 
-void print_summary(const BackendRun& run, const RenderSettings& s, const std::string& integrator) {
+void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings& s) {
   const RenderStats& stats = run.stats;
   char figures[256];
-  std::snprintf(figures, sizeof figures, ": %d×%d, %u spp%s, %s/%s, %.2f s", s.width, s.height,
+  std::snprintf(figures, sizeof figures, ": %d×%d, %u spp%s, %s/%s, %.2f s", shot.width, shot.height,
                 run.spp,
                 run.stopped.empty()
                     ? ""
                     : (" of " + std::to_string(s.spp) + ", stopped by " + run.stopped).c_str(),
-                run.backend.c_str(), integrator.c_str(), stats.seconds);
+                run.backend.c_str(), s.integrator.c_str(), stats.seconds);
   print_message(run.output + figures);
   for (int t = 0; t < ray_type_count; ++t) {
     const RayTypeStats& rt = stats.by_type[t];

@@ -27,7 +27,7 @@ std::vector<std::string> split_list(const std::string& list);
 std::string with_backend(const std::string& path, const std::string& backend);
 
 nlohmann::json to_json(const BackendRun& run);
-void print_summary(const BackendRun& run, const RenderSettings& s, const std::string& integrator);
+void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings& s);
 // One column per backend; ratios against the first.
 void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs);
 

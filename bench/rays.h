@@ -27,12 +27,12 @@
 #include <string_view>
 #include <vector>
 
-#include "scene/camera.h"
-#include "integrators/lights.h"
 #include "materials/sampling.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
 #include "tracer/ray.h"
 #include "tracer/ray_batch.h"
+#include "util/alias_table.h"
 #include "util/random.h"
 
 namespace dacrt::bench {
@@ -149,10 +149,51 @@ inline glm::vec3 point_above(const Box& bounds) {
   return bounds.center() + glm::vec3(0.f, 2.f * std::max({e.x, e.y, e.z}), 0.f);
 }
 
+// Where shadow rays end: the scene's emitters, as a renderer's next-event estimation would aim
+// at them, but chosen simply (the benchmark times the backends, not a light sampler): an emissive
+// triangle in proportion to its area, then a point uniform on it, or one of the punctual lights,
+// each as likely as the others; half and half when the scene has both.
+class ShadowTargets {
+ public:
+  explicit ShadowTargets(const Scene& scene) : lights_(scene.lights.size()) {
+    std::vector<double> area;
+    for (uint32_t tri = 0; tri < scene.geometry.size(); ++tri) {
+      const double a = scene.geometry.area(tri);
+      if (!scene.materials[scene.geometry.material[tri]].emissive() || !(a > 0.0)) continue;
+      triangles_.push_back(tri);
+      area.push_back(a);
+    }
+    if (!area.empty()) table_ = AliasTable(area);
+  }
+  bool empty() const { return triangles_.empty() && lights_ == 0; }
+
+  struct Target {
+    int light;              // index into Scene::lights, or -1 for a triangle
+    uint32_t triangle;      // when light is -1
+    glm::vec2 barycentric;  // of the point on the triangle
+  };
+  // u picks the emitter, (u1, u2) the point on a triangle. Not for an empty set.
+  Target pick(float u, float u1, float u2) const {
+    const float share = triangles_.empty() ? 0.f : lights_ == 0 ? 1.f : 0.5f;
+    if (u >= share) {
+      const float v = (u - share) / (1.f - share);
+      return {int(std::min(size_t(v * float(lights_)), lights_ - 1)), 0, glm::vec2(0.f)};
+    }
+    const size_t entry = table_.sample(u / share);
+    const float r = std::sqrt(u1);  // uniform on the triangle
+    return {-1, triangles_[entry], glm::vec2(r * (1.f - u2), r * u2)};
+  }
+
+ private:
+  std::vector<uint32_t> triangles_;
+  AliasTable table_;  // over triangles_, by area
+  size_t lights_;
+};
+
 // `count` shadow rays; ray i starts at surface point i mod |points|. The origin is offset along
 // the normal facing the target and the segment ends at the sampled emitter point, itself offset
 // along the emitter's normal towards the origin, so neither end can report its own triangle.
-inline RayBatch shadow_rays(const Scene& scene, const LightSampler& lights,
+inline RayBatch shadow_rays(const Scene& scene, const ShadowTargets& targets,
                             const SurfacePoints& points, size_t count, uint64_t seed) {
   RayBatch b;
   b.type = RayType::shadow;
@@ -164,12 +205,14 @@ inline RayBatch shadow_rays(const Scene& scene, const LightSampler& lights,
     glm::vec3 p = points.point[j], n = points.normal[j];
     glm::vec3 target = above;
     std::optional<uint32_t> light;
-    if (!lights.empty()) {
-      auto s = lights.sample(random01(seed, BenchRay::shadow, i, 0),
-                             random01(seed, BenchRay::shadow, i, 1),
-                             random01(seed, BenchRay::shadow, i, 2));
+    if (!targets.empty()) {
+      const ShadowTargets::Target s = targets.pick(random01(seed, BenchRay::shadow, i, 0),
+                                                   random01(seed, BenchRay::shadow, i, 1),
+                                                   random01(seed, BenchRay::shadow, i, 2));
       if (s.light < 0) {
-        target = s.point;
+        const Geometry& g = scene.geometry;
+        target = (1.f - s.barycentric.x - s.barycentric.y) * g.vertex(s.triangle, 0) +
+                 s.barycentric.x * g.vertex(s.triangle, 1) + s.barycentric.y * g.vertex(s.triangle, 2);
         light = s.triangle;
       } else {  // a punctual light: its position, or far up its beam for a directional one
         const PunctualLight& l = scene.lights[size_t(s.light)];

@@ -137,7 +137,7 @@ class BenchRunner {
         case BenchRay::primary:
           break;
         case BenchRay::shadow:
-          batch = shadow_rays(scene, LightSampler(scene), points, secondary_count, args_.seed);
+          batch = shadow_rays(scene, ShadowTargets(scene), points, secondary_count, args_.seed);
           break;
         case BenchRay::ao:
           batch = ao_rays(scene, points, secondary_count, args_.seed);

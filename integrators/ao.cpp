@@ -15,8 +15,9 @@ namespace {
 
 class AmbientOcclusion final : public Wavefront {
  public:
-  AmbientOcclusion(const Scene& scene, Backend& backend, const RenderSettings& settings)
-      : Wavefront(scene, backend, settings), distance_(settings.ao_distance) {
+  AmbientOcclusion(const Scene& scene, const Shot& shot, Backend& backend,
+                   const RenderSettings& settings)
+      : Wavefront(scene, shot, backend, settings), distance_(settings.ao_distance) {
     if (!(distance_ > 0.f)) {
       const Box b = scene.bounds();
       distance_ = b.empty() ? 1.f : std::max(glm::length(b.extent()), 1e-30f);
@@ -51,8 +52,8 @@ class AmbientOcclusion final : public Wavefront {
 };
 
 const Integrator::Registration registration{
-    "ao", [](const Scene& scene, Backend& backend, const RenderSettings& settings) {
-      return std::make_unique<AmbientOcclusion>(scene, backend, settings);
+    "ao", [](const Scene& scene, const Shot& shot, Backend& backend, const RenderSettings& settings) {
+      return std::make_unique<AmbientOcclusion>(scene, shot, backend, settings);
     }};
 
 }  // namespace

@@ -16,8 +16,9 @@ enum class Value { albedo, normal, depth };
 
 class FirstHitValue final : public Wavefront {
  public:
-  FirstHitValue(const Scene& scene, Backend& backend, const RenderSettings& settings, Value value)
-      : Wavefront(scene, backend, settings), value_(value) {}
+  FirstHitValue(const Scene& scene, const Shot& shot, Backend& backend,
+                const RenderSettings& settings, Value value)
+      : Wavefront(scene, shot, backend, settings), value_(value) {}
 
  private:
   void shade(const RayBatch& rays, const HitBatch& hits) override {
@@ -38,8 +39,9 @@ class FirstHitValue final : public Wavefront {
 };
 
 template <Value value>
-std::unique_ptr<Integrator> make(const Scene& scene, Backend& backend, const RenderSettings& s) {
-  return std::make_unique<FirstHitValue>(scene, backend, s, value);
+std::unique_ptr<Integrator> make(const Scene& scene, const Shot& shot, Backend& backend,
+                                 const RenderSettings& s) {
+  return std::make_unique<FirstHitValue>(scene, shot, backend, s, value);
 }
 
 const Integrator::Registration albedo{"albedo", make<Value::albedo>};

@@ -10,10 +10,11 @@ namespace dacrt {
 namespace {
 
 const Integrator::Registration registration{
-    "direct", [](const Scene& scene, Backend& backend, const RenderSettings& settings) {
+    "direct",
+    [](const Scene& scene, const Shot& shot, Backend& backend, const RenderSettings& settings) {
       RenderSettings direct = settings;
       direct.max_depth = 1;
-      return std::make_unique<PathTracer>(scene, backend, direct);
+      return std::make_unique<PathTracer>(scene, shot, backend, direct);
     }};
 
 }  // namespace

@@ -25,9 +25,9 @@ std::vector<std::string> Integrator::names() {
   return registry().names();
 }
 
-std::unique_ptr<Integrator> Integrator::create(std::string_view name, const Scene& scene,
+std::unique_ptr<Integrator> Integrator::create(const Scene& scene, const Shot& shot,
                                                Backend& backend, const RenderSettings& settings) {
-  return registry().find(name)(scene, backend, settings);
+  return registry().find(settings.integrator)(scene, shot, backend, settings);
 }
 
 size_t resolve_wavefront(const RenderSettings& s, uint64_t paths) {

@@ -10,13 +10,15 @@
 #include <functional>
 #include <glm/glm.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "integrators/sampler.h"
 #include "film/film.h"
-#include "scene/environment.h"
+#include "integrators/sampler.h"
+#include "scene/camera.h"
+#include "scene/shot.h"
 #include "scene/scene.h"
 #include "tracer/backend.h"
 #include "tracer/ray_batch.h"
@@ -24,12 +26,23 @@
 
 namespace dacrt {
 
-// Everything a render is asked to do; the CLI's render options map onto it one to one.
+// Everything a render is asked to do, the one description of it that the CLI (its render options
+// map onto it one to one), `dacrt converge` and the library's callers fill. The scene is not
+// changed by it: RenderJob resolves the view and the lighting into a Shot (scene/shot.h) once.
 struct RenderSettings {
-  int width = 512;
-  int height = 512;
+  std::string integrator = "path";  // Integrator::names()
+  // The view.
+  int camera = 0;                  // the scene's camera
+  CameraOverride camera_override;  // --look-from, --look-at, --up, --fov
+  int width = 0, height = 0;       // 0: from the camera's aspect ratio (scene/camera.h image_size)
+  int longer_side = 512;           // with neither given
+  // The lighting.
+  std::optional<glm::vec3> environment;  // uniform radiance; unset: 0, or 1 without emitters
+  std::string environment_file;          // an equirectangular .exr map instead
+  std::shared_ptr<const EnvironmentMap> environment_map;  // or a map made already (the library)
+  std::vector<PunctualLight> lights;     // added to the scene's (--point-light)
+  // The samples.
   int spp = 64;
-  int camera = 0;
   int max_depth = 64;      // scattering events per path; Russian roulette ends most earlier
   int roulette_depth = 3;  // Russian roulette from this many bounces on
   uint64_t seed = 0;
@@ -86,7 +99,8 @@ class Integrator {
  public:
   virtual ~Integrator() = default;
 
-  static std::unique_ptr<Integrator> create(std::string_view name, const Scene& scene,
+  // The integrator settings.integrator names, rendering `shot` of `scene`.
+  static std::unique_ptr<Integrator> create(const Scene& scene, const Shot& shot,
                                             Backend& backend, const RenderSettings& settings);
   static std::vector<std::string> names();
 
@@ -100,8 +114,8 @@ class Integrator {
                           Progress& progress) = 0;
   virtual const RenderStats& stats() const = 0;
 
-  using Factory =
-      std::function<std::unique_ptr<Integrator>(const Scene&, Backend&, const RenderSettings&)>;
+  using Factory = std::function<std::unique_ptr<Integrator>(const Scene&, const Shot&, Backend&,
+                                                             const RenderSettings&)>;
   struct Registration {
     Registration(std::string name, Factory factory);
   };

@@ -20,10 +20,11 @@ glm::dvec3 corner(const Geometry& g, uint32_t tri, int k) {
 
 }  // namespace
 
-LightSampling::LightSampling(const Scene& scene, const EnvironmentMap* map,
-                             TriangleSampling triangles)
+LightSampling::LightSampling(const Scene& scene, std::span<const PunctualLight> lights,
+                             const EnvironmentMap* map, TriangleSampling triangles)
     : scene_(scene),
-      lights_(scene),
+      punctual_(lights),
+      lights_(scene, lights),
       map_(map),
       // Next-event estimation picks the map or the scene's lights: half and half when both.
       map_share_(map_ ? (lights_.empty() ? 1.f : 0.5f) : 0.f),
@@ -104,7 +105,7 @@ bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pic
   const Geometry& g = scene_.geometry;
   LightSampler::Sample ls = lights_.sample(pick, u1, u2);
   ls.pmf *= 1.f - map_share_;
-  if (ls.light >= 0) return punctual(p, scene_.lights[size_t(ls.light)], ls.pmf, x, out);
+  if (ls.light >= 0) return punctual(p, punctual_[size_t(ls.light)], ls.pmf, x, out);
   // Large and near: the point is where a direction uniform in the triangle's solid angle meets
   // it (the area sample above is discarded), and the pdf is pmf / Ω.
   const double omega = sampled_solid_angle(p, ls.triangle);

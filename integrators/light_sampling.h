@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "integrators/dimensions.h"
@@ -71,8 +72,9 @@ class LightSampling {
   // triangle's plane (2π sr), where the sampling degenerates.
   static constexpr double min_solid_angle = 0.5, max_solid_angle = 6.22;
 
-  // map: null for a uniform (or black) environment, which only BSDF sampling reaches.
-  LightSampling(const Scene& scene, const EnvironmentMap* map,
+  // lights: the render's punctual lights (Shot::lights), which must outlive this. map: null for a
+  // uniform (or black) environment, which only BSDF sampling reaches.
+  LightSampling(const Scene& scene, std::span<const PunctualLight> lights, const EnvironmentMap* map,
                 TriangleSampling triangles = TriangleSampling::solid_angle_if_large);
 
   // Nothing to sample: no shadow rays at all.
@@ -153,6 +155,7 @@ class LightSampling {
                 ShadowRay& out) const;
 
   const Scene& scene_;
+  const std::span<const PunctualLight> punctual_;
   const LightSampler lights_;
   const EnvironmentMap* map_;
   const float map_share_;  // probability that next-event estimation samples the map

@@ -28,7 +28,8 @@ glm::vec3 average_emission(const Scene& scene, uint32_t tri) {
 
 }  // namespace
 
-LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
+LightSampler::LightSampler(const Scene& scene, std::span<const PunctualLight> lights)
+    : scene_(scene) {
   const Geometry& g = scene.geometry;
   std::vector<double> power;
   for (uint32_t tri = 0; tri < g.size(); ++tri) {
@@ -45,7 +46,7 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
   // scenes scaled by 1e±30) over- or underflows, and a sun's power with it.
   const double radius =
       bounds.empty() ? 1.0 : 0.5 * glm::length(glm::dvec3(bounds.hi) - glm::dvec3(bounds.lo));
-  for (const PunctualLight& l : scene.lights) {
+  for (const PunctualLight& l : lights) {
     const double i = luminance(l.intensity);
     switch (l.type) {
       case PunctualLight::Type::point:

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <span>
 #include <vector>
 
 #include "scene/scene.h"
@@ -20,13 +21,14 @@ namespace dacrt {
 
 class LightSampler {
  public:
-  explicit LightSampler(const Scene& scene);
+  // The scene's emissive triangles and `lights` (a render's: Shot::lights).
+  LightSampler(const Scene& scene, std::span<const PunctualLight> lights);
 
   bool empty() const { return table_.empty(); }
   size_t triangles() const { return triangles_.size(); }
 
   struct Sample {
-    int light;              // index into Scene::lights, or -1 for an emissive triangle
+    int light;              // index into the lights given, or -1 for an emissive triangle
     uint32_t triangle;      // the emissive triangle, when light is -1
     glm::vec3 point;        // on the triangle
     glm::vec2 barycentric;  // of the point: (1 − x − y)·p0 + x·p1 + y·p2
@@ -60,7 +62,7 @@ class LightSampler {
  private:
   static constexpr uint32_t none = ~0u;
   const Scene& scene_;
-  std::vector<uint32_t> triangles_;  // emissive triangles; table_ has them, then scene_.lights
+  std::vector<uint32_t> triangles_;  // emissive triangles; table_ has them, then the lights
   AliasTable table_;
   std::vector<Emitter> emitters_;            // of triangles_, in its order
   std::vector<uint32_t> index_by_triangle_;  // into emitters_, or none

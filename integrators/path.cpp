@@ -20,11 +20,12 @@
 
 namespace dacrt {
 
-PathTracer::PathTracer(const Scene& scene, Backend& backend, const RenderSettings& settings)
-    : Wavefront(scene, backend, settings),
-      map_(scene.environment_map && !scene.environment_map->black() ? scene.environment_map.get()
+PathTracer::PathTracer(const Scene& scene, const Shot& shot, Backend& backend,
+                       const RenderSettings& settings)
+    : Wavefront(scene, shot, backend, settings),
+      map_(shot_.environment_map && !shot_.environment_map->black() ? shot_.environment_map.get()
                                                                     : nullptr),
-      lights_(scene, map_) {
+      lights_(scene, shot_.lights, map_) {
   if (lights_.empty())
     stats_.skipped.insert(
         stats_.skipped.begin(),
@@ -152,8 +153,8 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
 void PathTracer::escaped(const RayBatch& rays, uint32_t i) {
   const uint32_t path = rays.path[i];
   ended_[path] = 1;
-  if (!scene_.environment_map) {
-    paths_.radiance[path] += paths_.throughput[path] * scene_.environment;
+  if (!shot_.environment_map) {
+    paths_.radiance[path] += paths_.throughput[path] * shot_.environment;
   } else if (map_) {
     // Also reachable by next-event estimation, after the first bounce: MIS.
     const glm::vec3 d = rays.direction(i);
@@ -249,8 +250,9 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
 }
 
 const Integrator::Registration registration{
-    "path", [](const Scene& scene, Backend& backend, const RenderSettings& settings) {
-      return std::make_unique<PathTracer>(scene, backend, settings);
+    "path",
+    [](const Scene& scene, const Shot& shot, Backend& backend, const RenderSettings& settings) {
+      return std::make_unique<PathTracer>(scene, shot, backend, settings);
     }};
 
 }  // namespace dacrt

@@ -9,7 +9,7 @@ namespace dacrt {
 
 class PathTracer final : public Wavefront {
  public:
-  PathTracer(const Scene& scene, Backend& backend, const RenderSettings& settings);
+  PathTracer(const Scene& scene, const Shot& shot, Backend& backend, const RenderSettings& settings);
 
  private:
   void shade(const RayBatch& rays, const HitBatch& hits) override;

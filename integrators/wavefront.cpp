@@ -51,16 +51,15 @@ void Wavefront::Paths::resize(size_t n, bool first_hits) {
   first.resize(first_hits ? n : 0);
 }
 
-Wavefront::Wavefront(const Scene& scene, Backend& backend, const RenderSettings& settings)
+Wavefront::Wavefront(const Scene& scene, const Shot& shot, Backend& backend,
+                     const RenderSettings& settings)
     : scene_(scene),
+      shot_(shot),
       backend_(backend),
       s_(settings),
       sampler_(settings.sampler, settings.seed),
       first_hits_(settings.aovs.first_hit()) {
-  if (s_.camera < 0 || size_t(s_.camera) >= scene.cameras.size())
-    throw Error("camera " + std::to_string(s_.camera) + " does not exist (the scene has " +
-                std::to_string(scene.cameras.size()) + ")");
-  forward_ = -glm::vec3(scene.cameras[s_.camera].to_world[2]);
+  forward_ = -glm::vec3(shot.camera.to_world[2]);
   std::vector<uint8_t> tested(scene.geometry.size(), 0);
   bool any = false;
   for (size_t t = 0; t < tested.size(); ++t)
@@ -79,7 +78,7 @@ Wavefront::~Wavefront() = default;
 uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
                            Progress& progress) {
   const auto start_time = Clock::now();
-  const uint64_t pixels = uint64_t(s_.width) * s_.height;
+  const uint64_t pixels = shot_.pixels();
   if (film.pixels() != pixels)
     throw Error("the film has " + std::to_string(film.pixels()) + " pixels, the render " +
                 std::to_string(pixels));
@@ -122,8 +121,9 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std:
 // Stage 1: new camera samples, in sample order, take the free slots. Returns how many.
 size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
   const size_t n = size_t(std::min<uint64_t>(free_.size(), end_id - first_id));
-  const uint64_t pixels = uint64_t(s_.width) * s_.height;
-  const Camera& camera = scene_.cameras[s_.camera];
+  const uint64_t pixels = shot_.pixels();
+  const Camera& camera = shot_.camera;
+  const uint32_t width = uint32_t(shot_.width);
   camera_.type = RayType::primary;
   camera_.resize(n);
   const size_t base = free_.size() - n;
@@ -147,10 +147,10 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
         paths_.depth[slot] = 0;
         paths_.pixel[slot] = pixel[k];
         paths_.sample[slot] = sample[k];
-        const float x = float(pixel[k] % uint32_t(s_.width)) + numbers[k][pixel_x];
-        const float y = float(pixel[k] / uint32_t(s_.width)) + numbers[k][pixel_y];
+        const float x = float(pixel[k] % width) + numbers[k][pixel_x];
+        const float y = float(pixel[k] / width) + numbers[k][pixel_y];
         glm::vec3 o, d;
-        const float tmin = camera_ray(camera, s_.width, s_.height, x, y, o, d);
+        const float tmin = camera_ray(camera, shot_.width, shot_.height, x, y, o, d);
         camera_.set(j, o, d, tmin, INFINITY, slot);
       }
     }

@@ -31,7 +31,7 @@ namespace dacrt {
 
 class Wavefront : public Integrator {
  public:
-  Wavefront(const Scene& scene, Backend& backend, const RenderSettings& settings);
+  Wavefront(const Scene& scene, const Shot& shot, Backend& backend, const RenderSettings& settings);
   ~Wavefront() override;
 
   const RenderStats& stats() const override { return stats_; }
@@ -116,6 +116,7 @@ class Wavefront : public Integrator {
   void push_rays(const RayBatch& rays, const Array<uint32_t>* queue, float shadow_tmin = 0.f);
 
   const Scene& scene_;
+  const Shot shot_;  // the camera, the image size, the lights and the environment
   Backend& backend_;
   const RenderSettings s_;
   const Sampler sampler_;  // s_'s sampler and seed

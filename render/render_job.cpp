@@ -23,68 +23,70 @@ const char* version() {
   return DACRT_VERSION;
 }
 
-bool has_emitters(const Scene& scene) {
-  if (!scene.lights.empty()) return true;
+namespace {
+// Whether anything emits light: emissive triangles, punctual lights.
+bool has_emitters(const Scene& scene, const std::vector<PunctualLight>& lights) {
+  if (!lights.empty()) return true;
   for (uint32_t m : scene.geometry.material)
     if (scene.materials[m].emissive()) return true;
   return false;
 }
+}  // namespace
 
-void override_scene_camera(Scene& scene, const RenderSetup& setup) {
-  if (setup.camera < 0 || size_t(setup.camera) >= scene.cameras.size())
-    throw Error(scene.path + ": camera " + std::to_string(setup.camera) +
+Shot make_shot(const Scene& scene, const RenderSettings& s) {
+  if (s.camera < 0 || size_t(s.camera) >= scene.cameras.size())
+    throw Error(scene.path + ": camera " + std::to_string(s.camera) +
                 " does not exist (the scene has " + std::to_string(scene.cameras_from_file) + ")");
-  if (!setup.camera_override.any()) return;
-  const Box b = scene.bounds();
-  scene.cameras[setup.camera] = override_camera(scene.cameras[setup.camera], setup.camera_override,
-                                                b.empty() ? glm::vec3(0.f) : b.center());
-}
-
-std::vector<std::string> prepare_render(Scene& scene, RenderSettings& s, const RenderSetup& setup) {
-  override_scene_camera(scene, setup);
-  std::vector<std::string> notes;
-  s.camera = setup.camera;
-  const glm::ivec2 size =
-      image_size(scene.cameras[s.camera].aspect, setup.width.value_or(0), setup.height.value_or(0),
-                 setup.longer_side, scene.path + ": camera " + std::to_string(s.camera));
-  s.width = size.x, s.height = size.y;
-  scene.lights.insert(scene.lights.end(), setup.lights.begin(), setup.lights.end());
-  scene.environment_map.reset();
-  scene.environment = glm::vec3(0.f);
-  if (!setup.environment_file.empty()) {
-    scene.environment_map = std::make_shared<const EnvironmentMap>(read_exr(setup.environment_file),
-                                                                   setup.environment_file);
-  } else if (setup.environment) {
-    scene.environment = *setup.environment;
-  } else if (!has_emitters(scene)) {
-    scene.environment = glm::vec3(1.f);
-    notes.push_back(scene.path +
-                    ": the scene has no emitters and no lights: lighting it with a uniform "
-                    "environment of 1");
+  Shot shot;
+  shot.camera_index = s.camera;
+  shot.camera = scene.cameras[size_t(s.camera)];
+  if (s.camera_override.any()) {
+    const Box b = scene.bounds();
+    shot.camera = override_camera(shot.camera, s.camera_override,
+                                  b.empty() ? glm::vec3(0.f) : b.center());
+  }
+  const glm::ivec2 size = image_size(shot.camera.aspect, s.width, s.height, s.longer_side,
+                                     scene.path + ": camera " + std::to_string(s.camera));
+  shot.width = size.x, shot.height = size.y;
+  shot.lights = scene.lights;
+  shot.lights.insert(shot.lights.end(), s.lights.begin(), s.lights.end());
+  if (s.environment_map) {
+    shot.environment_map = s.environment_map;
+  } else if (!s.environment_file.empty()) {
+    shot.environment_map =
+        std::make_shared<const EnvironmentMap>(read_exr(s.environment_file), s.environment_file);
+  } else if (s.environment) {
+    shot.environment = *s.environment;
+  } else if (!has_emitters(scene, shot.lights)) {
+    shot.environment = glm::vec3(1.f);
+    shot.notes.push_back(scene.path +
+                         ": the scene has no emitters and no lights: lighting it with a uniform "
+                         "environment of 1");
   }
   if (scene.cameras_from_file == 0)
-    notes.push_back(scene.path + ": no camera in the file: framing the scene's bounds");
-  return notes;
+    shot.notes.push_back(scene.path + ": no camera in the file: framing the scene's bounds");
+  return shot;
 }
 
-RenderMemory render_memory(const RenderSettings& s, bool preview) {
-  const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
+RenderMemory render_memory(const Shot& shot, const RenderSettings& s, bool preview) {
+  const uint64_t pixels = shot.pixels();
   // The resolved channels (4 bytes each, the samples channel always counted), and the preview's
   // 8-bit RGB with its float copy.
   const AovSet a = s.aovs;
   const uint64_t channels = uint64_t(Film::channel_count(a));
   RenderMemory m;
-  m.image = Film::bytes(s.width, s.height, a) + pixels * (4 * channels + (preview ? 15 : 0));
+  m.image = Film::bytes(shot.width, shot.height, a) + pixels * (4 * channels + (preview ? 15 : 0));
   m.paths = resolve_wavefront(s, pixels * uint64_t(s.spp)) * path_bytes(a);
   return m;
 }
 
-RenderJob::RenderJob(const Scene& scene, Backend& backend, RenderSettings settings,
-                     std::string integrator)
-    : scene_(scene),
-      settings_(std::move(settings)),
-      name_(std::move(integrator)),
-      integrator_(Integrator::create(name_, scene, backend, settings_)) {}
+RenderJob::RenderJob(const Scene& scene, Backend& backend, RenderSettings settings)
+    : RenderJob(scene, backend, settings, make_shot(scene, settings)) {}
+
+RenderJob::RenderJob(const Scene& scene, Backend& backend, RenderSettings settings, Shot shot)
+    : settings_(std::move(settings)),
+      shot_(std::move(shot)),
+      integrator_(Integrator::create(scene, shot_, backend, settings_)) {}
 
 RenderJob::~RenderJob() = default;
 
@@ -94,7 +96,7 @@ const RenderStats& RenderJob::stats() const {
 
 uint32_t RenderJob::pass_size(const PassOptions& options) const {
   if (options.spp_per_pass > 0) return options.spp_per_pass;
-  const uint64_t pixels = uint64_t(settings_.width) * uint64_t(settings_.height);
+  const uint64_t pixels = shot_.pixels();
   const uint64_t wavefront = resolve_wavefront(settings_, UINT64_MAX);
   return uint32_t(std::clamp<uint64_t>((8 * wavefront + pixels - 1) / pixels, 1, 1u << 20));
 }
@@ -103,7 +105,7 @@ RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress
                              const PassOptions& options, const Checkpoint& checkpoint) {
   const auto start = Clock::now();
   auto last_checkpoint = start;
-  const uint64_t pixels = uint64_t(settings_.width) * uint64_t(settings_.height);
+  const uint64_t pixels = shot_.pixels();
   const uint32_t pass = pass_size(options);
   RenderOutcome out;
   out.first = out.complete = out.most = first;

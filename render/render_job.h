@@ -1,5 +1,6 @@
 // RenderJob: a render as the library runs it, for the CLI, `dacrt bench`, the tests and (later)
-// bindings and distributed rendering. It holds the scene, the backend, the settings and the
+// bindings and distributed rendering. It holds the scene, the backend, the settings, the shot
+// they resolve to (scene/shot.h: the camera, size, lights and environment, made once) and the
 // integrator, and adds a range of samples [first, last) of every pixel to a Film, in passes:
 // whole passes give every pixel the same count; a stop token ends the render at the next
 // wavefront (the samples begun still finish and reach the film, so nothing rendered is lost); a
@@ -14,46 +15,29 @@
 #include <string>
 #include <vector>
 
-#include "integrators/integrator.h"
 #include "film/film.h"
+#include "integrators/integrator.h"
 #include "scene/scene.h"
+#include "scene/shot.h"
 #include "tracer/backend.h"
 #include "util/progress.h"
 
 namespace dacrt {
 
-// What the user asked of the scene that glTF does not say: which camera and how it is moved,
-// the image size, the environment.
-struct RenderSetup {
-  int camera = 0;
-  CameraOverride camera_override;
-  std::optional<int> width, height;      // unset: from the camera's aspect ratio
-  int longer_side = 512;                 // with neither set
-  std::optional<glm::vec3> environment;  // uniform radiance; unset: 0, or 1 without emitters
-  std::string environment_file;          // an equirectangular .exr map instead
-  std::vector<PunctualLight> lights;     // added to the scene's (--point-light)
-};
-
-// Applies the camera override to the chosen camera (Error naming the flags when it is
-// degenerate; Error when the camera does not exist).
-void override_scene_camera(Scene& scene, const RenderSetup& setup);
-
-// Sets the image size (settings.width, height, camera), adds the setup's lights and sets the
-// scene's environment. Returns
-// notes for the user (a scene without emitters lit by a uniform environment of 1, a framed
-// camera). Throws Error for a size over max_image_side or a bad environment map.
-std::vector<std::string> prepare_render(Scene& scene, RenderSettings& settings,
-                                        const RenderSetup& setup);
-
-// Whether anything in the scene emits light (emissive triangles, punctual lights).
-bool has_emitters(const Scene& scene);
+// What a render of `scene` with `settings` sees: the chosen camera with the settings' override
+// applied, the image size, the scene's lights and the settings', the environment (a map given,
+// or read from settings.environment_file), and notes for the user (a scene without emitters lit
+// by a uniform environment of 1, a framed camera). Throws Error for a camera the scene does not
+// have, a size over max_image_side or a bad environment map; SettingError (naming the flags) for
+// a degenerate camera override.
+Shot make_shot(const Scene& scene, const RenderSettings& settings);
 
 // A render's largest allocations, estimated before any is made: the film, its resolved channels
 // and the preview (image), the path state (paths).
 struct RenderMemory {
   uint64_t image = 0, paths = 0;
 };
-RenderMemory render_memory(const RenderSettings& settings, bool preview);
+RenderMemory render_memory(const Shot& shot, const RenderSettings& settings, bool preview);
 
 struct PassOptions {
   uint32_t spp_per_pass = 0;  // 0: enough samples for 8 wavefronts a pass, at least 1 per pixel
@@ -75,16 +59,18 @@ struct RenderOutcome {
 
 class RenderJob {
  public:
-  RenderJob(const Scene& scene, Backend& backend, RenderSettings settings,
-            std::string integrator = "path");
+  // The job of settings.integrator on the shot the settings make (make_shot's errors).
+  RenderJob(const Scene& scene, Backend& backend, RenderSettings settings);
+  // ... on a shot made already (by make_shot, for several jobs of the same shot).
+  RenderJob(const Scene& scene, Backend& backend, RenderSettings settings, Shot shot);
   ~RenderJob();
 
   const RenderSettings& settings() const { return settings_; }
-  const std::string& integrator() const { return name_; }
+  const Shot& shot() const { return shot_; }
   const RenderStats& stats() const;
 
-  // An empty film of the job's size and outputs.
-  Film film() const { return Film(settings_.width, settings_.height, settings_.aovs); }
+  // An empty film of the shot's size and the settings' outputs.
+  Film film() const { return Film(shot_.width, shot_.height, settings_.aovs); }
 
   // The samples per pixel of one pass.
   uint32_t pass_size(const PassOptions& options) const;
@@ -96,9 +82,8 @@ class RenderJob {
                     const PassOptions& options = {}, const Checkpoint& checkpoint = {});
 
  private:
-  const Scene& scene_;
   const RenderSettings settings_;
-  const std::string name_;
+  const Shot shot_;
   std::unique_ptr<Integrator> integrator_;
 };
 

@@ -42,10 +42,10 @@ Camera override_camera(const Camera& base, const CameraOverride& o, const glm::v
   // In double: a view between points 1e20 apart has a length whose square overflows a float.
   const glm::dvec3 view = glm::dvec3(at) - glm::dvec3(from);
   if (!(glm::length(view) > 0.0))
-    throw Error("--look-at must differ from --look-from (the camera's position)");
-  if (!(glm::length(glm::dvec3(up)) > 0.0)) throw Error("--up must not be zero");
+    throw SettingError("--look-at must differ from --look-from (the camera's position)");
+  if (!(glm::length(glm::dvec3(up)) > 0.0)) throw SettingError("--up must not be zero");
   if (!(glm::length(glm::cross(glm::normalize(view), glm::normalize(glm::dvec3(up)))) > 1e-6))
-    throw Error("--up must not be parallel to the view direction");
+    throw SettingError("--up must not be parallel to the view direction");
   Camera cam = base;
   if (o.any()) cam.name = "command line";
   cam.to_world =

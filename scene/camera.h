@@ -43,7 +43,7 @@ struct CameraOverride {
 // `base` with the override applied. Unset parts keep base's: its position, its direction (when
 // only `from` is new, the camera looks at `target`, the scene's centre), its up (up(): +Y for a
 // framed camera, so a new view is not tilted by the framing's downward look), its yfov.
-// Throws Error (naming the flags) when from and at coincide or up is parallel to the view.
+// Throws SettingError (naming the flags) when from and at coincide or up is parallel to the view.
 Camera override_camera(const Camera& base, const CameraOverride& o, const glm::vec3& target);
 
 // A point the camera looks at, for printing it as a LookAt: on its viewing axis, as far as

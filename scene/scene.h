@@ -1,18 +1,18 @@
 // Scene: what a glTF file becomes. Immutable once loaded: world-space triangles (Geometry), their
-// shading data, a material table, and cameras. Elements refer to each other by index.
+// shading data, a material table, cameras and lights. Elements refer to each other by index. What
+// one render adds (a moved camera, an image size, more lights, an environment) is its Shot
+// (scene/shot.h).
 #pragma once
 
 #include <array>
 #include <glm/glm.hpp>
 #include <limits>
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "materials/material.h"
 #include "materials/texture.h"
 #include "scene/camera.h"
-#include "scene/environment.h"
 #include "tracer/geometry.h"
 
 namespace dacrt {
@@ -57,12 +57,6 @@ struct Scene {
   std::vector<Camera> cameras;        // never empty after loading: see `cameras_from_file`
   std::vector<PunctualLight> lights;  // KHR_lights_punctual, one per node that has one
   size_t cameras_from_file = 0;       // if 0, cameras[0] was made to frame the scene's bounds
-
-  // What rays that leave the scene see: a uniform radiance, or an equirectangular map (which
-  // next-event estimation samples) instead when environment_map is set. Not in glTF: the loader
-  // leaves it black, the renderer's setup (render/render_job.h) sets it.
-  glm::vec3 environment{0.f};
-  std::shared_ptr<const EnvironmentMap> environment_map;
 
   // What the file uses that this version does not render as specified (the loader warns once):
   // materials with KHR_materials_specular textures (factors only), and KHR_materials_volume

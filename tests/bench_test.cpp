@@ -137,7 +137,7 @@ TEST_CASE("bench rays: shadow rays end on emitters and see them") {
   s.cameras[0].yfov = 2.8f;
   Traced t = trace_primary(s, 24, 23);
   REQUIRE(t.points.size() == 24 * 23);
-  LightSampler lights(s);
+  const ShadowTargets lights(s);
   REQUIRE(!lights.empty());
   const size_t n = 3000;
   RayBatch b = shadow_rays(s, lights, t.points, n, 7);
@@ -163,7 +163,7 @@ TEST_CASE("bench rays: without emitters, shadow rays aim at the point above the 
   Scene s = box_scene(false);
   s.cameras[0].yfov = 2.8f;
   Traced t = trace_primary(s, 16, 15);
-  LightSampler lights(s);
+  const ShadowTargets lights(s);
   REQUIRE(lights.empty());
   const glm::vec3 above = point_above(s.bounds());
   CHECK(above == glm::vec3(0.f, 4.f, 0.f));  // centre + 2 × the side (2) in +y
@@ -281,7 +281,7 @@ TEST_CASE("bench rays: a flat scene's random rays start off its plane, and every
 TEST_CASE("bench rays: a seed gives the same rays, another seed others") {
   Scene s = box_scene(true);
   Traced t = trace_primary(s, 8, 8);
-  LightSampler lights(s);
+  const ShadowTargets lights(s);
   CHECK(same_rays(primary_rays(s.cameras[0], 8, 8), t.primary));
   CHECK(same_rays(shadow_rays(s, lights, t.points, 500, 9),
                   shadow_rays(s, lights, t.points, 500, 9)));

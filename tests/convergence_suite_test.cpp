@@ -71,7 +71,8 @@ Estimate average(const Scene& scene, Backend& backend, RenderSettings s, const c
   const double k = renders;
   for (int r = 0; r < renders; ++r) {
     s.seed = first_seed + uint64_t(r);
-    RenderJob job(scene, backend, s, integrator);
+    s.integrator = integrator;
+    RenderJob job(scene, backend, s);
     Film film = job.film();
     Progress quiet("convergence", 1, false);
     job.run(film, 0, uint32_t(s.spp), quiet);
@@ -244,13 +245,10 @@ Estimate constant_image(size_t pixels, double value) {
   return e;
 }
 
-// scenes/cornell-box.gltf through the loader and the CLI's setup, side × side pixels.
+// scenes/cornell-box.gltf through the loader, side × side pixels.
 Scene cornell_box(RenderSettings& s, int side) {
-  Scene scene = load_gltf(DACRT_SOURCE_DIR "/scenes/cornell-box.gltf");
-  RenderSetup setup;
-  setup.width = setup.height = side;
-  prepare_render(scene, s, setup);
-  return scene;
+  s.width = s.height = side;
+  return load_gltf(DACRT_SOURCE_DIR "/scenes/cornell-box.gltf");
 }
 
 }  // namespace
@@ -330,10 +328,10 @@ TEST_CASE(
   s.aovs = AovSet::parse("albedo,normal,depth,position,variance");
   for (SamplerKind sampler : {SamplerKind::sobol, SamplerKind::independent})
     for (const char* integrator : {"path", "direct"}) {
-      s.sampler = sampler, s.seed = 7;
+      s.sampler = sampler, s.seed = 7, s.integrator = integrator;
       auto render = [&](const char* name) {
         auto backend = Backend::create(name, scene.geometry);
-        RenderJob job(scene, *backend, s, integrator);
+        RenderJob job(scene, *backend, s);
         Film film = job.film();
         Progress quiet("convergence", 1, false);
         job.run(film, 0, uint32_t(s.spp), quiet);
@@ -363,9 +361,7 @@ TEST_CASE(
   // unbiased). A 1 % bias moves Z by about 11.
   Scene scene = load_gltf(DACRT_SOURCE_DIR "/scenes/cornell-box-lambert.gltf");
   RenderSettings s;
-  RenderSetup setup;
-  setup.width = setup.height = 24;
-  prepare_render(scene, s, setup);
+  s.width = s.height = 24;
   s.spp = 64;
   s.sampler = SamplerKind::independent;
   auto backend = Backend::create("dacrt", scene.geometry);

@@ -56,7 +56,7 @@ TEST_CASE("furnace: a white diffuse sphere under a uniform environment of 1 rend
   scene.materials = {Material::lambert(glm::vec3(1.f))};
   scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
   RenderSettings s;
-  s.width = 32, s.height = 32, s.spp = 16, scene.environment = glm::vec3(1.f);
+  s.width = 32, s.height = 32, s.spp = 16, s.environment = glm::vec3(1.f);
   Result r = render(scene, s);
   check_renders(r.film, 1.0);
   // Nothing emits: no shadow rays at all, and the render says so.
@@ -86,7 +86,7 @@ TEST_CASE("furnace: a smooth white metal sphere under a uniform environment of 1
   scene.materials = {mirror};
   scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
   RenderSettings s;
-  s.width = 32, s.height = 32, s.spp = 8, scene.environment = glm::vec3(1.f);
+  s.width = 32, s.height = 32, s.spp = 8, s.environment = glm::vec3(1.f);
   Result r = render(scene, s);
   size_t far_off = 0;
   for (size_t p = 0; p < r.film.pixels(); ++p)
@@ -272,7 +272,7 @@ TEST_CASE("furnace: under an environment map of 1, a white diffuse sphere render
   std::fill(one.rgb.begin(), one.rgb.end(), 1.f);
   RenderSettings s;
   s.width = 24, s.height = 24, s.spp = 32;
-  scene.environment_map = std::make_shared<const EnvironmentMap>(one, "one");
+  s.environment_map = std::make_shared<const EnvironmentMap>(one, "one");
   Result r = render(scene, s);
   check_renders(r.film, 1.0);
   CHECK(r.stats.by_type[size_t(RayType::shadow)].rays > 0);
@@ -293,7 +293,7 @@ TEST_CASE("furnace: under an environment map of 1, a white diffuse sphere render
   for (int y = 5; y < 7; ++y)
     for (int x = 20; x < 22; ++x)
       patch.pixel(x, y)[0] = patch.pixel(x, y)[1] = patch.pixel(x, y)[2] = 50.f;
-  scene.environment_map = std::make_shared<const EnvironmentMap>(patch, "patch");
+  s.environment_map = std::make_shared<const EnvironmentMap>(patch, "patch");
   scene.lights.clear();
   Result sampled = render(scene, s);
   double sum = 0.0, var = 0.0;
@@ -319,9 +319,11 @@ TEST_CASE("max depth 0 shows emitters only, and unknown integrators and cameras 
     CHECK(r.film.mean_and_error(p).x == doctest::Approx(0.25));
   CHECK(r.stats.by_type[size_t(RayType::bounce)].rays == 0);
   auto b = Backend::create("dacrt", scene.geometry);
-  CHECK_THROWS_AS(Integrator::create("nope", scene, *b, s), Error);
+  s.integrator = "nope";
+  CHECK_THROWS_AS(Integrator::create(scene, make_shot(scene, s), *b, s), Error);
+  s.integrator = "path";
   s.camera = 1;
-  CHECK_THROWS_AS(Integrator::create("path", scene, *b, s), Error);
+  CHECK_THROWS_AS(RenderJob(scene, *b, s), Error);
 }
 
 TEST_CASE("what the render skips follows the materials the triangles use, not the file's list") {
@@ -333,7 +335,7 @@ TEST_CASE("what the render skips follows the materials the triangles use, not th
   scene.materials = {Material::lambert(glm::vec3(0.5f)), unused};  // triangles use material 0
   scene.cameras = {looking_at(glm::vec3(0.5f, 0.5f, 2.f), glm::vec3(0.5f, 0.5f, 0.f), 0.9f)};
   RenderSettings s;
-  s.width = s.height = 4, s.spp = 1, scene.environment = glm::vec3(1.f);
+  s.width = s.height = 4, s.spp = 1, s.environment = glm::vec3(1.f);
   const auto skipped = render(scene, s).stats.skipped;
   auto has = [&](const char* what) {
     return std::any_of(skipped.begin(), skipped.end(),

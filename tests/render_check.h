@@ -21,8 +21,9 @@ struct Result {
 
 inline Result render(const Scene& scene, RenderSettings s, const char* backend = "dacrt",
                      const char* integrator = "path") {
+  s.integrator = integrator;
   auto b = Backend::create(backend, scene.geometry);
-  RenderJob job(scene, *b, s, integrator);
+  RenderJob job(scene, *b, s);
   Film film = job.film();
   Progress quiet("test", 1, false);
   job.run(film, 0, uint32_t(s.spp), quiet);

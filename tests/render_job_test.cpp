@@ -34,9 +34,10 @@ glm::vec3 layer3(const Layers& l, const std::string& prefix, const char* xyz, si
 }
 
 // Samples [0, spp) of every pixel by `integrator`.
-Film render(const Scene& scene, const RenderSettings& s, const char* integrator = "path") {
+Film render(const Scene& scene, RenderSettings s, const char* integrator = "path") {
+  s.integrator = integrator;
   auto backend = Backend::create("dacrt", scene.geometry);
-  RenderJob job(scene, *backend, s, integrator);
+  RenderJob job(scene, *backend, s);
   Film film = job.film();
   Progress quiet("test", 1, false);
   job.run(film, 0, uint32_t(s.spp), quiet);
@@ -80,7 +81,8 @@ Footprint footprint(const Camera& cam, int width, int height, int x, int y) {
 }
 
 // A floor lit by everything a path can meet: an emissive square facing down, a point light, an
-// environment map that is not uniform (so next-event estimation samples it), a mirror-ish box.
+// environment map that is not uniform (so next-event estimation samples it: lit_settings), a
+// mirror-ish box.
 Scene lit_scene() {
   Scene scene;
   add_square(scene.geometry, glm::vec2(-3.f), glm::vec2(3.f), 0.f, 0);
@@ -102,13 +104,19 @@ Scene lit_scene() {
   point.position = glm::vec3(-1.f, 0.5f, 1.f);
   point.intensity = glm::vec3(2.f);
   scene.lights = {point};
+  scene.cameras = {looking_at(glm::vec3(0.5f, -2.5f, 2.f), glm::vec3(0.f, 0.f, 0.3f), 1.2f)};
+  return scene;
+}
+
+// Settings for lit_scene: its environment map.
+RenderSettings lit_settings() {
   Image sky(16, 8);
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 16; ++x)
       for (int c = 0; c < 3; ++c) sky.pixel(x, y)[c] = 0.1f + 0.1f * float(x % 5 + y + c);
-  scene.environment_map = std::make_shared<const EnvironmentMap>(sky, "sky");
-  scene.cameras = {looking_at(glm::vec3(0.5f, -2.5f, 2.f), glm::vec3(0.f, 0.f, 0.3f), 1.2f)};
-  return scene;
+  RenderSettings s;
+  s.environment_map = std::make_shared<const EnvironmentMap>(sky, "sky");
+  return s;
 }
 
 }  // namespace
@@ -120,8 +128,8 @@ TEST_CASE("render job: the albedo layer is the base colour, times the sRGB-decod
   const glm::vec3 colour(0.3f, 0.6f, 0.9f);
   scene.materials = {Material::lambert(colour)};
   scene.cameras = {from_above(glm::vec2(0.5f), 0.5f)};
-  scene.environment = glm::vec3(1.f);
   RenderSettings s;
+  s.environment = glm::vec3(1.f);
   s.width = s.height = 8, s.spp = 4, s.aovs = all_aovs;
   const Layers plain = layers(render(scene, s));
   for (size_t p = 0; p < 64; ++p) CHECK(layer3(plain, "albedo.", "RGB", p) == colour);
@@ -201,6 +209,7 @@ TEST_CASE(
   scene.cameras = {cam};
   RenderSettings s;
   s.width = 24, s.height = 16, s.spp = 4, s.aovs = all_aovs;
+  s.environment = glm::vec3(0.f);  // a black sky: the background's colour is 0 too
   glm::vec3 o, d;
   camera_ray(cam, s.width, s.height, 0.f, 0.f, o, d);
   REQUIRE(distance / -d.z > 1.8f * distance);
@@ -261,8 +270,8 @@ TEST_CASE("render job: the variance layer is the variance of the pixel mean, as 
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 16; ++x)
       std::fill_n(sky.pixel(x, y), 3, 0.2f + 0.15f * float(y) + 0.05f * float(x % 4));
-  scene.environment_map = std::make_shared<const EnvironmentMap>(sky, "sky");
   RenderSettings s;
+  s.environment_map = std::make_shared<const EnvironmentMap>(sky, "sky");
   s.width = s.height = 16, s.spp = 8, s.aovs = AovSet::parse("variance");
   // s²/n is the variance of the mean of independent samples: with the sobol sampler's stratified
   // ones the true variance is lower and the layer overestimates it (about 4× here).
@@ -306,7 +315,7 @@ TEST_CASE("render job: the variance layer is the variance of the pixel mean, as 
 
 TEST_CASE("render job: `direct` is `path` with max depth 1, bit for bit in every channel") {
   const Scene scene = lit_scene();
-  RenderSettings s;
+  RenderSettings s = lit_settings();
   s.width = 24, s.height = 16, s.spp = 8, s.seed = 5, s.aovs = all_aovs;
   const std::vector<Channel> direct = render(scene, s, "direct").channels();
   RenderSettings one = s;
@@ -329,7 +338,7 @@ TEST_CASE("render job: `direct` is `path` with max depth 1, bit for bit in every
 
 TEST_CASE("render job: samples 0 to a and a to b, merged, are samples 0 to b") {
   const Scene scene = lit_scene();
-  RenderSettings s;
+  RenderSettings s = lit_settings();
   s.width = 24, s.height = 16, s.spp = 7, s.seed = 2, s.aovs = all_aovs;
   auto backend = Backend::create("dacrt", scene.geometry);
   RenderJob job(scene, *backend, s);
@@ -410,7 +419,7 @@ void check_outcome(const RenderOutcome& out, const Film& film, const Expected& e
 
 TEST_CASE("render job: passes end at a time limit, a stop token, or a stop from a checkpoint") {
   const Scene scene = lit_scene();
-  RenderSettings s;
+  RenderSettings s = lit_settings();
   s.width = s.height = 16, s.spp = 10;
   auto backend = Backend::create("dacrt", scene.geometry);
   Progress quiet("test", 1, false);
@@ -535,4 +544,57 @@ TEST_CASE("render job: integrators by name, and ao, albedo, normal and depth giv
     CHECK(background > 0);
     CHECK(hit > 20);
   }
+}
+
+TEST_CASE("render job: camera, size, lights and sky are the shot's, the scene stays as loaded") {
+  Scene scene;
+  add_square(scene.geometry, glm::vec2(-1.f), glm::vec2(1.f));
+  scene.materials = {Material::lambert(glm::vec3(0.5f))};
+  Camera file_camera = looking_at(glm::vec3(0.f, 0.f, 3.f), glm::vec3(0.f), 0.8f);
+  file_camera.aspect = 2.f;
+  scene.cameras = {file_camera};
+  scene.cameras_from_file = 1;
+  const glm::mat4 before = scene.cameras[0].to_world;
+
+  RenderSettings s;
+  s.longer_side = 32, s.spp = 1;
+  s.camera_override.from = glm::vec3(0.f, 2.f, 2.f);
+  const Shot sky = make_shot(scene, s);
+  CHECK(sky.camera.position() == glm::vec3(0.f, 2.f, 2.f));
+  CHECK(sky.width == 32);
+  CHECK(sky.height == 16);  // the camera's aspect ratio 2
+  // No emitter and no light: a uniform environment of 1, and a note that says so.
+  CHECK(sky.environment == glm::vec3(1.f));
+  REQUIRE(sky.notes.size() == 1);
+  CHECK(sky.notes[0].find("no emitters") != std::string::npos);
+
+  PunctualLight bulb;
+  bulb.position = glm::vec3(0.f, 0.f, 1.f);
+  s.lights = {bulb};
+  const Shot lit = make_shot(scene, s);
+  REQUIRE(lit.lights.size() == 1);
+  CHECK(lit.lights[0].position == bulb.position);
+  CHECK(lit.environment == glm::vec3(0.f));  // the settings' light is an emitter
+  CHECK(lit.notes.empty());
+
+  // A whole render leaves the scene as it was loaded: its camera and its (empty) light list.
+  auto backend = Backend::create("dacrt", scene.geometry);
+  RenderJob job(scene, *backend, s);
+  Film film = job.film();
+  CHECK(film.pixels() == 32u * 16u);
+  Progress quiet("test", 1, false);
+  job.run(film, 0, 1, quiet);
+  CHECK(scene.cameras[0].to_world == before);
+  CHECK(scene.lights.empty());
+  CHECK(job.shot().camera.position() == glm::vec3(0.f, 2.f, 2.f));
+
+  // What cannot be made: a camera the scene lacks is the scene's error, a degenerate override the
+  // caller's (SettingError: the CLI exits 2 for it).
+  RenderSettings missing;
+  missing.camera = 1;
+  CHECK_THROWS_WITH_AS(make_shot(scene, missing), doctest::Contains("camera 1 does not exist"),
+                       Error);
+  RenderSettings same;
+  same.camera_override.from = same.camera_override.at = glm::vec3(1.f);
+  CHECK_THROWS_AS(make_shot(scene, same), SettingError);
 }

@@ -118,8 +118,8 @@ Scene penumbra_scene() {
 std::vector<double> render_means(const Scene& scene, Backend& backend, SamplerKind kind,
                                  uint64_t seed, int spp) {
   RenderSettings s;
-  s.width = s.height = 16, s.spp = spp, s.seed = seed, s.sampler = kind;
-  RenderJob job(scene, backend, s, "direct");
+  s.width = s.height = 16, s.spp = spp, s.seed = seed, s.sampler = kind, s.integrator = "direct";
+  RenderJob job(scene, backend, s);
   Film film = job.film();
   Progress quiet("test", 1, false);
   job.run(film, 0, uint32_t(spp), quiet);

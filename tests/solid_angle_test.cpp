@@ -143,7 +143,7 @@ struct Estimate {
 
 // Next-event estimation plus BSDF sampling, MIS-weighted: one sample of each per estimate.
 Estimate direct_light(const Scene& scene, TriangleSampling triangles, int samples) {
-  const LightSampling lights(scene, nullptr, triangles);
+  const LightSampling lights(scene, scene.lights, nullptr, triangles);
   const glm::vec3 p(0.f), up(0.f, 1.f, 0.f);
   const Frame frame(up);
   const ShadingPoint x{
@@ -182,8 +182,8 @@ Estimate direct_light(const Scene& scene, TriangleSampling triangles, int sample
 
 TEST_CASE("solid angle: next-event estimation's pdf towards a big near emitter is 1/Ω") {
   const NearLight near;
-  const LightSampling lights(near.scene, nullptr),
-      by_area(near.scene, nullptr, TriangleSampling::area);
+  const LightSampling lights(near.scene, near.scene.lights, nullptr),
+      by_area(near.scene, near.scene.lights, nullptr, TriangleSampling::area);
   const Geometry& g = near.scene.geometry;
   const glm::vec3 o(0.f);
   for (uint32_t tri = 0; tri < 2; ++tri) {
@@ -218,7 +218,7 @@ TEST_CASE("solid angle: the bounding-ball shortcuts decide as the exact solid an
   const std::vector<glm::dvec3> strip = {{0, 0, 0}, {10, 0, 0}, {10, 0.1, 0}, {0, 0.1, 0}};
   sliver.geometry.add(glm::vec3(strip[0]), glm::vec3(strip[1]), glm::vec3(strip[2]), 0);
   for (const auto& [scene, quad] : {std::pair{&near.scene, &near.quad}, {&sliver, &strip}}) {
-    const LightSampling lights(*scene, nullptr);
+    const LightSampling lights(*scene, scene->lights, nullptr);
     const Geometry& g = scene->geometry;
     std::vector<glm::vec3> around = {glm::vec3(
         0.25 * ((*quad)[0] + (*quad)[1] + (*quad)[2] + (*quad)[3]))};  // the quad's centre

@@ -46,6 +46,12 @@ struct Rendered {
   RenderStats stats;
 };
 
+// A test scene and the uniform environment its renders add (a render's choice, not the scene's).
+struct Lit {
+  Scene scene;
+  glm::vec3 environment{0.f};
+};
+
 inline Rendered render(const Scene& scene, const RenderSettings& s, const std::string& backend) {
   auto b = Backend::create(backend, scene.geometry);
   RenderJob job(scene, *b, s);
@@ -53,6 +59,10 @@ inline Rendered render(const Scene& scene, const RenderSettings& s, const std::s
   Progress quiet("stress", 1, false);
   job.run(film, 0, uint32_t(s.spp), quiet);
   return {std::move(film), job.stats()};
+}
+inline Rendered render(const Lit& lit, RenderSettings s, const std::string& backend) {
+  s.environment = lit.environment;
+  return render(lit.scene, s, backend);
 }
 
 // A check's answer: empty when it holds, else why not (the first few failures).
@@ -102,8 +112,7 @@ inline void add_box(Geometry& g, const Placement& at, int n, uint32_t material) 
 
 // Lights that shine on a closed mesh around [-1, 1]³ from outside: a uniform environment of 1,
 // a directional light and a point light.
-inline void light_from_outside(Scene& scene, const Placement& at) {
-  scene.environment = glm::vec3(1.f);
+inline Lit light_from_outside(Scene scene, const Placement& at) {
   PunctualLight sun;
   sun.type = PunctualLight::Type::directional;
   sun.direction = glm::normalize(glm::vec3(-0.4f, -0.5f, -0.77f));
@@ -114,33 +123,32 @@ inline void light_from_outside(Scene& scene, const Placement& at) {
   if (!(bulb.intensity.x > 0.f) || !std::isfinite(bulb.intensity.x))
     bulb.intensity = glm::vec3(1.f);
   scene.lights = {sun, bulb};
+  return {std::move(scene), glm::vec3(1.f)};
 }
 
 // The camera inside a closed box lit from outside; the box is two closed meshes on the same six
 // planes, overlapping and tessellated differently (4 × 4 and 3 × 3 per face).
-inline Scene closed_box(const Placement& at) {
+inline Lit closed_box(const Placement& at) {
   Scene scene;
   add_box(scene.geometry, at, 4, 0);
   add_box(scene.geometry, at, 3, 0);
   scene.materials = {Material::lambert(glm::vec3(0.8f))};
-  light_from_outside(scene, at);
   // Aimed at a corner, wide: the view takes in three faces, their edges and a vertex.
   scene.cameras = {
       looking_at(at(glm::dvec3(0.3, -0.2, 0.25)), at(glm::dvec3(1.0, 0.7, -1.0)), 1.5f)};
-  return scene;
+  return light_from_outside(std::move(scene), at);
 }
 
 // The camera inside a closed, jittered UV sphere (poles and seams: vertices shared by up to 24
 // triangles) lit from outside.
-inline Scene closed_sphere(const Placement& at) {
+inline Lit closed_sphere(const Placement& at) {
   Scene scene;
   const Geometry unit = sphere(12, 24, glm::vec3(0.f), 1.f, 0.1f, 5);
   for (size_t t = 0; t < unit.size(); ++t)
     scene.geometry.add(at(unit.vertex(t, 0)), at(unit.vertex(t, 1)), at(unit.vertex(t, 2)), 0);
   scene.materials = {Material::lambert(glm::vec3(0.8f))};
-  light_from_outside(scene, at);
   scene.cameras = {looking_at(at(glm::dvec3(0.1, 0.2, -0.1)), at(glm::dvec3(0.0, 1.0, 0.0)), 1.6f)};
-  return scene;
+  return light_from_outside(std::move(scene), at);
 }
 
 // The grazing plane: a 200 × 200 square of 20 × 20 cells tilted to the normal n = (0, 0.6, 0.8)
@@ -156,7 +164,7 @@ inline glm::dvec3 grazing_light() {  // where the light's photons travel
   return -(grazing_cos * grazing_n + sin * (0.6 * grazing_t1 + 0.8 * grazing_t2));
 }
 
-inline Scene grazing_plane(const Placement& at) {
+inline Lit grazing_plane(const Placement& at) {
   Scene scene;
   auto corner = [&](int i, int j) { return at(10.0 * i * grazing_t1 + 10.0 * j * grazing_t2); };
   for (int i = -10; i < 10; ++i)
@@ -175,7 +183,7 @@ inline Scene grazing_plane(const Placement& at) {
   // looking_at aims with +y up; the plane's normal is the view's up here, which keeps every
   // pixel's ray on the plane (+y is close enough to it: n · y = 0.6).
   scene.cameras = {cam};
-  return scene;
+  return {std::move(scene)};
 }
 
 // What every sample of the grazing plane is: the Lambert BRDF times the light's irradiance.
@@ -185,7 +193,7 @@ inline double grazing_value() {
 
 // Slivers, degenerate triangles (repeated and collinear corners) and two overlapping coplanar
 // quads tessellated differently, lit by an emissive quad, a point light and an environment.
-inline Scene hard_triangles(const Placement& at) {
+inline Lit hard_triangles(const Placement& at) {
   Scene scene;
   Geometry& g = scene.geometry;
   const Geometry thin = slivers(150, 9);
@@ -215,7 +223,6 @@ inline Scene hard_triangles(const Placement& at) {
   Material metal;
   metal.base_color = glm::vec3(0.9f), metal.roughness = 0.2f;
   scene.materials = {Material::lambert(glm::vec3(0.7f)), metal, light};
-  scene.environment = glm::vec3(0.3f);
   PunctualLight bulb;
   bulb.position = at(glm::dvec3(-1.0, 1.5, 2.0));
   bulb.intensity = glm::vec3(float(4.0 * at.scale * at.scale));
@@ -223,7 +230,7 @@ inline Scene hard_triangles(const Placement& at) {
     bulb.intensity = glm::vec3(1.f);
   scene.lights = {bulb};
   scene.cameras = {looking_at(at(glm::dvec3(0.5, 0.9, 2.6)), at(glm::dvec3(0.5, 0.2, 0.4)), 0.9f)};
-  return scene;
+  return {std::move(scene), glm::vec3(0.3f)};
 }
 
 // ---- Checks
@@ -238,9 +245,8 @@ inline RenderSettings small_settings(int spp, int max_depth = 64) {
 // No NaN or inf on any of the scenes, for `backend`.
 inline Verdict finite_everywhere(const Placement& at, const std::string& backend) {
   Verdict v;
-  for (const Scene& scene :
-       {closed_box(at), closed_sphere(at), grazing_plane(at), hard_triangles(at)})
-    check_finite(render(scene, small_settings(4), backend), v);
+  for (const Lit& lit : {closed_box(at), closed_sphere(at), grazing_plane(at), hard_triangles(at)})
+    check_finite(render(lit, small_settings(4), backend), v);
   return v;
 }
 
@@ -248,8 +254,8 @@ inline Verdict finite_everywhere(const Placement& at, const std::string& backend
 inline Verdict no_leaks(const Placement& at, const std::string& backend) {
   Verdict v;
   int which = 0;
-  for (const Scene& scene : {closed_box(at), closed_sphere(at)}) {
-    const Rendered r = render(scene, small_settings(8), backend);
+  for (const Lit& lit : {closed_box(at), closed_sphere(at)}) {
+    const Rendered r = render(lit, small_settings(8), backend);
     check_finite(r, v);
     for (size_t p = 0; p < r.film.pixels(); ++p) {
       const double m = r.film.mean_and_error(p).x;
@@ -354,8 +360,8 @@ inline void same_as_brute(const Geometry& g, const RayBatch& rays, const std::st
 
 inline Verdict closest_hits(const Placement& at, const std::string& backend) {
   Verdict v;
-  const Scene box = closed_box(at), ball = closed_sphere(at), plane = grazing_plane(at),
-              hard = hard_triangles(at);
+  const Scene box = closed_box(at).scene, ball = closed_sphere(at).scene,
+              plane = grazing_plane(at).scene, hard = hard_triangles(at).scene;
   same_as_brute(box.geometry, stress_rays(box.geometry, 1), backend, v, "box");
   same_as_brute(ball.geometry, stress_rays(ball.geometry, 2), backend, v, "sphere");
   same_as_brute(hard.geometry, stress_rays(hard.geometry, 3), backend, v, "slivers");

@@ -35,7 +35,7 @@ TEST_CASE("transmission: a smooth white thin sheet under a uniform sky of 1 rend
   Scene scene = sheet_scene(glm::vec3(1.f), 0.f, 1.f);
   scene.cameras = {looking_at(glm::vec3(0.5f, 0.2f, 2.f), glm::vec3(0.5f, 0.5f, 0.f), 0.8f)};
   RenderSettings s;
-  s.width = s.height = 16, s.spp = 32, scene.environment = glm::vec3(1.f);
+  s.width = s.height = 16, s.spp = 32, s.environment = glm::vec3(1.f);
   Result r = render(scene, s);
   check_renders(r.film, 1.0);
   // (Without the rays that cross to the far side the sheet would show only its Fresnel
@@ -82,11 +82,11 @@ TEST_CASE("transmission: next-event estimation through a rough sheet agrees with
   scene.cameras = {looking_at(glm::vec3(0.5f, -0.3f, 1.5f), glm::vec3(0.5f, 0.5f, 0.f), 0.9f)};
   RenderSettings s;
   s.width = s.height = 12, s.spp = 256;
-  scene.environment = glm::vec3(1.f);
+  s.environment = glm::vec3(1.f);
   Result uniform = render(scene, s);
   Image one(4, 2);
   std::fill(one.rgb.begin(), one.rgb.end(), 1.f);
-  scene.environment_map = std::make_shared<const EnvironmentMap>(one, "one");
+  s.environment_map = std::make_shared<const EnvironmentMap>(one, "one");
   Result mapped = render(scene, s);
   size_t outliers = 0;
   double sum_a = 0.0, sum_b = 0.0, var = 0.0;

@@ -12,6 +12,12 @@ struct Error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An Error in what the caller asked rather than in the input (a camera override that cannot make
+// a view): the CLI reports it as a usage mistake, exit 2.
+struct SettingError : Error {
+  using Error::Error;
+};
+
 // A library's message (OpenEXR, OpenColorIO, Embree, the OS) made fit for an Error: line breaks
 // become spaces and trailing blanks go.
 inline std::string one_line(std::string text) {
