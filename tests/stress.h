@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "render/render_job.h"
+#include "render_check.h"
 #include "scene/scene.h"
 #include "test_geometry.h"
 #include "tracer/backend.h"
@@ -41,10 +42,7 @@ inline std::vector<std::string> backends() {
   return out;
 }
 
-struct Rendered {
-  Film film;
-  RenderStats stats;
-};
+using Rendered = Result;  // tests/render_check.h
 
 // A test scene and the uniform environment its renders add (a render's choice, not the scene's).
 struct Lit {
@@ -53,12 +51,7 @@ struct Lit {
 };
 
 inline Rendered render(const Scene& scene, const RenderSettings& s, const std::string& backend) {
-  auto b = Backend::create(backend, scene.geometry);
-  RenderJob job(scene, *b, s);
-  Film film = job.film();
-  Progress quiet("stress", 1, false);
-  job.run(film, 0, uint32_t(s.spp), quiet);
-  return {std::move(film), job.stats()};
+  return test::render(scene, s, backend.c_str());
 }
 inline Rendered render(const Lit& lit, RenderSettings s, const std::string& backend) {
   s.environment = lit.environment;
