@@ -1,5 +1,5 @@
-// `dacrt bench`: see bench.h; the work is in the header-only bench/command.h so that the tests can
-// run it without linking the CLI.
+// `dacrt bench`: see bench.h; the work is in bench/command.cpp, part of the dacrt_bench library
+// that the tests link too, so that they can run it without the CLI.
 #include "bench/bench.h"
 
 #include <iostream>

@@ -4,39 +4,22 @@
 // seconds) then one intersect or occluded call on the whole batch (trace seconds).
 #pragma once
 
-#include <unistd.h>
-
-#include <algorithm>
-#include <chrono>
-#include <cmath>
+#include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <memory>
+#include <glm/glm.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bench/args.h"
 #include "bench/rays.h"
-#include "scene/camera.h"
-#include "integrators/lights.h"
 #include "scene/scene.h"
-#include "tracer/backend.h"
+#include "tracer/options.h"
+#include "tracer/ray_batch.h"
+#include "tracer/stats.h"
 #include "util/progress.h"
 
 namespace dacrt::bench {
-
-inline double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
-// Millions of rays per second; 0 when nothing was timed.
-inline double mrays_per_second(size_t rays, double seconds) {
-  return seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0;
-}
 
 // One backend on one batch: every run's numbers, and their medians.
 struct Result {
@@ -51,48 +34,25 @@ struct Result {
   uint64_t hits = 0;  // rays that hit something (intersect) or are occluded, in the last run
   Stats stats;        // the backend's counters in the last run (triangle tests, nodes, ...)
 
-  double build_s() const { return median(build_runs); }
-  double trace_s() const { return median(trace_runs); }
+  double build_s() const;
+  double trace_s() const;
   // Median of whole runs, so that one slow build and one slow trace in different runs do not add.
-  double total_s() const {
-    std::vector<double> t(build_runs.size());
-    for (size_t i = 0; i < t.size(); ++i) t[i] = build_runs[i] + trace_runs[i];
-    return median(t);
-  }
-  double mrays_per_s() const { return mrays_per_second(count, trace_s()); }
-  double mrays_per_s_with_build() const { return mrays_per_second(count, total_s()); }
+  double total_s() const;
+  double mrays_per_s() const;
+  double mrays_per_s_with_build() const;
   double peak_mb() const { return double(peak_bytes) * 1e-6; }
 };
 
 // Every k-th triangle of the scene (k = 1 keeps all), with its materials and cameras.
-inline Scene decimate(const Scene& scene, size_t k) {
-  Scene d;
-  d.path = scene.path;
-  d.materials = scene.materials;
-  d.cameras = scene.cameras;
-  d.cameras_from_file = scene.cameras_from_file;
-  const Geometry& g = scene.geometry;
-  d.geometry.reserve((g.size() + k - 1) / k);
-  for (size_t i = 0; i < g.size(); i += k)
-    d.geometry.add(g.vertex(i, 0), g.vertex(i, 1), g.vertex(i, 2), g.material[i]);
-  return d;
-}
+Scene decimate(const Scene& scene, size_t k);
 
 // The primary resolution: --width/--height as given (one alone keeps the camera's aspect), else
 // about `count` pixels in the camera's aspect (1024² by default).
-inline glm::ivec2 primary_resolution(const BenchArgs& a, std::optional<size_t> count, float aspect,
-                                     const std::string& camera) {
-  if (a.width || a.height)
-    return image_size(aspect, a.width.value_or(0), a.height.value_or(0), 0, camera);
-  return resolution_for_count(count.value_or(size_t(1024) * 1024), aspect);
-}
+glm::ivec2 primary_resolution(const BenchArgs& a, std::optional<size_t> count, float aspect,
+                              const std::string& camera);
 
 // The backend whose primary hits seed the secondary rays: dacrt when it is registered.
-inline std::string reference_backend(const BenchArgs& a) {
-  for (const auto& name : Backend::names())
-    if (name == "dacrt") return name;
-  return a.backends.front();
-}
+std::string reference_backend(const BenchArgs& a);
 
 // One configuration to measure: a scene (the loaded one or a decimated copy) and a batch size.
 struct BenchCase {
@@ -103,150 +63,18 @@ struct BenchCase {
 
 class BenchRunner {
  public:
-  BenchRunner(const BenchArgs& args, size_t cases)
-      : args_(args),
-        progress_("bench",
-                  uint64_t(cases) * args.rays.size() * args.backends.size() * uint64_t(args.repeat),
-                  !args.quiet) {}
+  BenchRunner(const BenchArgs& args, size_t cases);
 
   const std::vector<Result>& results() const { return results_; }
   void finish() { progress_.finish(); }
 
-  void run(const BenchCase& c) {
-    const Scene& scene = *c.scene;
-    const Camera& camera = scene.cameras.at(0);
-    const glm::ivec2 res =
-        primary_resolution(args_, c.count, camera.aspect, scene.path + ": camera 0");
-    RayBatch primary = primary_rays(camera, res.x, res.y);
-
-    SurfacePoints points;
-    bool secondary = false;
-    for (BenchRay r : args_.rays)
-      secondary |= r == BenchRay::shadow || r == BenchRay::ao || r == BenchRay::bounce;
-    if (secondary) {
-      auto reference = Backend::create(reference_backend(args_), scene.geometry, base_options());
-      HitBatch hits;
-      reference->intersect(primary, hits);
-      points = surface_points(scene.geometry, primary, hits);
-    }
-    const size_t secondary_count = c.count.value_or(points.size());
-
-    for (BenchRay kind : args_.rays) {
-      RayBatch batch;  // the primary batch is measured in place, not copied
-      switch (kind) {
-        case BenchRay::primary:
-          break;
-        case BenchRay::shadow:
-          batch = shadow_rays(scene, ShadowTargets(scene), points, secondary_count, args_.seed);
-          break;
-        case BenchRay::ao:
-          batch = ao_rays(scene, points, secondary_count, args_.seed);
-          break;
-        case BenchRay::bounce:
-          batch = bounce_rays(points, secondary_count, args_.seed);
-          break;
-        case BenchRay::random:
-          batch = random_rays(scene.bounds(), c.count.value_or(primary.size()), args_.seed);
-          break;
-      }
-      if (args_.tmax_at_hit && !uses_occluded(kind)) {
-        if (kind == BenchRay::primary) batch = primary;
-        HitBatch closest;
-        Backend::create(reference_backend(args_), scene.geometry, base_options())
-            ->intersect(batch, closest);
-        for (size_t i = 0; i < batch.size(); ++i) batch.tmax[i] = closest.t[i];
-      }
-      const bool in_place = kind == BenchRay::primary && !args_.tmax_at_hit;
-      const RayBatch& rays = in_place ? primary : batch;
-      if (rays.size() == 0) {
-        warn(std::string(to_string(kind)) + ": no rays (no primary ray hit the scene): skipped");
-        done_ += args_.backends.size() * size_t(args_.repeat);
-        progress_.update(done_, rays_);
-        continue;
-      }
-      measure(rays, kind, c, res);
-    }
-  }
+  void run(const BenchCase& c);
 
  private:
-  Options base_options() const {
-    Options o;
-    o.threads = args_.threads;
-    return o;
-  }
-
-  Options options_for(const std::string& backend) const {
-    Options o = takes_backend_options(backend) ? args_.backend_options : Options();
-    o.threads = args_.threads;
-    return o;
-  }
-
-  void warn(const std::string& message) const {
-    // A progress bar on a terminal is a line without its newline yet: end it first.
-    bool bar = !args_.quiet && isatty(STDERR_FILENO);
-    std::fprintf(stderr, "%sdacrt bench: %s\n", bar ? "\n" : "", message.c_str());
-  }
-
-  void measure(const RayBatch& batch, BenchRay kind, const BenchCase& c, glm::ivec2 res) {
-    using clock = std::chrono::steady_clock;
-    const size_t n = batch.size();
-    const size_t nb = args_.backends.size();
-    const size_t first = results_.size();
-    for (const auto& name : args_.backends) {
-      Result r;
-      r.backend = name;
-      r.rays = kind;
-      r.count = n;
-      r.triangles = c.scene->geometry.size();
-      r.decimation = c.decimation;
-      r.width = res.x, r.height = res.y;
-      results_.push_back(std::move(r));
-    }
-    // Outputs are allocated and touched once, outside the timing, and reused by every run.
-    const bool occlusion = uses_occluded(kind);
-    HitBatch hits;
-    std::vector<uint8_t> occluded;
-    if (occlusion)
-      occluded.assign(n, 0);
-    else
-      hits.resize(n);
-
-    for (int rep = 0; rep < args_.repeat; ++rep) {
-      for (size_t k = 0; k < nb; ++k) {
-        // Rotate which backend goes first, so none always runs right after ray generation.
-        const size_t b = (k + size_t(rep)) % nb;
-        Result& r = results_[first + b];
-        auto t0 = clock::now();
-        auto backend = Backend::create(r.backend, c.scene->geometry, options_for(r.backend));
-        auto t1 = clock::now();
-        if (occlusion)
-          backend->occluded(batch, occluded);
-        else
-          backend->intersect(batch, hits);
-        auto t2 = clock::now();
-        r.stats = backend->stats();
-        r.peak_bytes = std::max(r.peak_bytes, r.stats.peak_bytes);
-        backend.reset();
-        r.build_runs.push_back(std::chrono::duration<double>(t1 - t0).count());
-        r.trace_runs.push_back(std::chrono::duration<double>(t2 - t1).count());
-        r.hits = occlusion
-                     ? uint64_t(std::count(occluded.begin(), occluded.end(), uint8_t(1)))
-                     : uint64_t(n - std::count(hits.prim.begin(), hits.prim.end(), HitBatch::miss));
-        rays_ += n;
-        progress_.update(++done_, rays_);
-      }
-    }
-    // Our backends agree bit for bit, and any backend should agree to a few grazing rays: a
-    // larger difference means a broken backend, whose speed is then meaningless.
-    for (size_t b = 1; b < nb; ++b) {
-      const Result &a = results_[first], &r = results_[first + b];
-      double diff = std::abs(double(r.hits) - double(a.hits));
-      if (diff > 1e-3 * double(n))
-        warn(std::string(to_string(kind)) + ": " + r.backend + " answers " +
-             std::to_string(r.hits) + " of " + std::to_string(n) + " rays " +
-             (occlusion ? "occluded" : "hit") + ", " + a.backend + " " + std::to_string(a.hits));
-    }
-  }
+  Options base_options() const;
+  Options options_for(const std::string& backend) const;
+  void warn(const std::string& message) const;
+  void measure(const RayBatch& batch, BenchRay kind, const BenchCase& c, glm::ivec2 res);
 
   const BenchArgs& args_;
   Progress progress_;

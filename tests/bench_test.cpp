@@ -10,8 +10,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bench/args.h"
 #include "bench/command.h"
 #include "bench/rays.h"
+#include "bench/run.h"
 #include "gltf_writer.h"
 #include "tracer/backend.h"
 
