@@ -18,7 +18,9 @@
 #include "tests/allocations.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_writer.h"
+#include "tests/png.h"
 #include "tests/temp_dir.h"
+#include "tests/texture_fixtures.h"
 #include "util/error.h"
 
 using namespace dacrt;
@@ -152,6 +154,29 @@ TEST_CASE("KHR_mesh_quantization: integer positions and normals, scaled back by 
   }
 }
 
+TEST_CASE("KHR_mesh_quantization: texture coordinates as integers or normalized integers") {
+  TempDir dir("gltf-quantized-uv");
+  for (const bool normalized : {false, true}) {
+    INFO("normalized " << normalized);
+    GltfWriter w = quad_file({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+    w.doc["extensionsUsed"] = w.doc["extensionsRequired"] = {"KHR_mesh_quantization"};
+    add_texture(w, png8(2, 2, 4, kTexels));
+    // The uv square's corners as 0 or 3 (unnormalized: the texture repeated three times), or as
+    // 0 or 65535 (normalized: 0 or 1).
+    const uint16_t one = normalized ? 65535 : 3;
+    const std::vector<uint16_t> uv = {0, one, one, one, one, 0, 0, 0};
+    const int accessor = w.add_accessor(w.add_view(uv.data(), 16), kUnsignedShort, 4, "VEC2");
+    if (normalized) w.doc["accessors"][accessor]["normalized"] = true;
+    w.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = accessor;
+    const Scene scene = load_gltf(w.write_glb(dir / "uv.glb"));
+    REQUIRE(scene.texcoords[0].size() == 6);
+    const float expected = normalized ? 1.f : 3.f;
+    CHECK(scene.texcoords[0][0] == glm::vec2(0.f, expected));  // triangle (0, 1, 2), corner 0
+    CHECK(scene.texcoords[0][1] == glm::vec2(expected, expected));
+    CHECK(scene.texcoords[0][2] == glm::vec2(expected, 0.f));
+  }
+}
+
 TEST_CASE("EXT_meshopt_compression: streams encoded by meshoptimizer load exactly") {
   TempDir dir("gltf-meshopt");
   const size_t index_bound = meshopt_encodeIndexBufferBound(kQuadIndices.size(), kQuad.size());
@@ -214,7 +239,8 @@ TEST_CASE("EXT_meshopt_compression: streams encoded by meshoptimizer load exactl
     check_error(file("count.glb", vertex, strip), {"bufferView 1", "divisible by 3"});
     json mode = index;
     mode["mode"] = "LINES";
-    check_error(file("mode.glb", vertex, mode), {"/bufferViews/1/extensions/EXT_meshopt_compression/mode", "\"LINES\""});
+    check_error(file("mode.glb", vertex, mode),
+                {"/bufferViews/1/extensions/EXT_meshopt_compression/mode", "\"LINES\""});
   }
   SUBCASE("sizes beyond the bufferView or the decoding budget: refused before allocating") {
     json huge = vertex;
