@@ -245,8 +245,7 @@ TEST_CASE("gltf schema: primitive mode 99 is an error; points and lines still wa
   // A file name with a line break in it still makes one warning line.
   const std::string odd = w.write_gltf(dir / "two\nlines.gltf");
   const std::string err = stderr_of([&] { CHECK(load_gltf(odd).geometry.size() == 1); });
-  CHECK(err == "warning: " + dir / "two lines.gltf" +
-                   ": skipped 1 point and line primitives\n");
+  CHECK(err == "warning: " + dir / "two lines.gltf" + ": skipped 1 point and line primitives\n");
 }
 
 TEST_CASE("gltf schema: extensionsRequired") {
@@ -258,12 +257,11 @@ TEST_CASE("gltf schema: extensionsRequired") {
   check_error(w.write_gltf(dir / "unknown.gltf"),
               {"/extensionsRequired/1: requires extension \"EXT_unknown_future\", which is not "
                "supported"});
-  for (const char* compression :
-       {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"}) {
-    w.doc["extensionsUsed"] = {compression};
-    w.doc["extensionsRequired"] = {compression};
-    check_error(w.write_gltf(dir / "compressed.gltf"), {"/extensionsRequired/0", compression});
-  }
+  // Khronos' successor of EXT_meshopt_compression (its codec's second version), not read yet.
+  w.doc["extensionsUsed"] = {"KHR_meshopt_compression"};
+  w.doc["extensionsRequired"] = {"KHR_meshopt_compression"};
+  check_error(w.write_gltf(dir / "compressed.gltf"),
+              {"/extensionsRequired/0", "KHR_meshopt_compression", "not supported"});
   w.doc["extensionsUsed"] = {"KHR_texture_transform"};
   w.doc["extensionsRequired"] = {"KHR_lights_punctual"};  // supported, but not listed as used
   check_error(w.write_gltf(dir / "not-used.gltf"),

@@ -48,6 +48,7 @@ inline void write_text(const std::string& path, const std::string& text) {
 struct GltfWriter {
   nlohmann::json doc = {{"asset", {{"version", "2.0"}}}};
   std::vector<unsigned char> bin;
+  std::vector<nlohmann::json> more_buffers;  // after buffer 0 (bin), as they are
 
   // Appends `size` bytes (4-byte aligned) as a new bufferView of buffer 0; returns its index.
   int add_view(const void* data, size_t size, int stride = 0) {
@@ -127,6 +128,7 @@ struct GltfWriter {
       }
       out["buffers"] = nlohmann::json::array({{{"byteLength", bin.size()}, {"uri", uri}}});
     }
+    for (const nlohmann::json& b : more_buffers) out["buffers"].push_back(b);
     write_text(path, out.dump(1));
     return path;
   }
@@ -134,6 +136,7 @@ struct GltfWriter {
   std::string write_glb(const std::string& path) {
     nlohmann::json out = doc;
     if (!bin.empty()) out["buffers"] = nlohmann::json::array({{{"byteLength", bin.size()}}});
+    for (const nlohmann::json& b : more_buffers) out["buffers"].push_back(b);
     std::string json = out.dump();
     while (json.size() % 4) json += ' ';
     std::vector<unsigned char> chunk = bin;

@@ -98,6 +98,29 @@ float component_value(const unsigned char* element, int c, int type) {
   return 0.f;
 }
 
+// Component `c` of an element as the integer it is (KHR_mesh_quantization's unnormalized
+// attributes), or as a float for FLOAT.
+float plain_value(const unsigned char* element, int c, int type) {
+  const unsigned char* p = element + size_t(c) * component_size(type);
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return float(*p);
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return float(int8_t(*p));
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t x;
+      std::memcpy(&x, p, 2);
+      return float(x);
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t x;
+      std::memcpy(&x, p, 2);
+      return float(x);
+    }
+  }
+  return component_value(element, c, type);
+}
+
 const char* type_name(int type) {
   switch (type) {
     case TINYGLTF_COMPONENT_TYPE_FLOAT:
@@ -179,7 +202,17 @@ View view(const Gltf& gltf, int index, const std::string& role) {
   size_t element = csize * size_t(v.components);
   v.stride = element;
 
-  if (a.bufferView != -1) {
+  const auto decoded = [&]() -> const Bytes* {
+    std::lock_guard<std::mutex> lock(gltf.decoded_mutex);
+    auto it = gltf.decoded_accessors.find(index);
+    return it == gltf.decoded_accessors.end() ? nullptr : &it->second;
+  }();
+  if (decoded) {  // a Draco primitive's, laid out tightly (compression.cpp)
+    if (decoded->size() != v.count * element)
+      gltf.fail(what + " was decoded to " + str(decoded->size()) + " bytes, not " +
+                str(v.count * element));
+    v.data = decoded->data();
+  } else if (a.bufferView != -1) {
     Span span = buffer_view(gltf, a.bufferView, what);
     if (span.stride != 0) {
       if (span.stride < element)
@@ -233,10 +266,16 @@ Span buffer_view(const Gltf& gltf, int index, const std::string& user) {
   if (index < 0 || size_t(index) >= gltf.model.bufferViews.size())
     gltf.fail(user + " refers to bufferView " + str(index) + ", which does not exist");
   const tinygltf::BufferView& bv = gltf.model.bufferViews[size_t(index)];
+  if (bv.extensions.count("EXT_meshopt_compression")) return meshopt_view(gltf, index);
   if (bv.buffer < 0 || size_t(bv.buffer) >= gltf.model.buffers.size())
     gltf.fail("bufferView " + str(index) + " refers to buffer " + str(bv.buffer) +
               ", which does not exist");
   const Bytes& buffer = gltf.model.buffers[size_t(bv.buffer)].data;
+  if (buffer.empty() &&
+      gltf.model.buffers[size_t(bv.buffer)].extensions.count("EXT_meshopt_compression"))
+    gltf.fail("bufferView " + str(index) + " (of " + user + ") refers to buffer " + str(bv.buffer) +
+              ", an EXT_meshopt_compression fallback whose data is not in the file, without "
+              "compressed data of its own");
   if (bv.byteOffset > buffer.size() || bv.byteLength > buffer.size() - bv.byteOffset)
     gltf.fail("bufferView " + str(index) + " (of " + user + ") overruns buffer " + str(bv.buffer) +
               " (needs " + str(sat_add(bv.byteOffset, bv.byteLength)) + " bytes, has " +
@@ -244,10 +283,56 @@ Span buffer_view(const Gltf& gltf, int index, const std::string& user) {
   return {buffer.data() + bv.byteOffset, bv.byteLength, bv.byteStride};
 }
 
+namespace {
+
+// The bit of an integer componentType in IntegerTypes (0 for the others).
+uint8_t type_bit(int type) {
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return kByte;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return kUnsignedByte;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return kShort;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return kUnsignedShort;
+  }
+  return 0;
+}
+
+// "FLOAT, normalized BYTE, SHORT", for messages.
+std::string type_names(IntegerTypes t) {
+  std::string out = "FLOAT";
+  const int types[] = {TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                       TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
+  for (const auto& [bits, how] : {std::pair{t.normalized, "normalized "}, {t.plain, ""}}) {
+    std::string list;
+    for (int type : types)
+      if (bits & type_bit(type)) list += (list.empty() ? how : ", ") + std::string(type_name(type));
+    if (!list.empty()) out += ", " + list;
+  }
+  return out;
+}
+
+// Checks that accessor `accessor` (view v) has a type `integers` allows; true when its values are
+// to be read as plain integers.
+bool check_type(const Gltf& gltf, int accessor, const View& v, IntegerTypes integers,
+                const std::string& what, const std::string& shape) {
+  const int type = v.component_type;
+  if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) return false;
+  const bool normalized = gltf.model.accessors[size_t(accessor)].normalized;
+  if ((normalized ? integers.normalized : integers.plain) & type_bit(type)) return !normalized;
+  if (((normalized ? integers.plain : integers.normalized) & type_bit(type)) != 0)
+    gltf.fail(what + (normalized ? " must not be normalized (" : " must be normalized (") +
+              type_name(type) + ")");
+  gltf.fail(what + " must be " + type_names(integers) + " " + shape + " (it is " + type_name(type) +
+            " with " + str(v.components) + " components)");
+}
+
+}  // namespace
+
 std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std::string& role) {
-  std::vector<glm::vec4> q =
-      read_floats(gltf, accessor, role, 4, 4,
-                  {TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT}, 1.f);
+  std::vector<glm::vec4> q = read_floats(gltf, accessor, role, 4, 4, {kByte | kShort, 0}, 1.f);
   std::vector<glm::quat> out(q.size());
   for (size_t i = 0; i < q.size(); ++i) {
     const glm::quat rotation(q[i].w, q[i].x, q[i].y, q[i].z);  // glm: (w, x, y, z)
@@ -261,39 +346,46 @@ std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std:
 }
 
 std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::string& role,
-                                   int min_components, int max_components,
-                                   std::initializer_list<int> integers, float fill,
-                                   Elements which) {
+                                   int min_components, int max_components, IntegerTypes integers,
+                                   float fill, Elements which) {
   const View v = view(gltf, accessor, role);
   const int type = v.component_type;
   const std::string what = "accessor " + str(accessor) + " (" + role + ")";
-  bool allowed = type == TINYGLTF_COMPONENT_TYPE_FLOAT;
-  std::string types = "FLOAT";
-  for (int t : integers) allowed |= type == t, types += std::string(", ") + type_name(t);
-  if (!allowed || v.components < min_components || v.components > max_components)
-    gltf.fail(what + " must be " + types + " with " + str(min_components) +
-              (max_components > min_components ? " to " + str(max_components) : std::string()) +
-              " components (it is " + type_name(type) + " with " + str(v.components) + ")");
-  if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !gltf.model.accessors[size_t(accessor)].normalized)
-    gltf.fail(what + " must be normalized (" + type_name(type) + ")");
+  const std::string shape =
+      "with " + str(min_components) +
+      (max_components > min_components ? " to " + str(max_components) : std::string()) +
+      " components";
+  if (v.components < min_components || v.components > max_components)
+    gltf.fail(what + " must be " + type_names(integers) + " " + shape + " (it is " +
+              type_name(type) + " with " + str(v.components) + " components)");
+  const bool plain = check_type(gltf, accessor, v, integers, what, shape);
   std::vector<glm::vec4> out(which ? which->size() : v.count, glm::vec4(fill));
   for (size_t k = 0; k < out.size(); ++k) {
-    const size_t i = element_index(gltf, v, which, k, what);
-    for (int c = 0; c < v.components; ++c) out[k][c] = component_value(v.element(i), c, type);
+    const unsigned char* e = v.element(element_index(gltf, v, which, k, what));
+    for (int c = 0; c < v.components; ++c)
+      out[k][c] = plain ? plain_value(e, c, type) : component_value(e, c, type);
   }
   return out;
 }
 
 std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role,
-                                 Elements which) {
+                                 Elements which, IntegerTypes integers) {
   const View v = view(gltf, accessor, role);
   const std::string what = "accessor " + str(accessor) + " (" + role + ")";
-  if (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || v.components != 3)
-    gltf.fail(what + " must be FLOAT VEC3 (componentType " + str(v.component_type) + ", " +
-              str(v.components) + " components)");
+  const int type = v.component_type;
+  if (v.components != 3)
+    gltf.fail(what + " must be " + type_names(integers) + " VEC3 (it is " + type_name(type) +
+              " with " + str(v.components) + " components)");
+  const bool plain = check_type(gltf, accessor, v, integers, what, "VEC3");
   std::vector<glm::vec3> out(which ? which->size() : v.count);
-  for (size_t k = 0; k < out.size(); ++k)
-    std::memcpy(&out[k], v.element(element_index(gltf, v, which, k, what)), sizeof(glm::vec3));
+  for (size_t k = 0; k < out.size(); ++k) {
+    const unsigned char* e = v.element(element_index(gltf, v, which, k, what));
+    if (type == TINYGLTF_COMPONENT_TYPE_FLOAT)
+      std::memcpy(&out[k], e, sizeof(glm::vec3));
+    else
+      for (int c = 0; c < 3; ++c)
+        out[k][c] = plain ? plain_value(e, c, type) : component_value(e, c, type);
+  }
   return out;
 }
 

@@ -404,8 +404,86 @@ bool regular_file_exists(const std::string& path, void* user) {
   throw Error(path + ": is not valid glTF: " + why);
 }
 
-tinygltf::Model parse(const std::string& path, const Bytes& data, int scene,
+// What tinygltf 2.7 refuses although the spec allows it, taken out of the JSON it parses and put
+// back into its model after: primitive indices in an accessor without a bufferView (all zeros, or
+// Draco's: KHR_draco_mesh_compression), and EXT_meshopt_compression's fallback buffers, which have
+// no data (tinygltf would take a GLB's BIN chunk for them, or refuse a .gltf's buffer without a
+// uri). A fallback buffer is given to tinygltf as one byte and left empty in the model.
+struct Workarounds {
+  std::vector<std::array<size_t, 3>> indices;  // mesh, primitive, accessor
+  std::vector<size_t> fallback_buffers;
+  bool any() const { return !indices.empty() || !fallback_buffers.empty(); }
+};
+
+Workarounds work_around_tinygltf(nlohmann::json& doc) {
+  Workarounds w;
+  auto array = [&](const char* key) -> nlohmann::json* {
+    auto it = doc.find(key);
+    return it != doc.end() && it->is_array() ? &*it : nullptr;
+  };
+  nlohmann::json *meshes = array("meshes"), *accessors = array("accessors"),
+                 *buffers = array("buffers");
+  if (meshes && accessors)
+    for (size_t m = 0; m < meshes->size(); ++m) {
+      auto primitives = (*meshes)[m].find("primitives");
+      if (primitives == (*meshes)[m].end() || !primitives->is_array()) continue;
+      for (size_t p = 0; p < primitives->size(); ++p) {
+        nlohmann::json& prim = (*primitives)[p];
+        auto indices = prim.find("indices");
+        if (indices == prim.end() || !indices->is_number_unsigned()) continue;
+        const size_t a = indices->get<size_t>();
+        if (a >= accessors->size() || (*accessors)[a].contains("bufferView")) continue;
+        w.indices.push_back({m, p, a});
+        prim.erase("indices");
+      }
+    }
+  if (buffers)
+    for (size_t b = 0; b < buffers->size(); ++b) {
+      nlohmann::json& buffer = (*buffers)[b];
+      const nlohmann::json* x = nullptr;
+      if (auto e = buffer.find("extensions"); e != buffer.end() && e->is_object())
+        if (auto m = e->find("EXT_meshopt_compression"); m != e->end()) x = &*m;
+      if (!x || !x->is_object() || x->value("fallback", false) != true || buffer.contains("uri"))
+        continue;
+      w.fallback_buffers.push_back(b);
+      buffer["uri"] = "data:application/octet-stream;base64,AA==";
+      buffer["byteLength"] = 1;
+    }
+  return w;
+}
+
+void restore(tinygltf::Model& model, const Workarounds& w) {
+  for (const auto& [m, p, a] : w.indices) model.meshes[m].primitives[p].indices = int(a);
+  for (size_t b : w.fallback_buffers) model.buffers[b].data.clear(), model.buffers[b].uri.clear();
+}
+
+// The file tinygltf is given after work_around_tinygltf changed its JSON: the new JSON, and for a
+// GLB the chunks after the JSON chunk as they were.
+Bytes rewritten(const Bytes& data, bool binary, size_t json_size, const nlohmann::json& doc) {
+  std::string json = doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (!binary) return Bytes(json.begin(), json.end());
+  json.append((4 - json.size() % 4) % 4, ' ');
+  const size_t rest = 20 + json_size;
+  Bytes out(data.begin(), data.begin() + 12);
+  auto put32 = [&](uint32_t v) {
+    for (int k = 0; k < 4; ++k) out.push_back(static_cast<unsigned char>(v >> (8 * k)));
+  };
+  put32(static_cast<uint32_t>(json.size()));
+  put32(0x4E4F534Au);
+  out.insert(out.end(), json.begin(), json.end());
+  out.insert(
+      out.end(), data.begin() + static_cast<std::ptrdiff_t>(std::min(rest, data.size())),
+      data.begin() + static_cast<std::ptrdiff_t>(std::min<size_t>(le32(&data[8]), data.size())));
+  const uint32_t length = static_cast<uint32_t>(out.size());
+  for (int k = 0; k < 4; ++k) out[8 + size_t(k)] = static_cast<unsigned char>(length >> (8 * k));
+  return out;
+}
+
+tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
                       std::vector<std::string>* files) {
+  const Bytes* input = &original;
+  Bytes changed;
+  const Bytes& data = original;
   bool binary = data.size() >= 4 && std::memcmp(data.data(), "glTF", 4) == 0;
   std::string ext = std::filesystem::path(path).extension().string();
   if (!binary && (ext == ".glb" || ext == ".GLB"))
@@ -425,6 +503,11 @@ tinygltf::Model parse(const std::string& path, const Bytes& data, int scene,
   }
   for (const std::string& warning : check_gltf_schema(path, doc))
     print_message("warning: " + warning);
+  const Workarounds workarounds = work_around_tinygltf(doc);
+  if (workarounds.any()) {
+    changed = rewritten(data, binary, json_size, doc);
+    input = &changed;
+  }
 
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
   ExternalFiles external;
@@ -437,13 +520,14 @@ tinygltf::Model parse(const std::string& path, const Bytes& data, int scene,
                          &tinygltf::WriteWholeFile, &external});
   tinygltf::Model model;
   std::string err, warn;  // warnings only concern images, which the loader checks itself
-  auto size = static_cast<unsigned int>(data.size());
-  bool ok =
-      binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data.data(), size, base_dir)
-             : loader.LoadASCIIFromString(
-                   &model, &err, &warn, reinterpret_cast<const char*>(data.data()), size, base_dir);
+  auto size = static_cast<unsigned int>(input->size());
+  bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, input->data(), size, base_dir)
+                   : loader.LoadASCIIFromString(&model, &err, &warn,
+                                                reinterpret_cast<const char*>(input->data()), size,
+                                                base_dir);
   if (!external.error.empty()) throw Error(path + ": " + external.error);
   if (!ok) parse_failed(path, model, err, warn);
+  restore(model, workarounds);
   if (files) *files = std::move(external.noted);
   return model;
 }

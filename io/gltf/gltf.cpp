@@ -5,6 +5,8 @@
 //
 // Supported: .gltf (external .bin or data URIs) and .glb; TRS and matrix nodes; triangle lists,
 // indexed (u8/u16/u32) or not; sparse accessors and accessors without a bufferView (zeros);
+// geometry as the optimisers publish it: KHR_mesh_quantization, EXT_meshopt_compression and
+// KHR_draco_mesh_compression (compression.cpp);
 // NORMAL, TANGENT, TEXCOORD_0/1 and COLOR_0 (float or normalised integers); the metallic-roughness
 // factors with KHR_materials_ior and KHR_materials_specular, emissiveFactor ×
 // KHR_materials_emissive_strength, doubleSided; baseColor, metallic-roughness, normal and
@@ -16,7 +18,7 @@
 // Ignored: occlusion textures (a path tracer computes occlusion), images no material uses (never
 // decoded), skins, morph targets, animations, and extensions that are only "used" (the spec says
 // the asset renders without them).
-// Rejected: files that *require* an extension not read here (compressed or quantised meshes...).
+// Rejected: files that *require* an extension not read here.
 // Normals that are NaN, infinite or zero are replaced by the triangle's geometric normal: they are
 // only shading hints. A non-finite position is an error, since the triangle has no place.
 //

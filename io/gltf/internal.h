@@ -13,7 +13,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <initializer_list>
 #include <map>
+#include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -31,8 +33,20 @@ struct Gltf {
   // of equal elements winning. Built once an accessor, however often it is read.
   mutable std::map<int, std::vector<std::pair<uint32_t, const unsigned char*>>> sparse_patches;
   mutable uint64_t sparse_entries = 0;  // in all of them, which is bounded
+  // The file uses KHR_mesh_quantization: attributes may be integers (read_vec3, read_floats).
+  bool quantized = false;
+  // Decompressed geometry (compression.cpp), made once and kept for the load:
+  // EXT_meshopt_compression bufferViews, and the accessors of KHR_draco_mesh_compression primitives
+  // (by index; the primitives decoded); its bytes in all, which are bounded.
+  mutable std::mutex decoded_mutex;
+  mutable std::map<int, std::vector<unsigned char>> decoded_views, decoded_accessors;
+  mutable std::set<const tinygltf::Primitive*> decoded_primitives;
+  mutable uint64_t decoded_bytes = 0;
 
-  Gltf(const std::string& path, const tinygltf::Model& model) : path(path), model(model) {}
+  Gltf(const std::string& path, const tinygltf::Model& model) : path(path), model(model) {
+    for (const std::string& name : model.extensionsUsed)
+      quantized |= name == "KHR_mesh_quantization";
+  }
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
 };
 
@@ -84,23 +98,36 @@ struct Span {
   size_t stride;
 };
 
-// The bytes of bufferView `index`, checked against its buffer; `user` names who refers to it.
+// The bytes of bufferView `index`, checked against its buffer (or decoded, under
+// EXT_meshopt_compression); `user` names who refers to it.
 Span buffer_view(const Gltf& gltf, int index, const std::string& user);
+
+// Compressed geometry (compression.cpp). The decoded bytes of bufferView `index`, which has
+// EXT_meshopt_compression.
+Span meshopt_view(const Gltf& gltf, int index);
+// Decodes primitive `prim`'s KHR_draco_mesh_compression data (`where` names it) into its
+// accessors' layouts (Gltf::decoded_accessors), which the readers below then read.
+void decode_draco(const Gltf& gltf, const tinygltf::Primitive& prim, const std::string& where);
 // Accessor `accessor`'s element count, checked against its bufferView (nothing is read).
 size_t accessor_count(const Gltf& gltf, int accessor, const std::string& role);
 // Which elements the readers below read: all of them (nullptr), or those listed, in that order
 // (a primitive reads only the vertices its indices refer to). Each listed element must exist.
 using Elements = const std::vector<uint32_t>*;
-// POSITION and NORMAL: FLOAT VEC3, copied out of their (possibly strided) view.
+// The integer componentTypes an attribute may have besides FLOAT, as bits: those it may have when
+// the accessor says normalized (read as the spec's c / max), and those it may have when it does
+// not (read as the integers' values: KHR_mesh_quantization's positions and texture coordinates).
+enum : uint8_t { kByte = 1, kUnsignedByte = 2, kShort = 4, kUnsignedShort = 8 };
+struct IntegerTypes {
+  uint8_t normalized = 0, plain = 0;
+};
+// POSITION and NORMAL: VEC3, FLOAT (copied out of their possibly strided view) or `integers`.
 std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role,
-                                 Elements which = nullptr);
-// An attribute of `min_components`..`max_components` components, FLOAT or one of the normalised
-// integer types `integers` (the accessor must then say normalized), as floats; components the
-// accessor lacks are `fill`.
+                                 Elements which = nullptr, IntegerTypes integers = {});
+// An attribute of `min_components`..`max_components` components, FLOAT or `integers`, as floats;
+// components the accessor lacks are `fill`.
 std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::string& role,
-                                   int min_components, int max_components,
-                                   std::initializer_list<int> integers, float fill,
-                                   Elements which = nullptr);
+                                   int min_components, int max_components, IntegerTypes integers,
+                                   float fill, Elements which = nullptr);
 // Unit quaternions (x, y, z, w): FLOAT, or normalised BYTE or SHORT as the spec allows.
 std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std::string& role);
 // A primitive's indices: an unsigned SCALAR accessor, each index below `vertex_count`.

@@ -41,10 +41,14 @@ std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
       gltf.fail(where + ": " + name + " has " + str(n) + " instances, not " + str(count));
     count = n, counted = true;
   };
+  // With KHR_mesh_quantization, translations and scales may be normalized BYTE or SHORT too.
+  const IntegerTypes quantized = {uint8_t(gltf.quantized ? kByte | kShort : 0), 0};
   if (t != -1)
-    translation = read_vec3(gltf, t, "TRANSLATION of " + where),
+    translation = read_vec3(gltf, t, "TRANSLATION of " + where, nullptr, quantized),
     same_count(translation.size(), "TRANSLATION");
-  if (s != -1) scale = read_vec3(gltf, s, "SCALE of " + where), same_count(scale.size(), "SCALE");
+  if (s != -1)
+    scale = read_vec3(gltf, s, "SCALE of " + where, nullptr, quantized),
+    same_count(scale.size(), "SCALE");
   if (r != -1)
     rotation = read_rotations(gltf, r, "ROTATION of " + where),
     same_count(rotation.size(), "ROTATION");

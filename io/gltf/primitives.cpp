@@ -144,6 +144,7 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   uint32_t material = material_for(prim.material, where);
   const Material& mat = scene_.materials[material];
   use_textures(mat);
+  if (prim.extensions.count("KHR_draco_mesh_compression")) decode_draco(gltf_, prim, where);
 
   // The work is bounded from the accessors' counts, before anything is read: an instance costs
   // its triangles, never its accessors' sizes (only the vertices its indices use are read).
@@ -199,7 +200,18 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   }
   auto vertex = [&](size_t i) { return which ? size_t(used[i]) : i; };  // its number in the file
 
-  std::vector<glm::vec3> points = read_vec3(gltf_, position->second, "POSITION of " + where, which);
+  // KHR_mesh_quantization lets attributes be integers: positions and texture coordinates of any
+  // 8- or 16-bit type, normalized or not, normals and tangents of the signed ones, normalized (the
+  // node's transform scales them back).
+  const bool quantized = gltf_.quantized;
+  constexpr uint8_t small = kByte | kUnsignedByte | kShort | kUnsignedShort;
+  const IntegerTypes position_types = quantized ? IntegerTypes{small, small} : IntegerTypes{},
+                     direction_types = {uint8_t(quantized ? kByte | kShort : 0), 0},
+                     texcoord_types = {
+                         uint8_t(kUnsignedByte | kUnsignedShort | (quantized ? kByte | kShort : 0)),
+                         uint8_t(quantized ? small : 0)};
+  std::vector<glm::vec3> points =
+      read_vec3(gltf_, position->second, "POSITION of " + where, which, position_types);
   for (size_t i = 0; i < points.size(); ++i) {
     if (!finite(points[i]))
       gltf_.fail("accessor " + str(position->second) + " (POSITION of " + where + ") vertex " +
@@ -219,7 +231,7 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   std::vector<glm::vec3> normals;
   if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
     same_count(normal->second, "NORMAL of " + where);
-    normals = read_vec3(gltf_, normal->second, "NORMAL of " + where, which);
+    normals = read_vec3(gltf_, normal->second, "NORMAL of " + where, which, direction_types);
     for (glm::vec3& n : normals) n = xf.normal * n;  // normalised per corner below
     if (!keep_normals_) start_normals();
   }
@@ -236,9 +248,7 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     const std::string role = name + " of " + where;
     same_count(attribute->second, role);
     std::vector<glm::vec4> values =
-        read_floats(gltf_, attribute->second, role, 2, 2,
-                    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
-                    0.f, which);
+        read_floats(gltf_, attribute->second, role, 2, 2, texcoord_types, 0.f, which);
     uv[set].resize(values.size());
     for (size_t i = 0; i < values.size(); ++i) uv[set][i] = glm::vec2(values[i]);
     texcoords_[set].start(before, glm::vec2(0.f));
@@ -247,10 +257,8 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   if (auto attribute = prim.attributes.find("COLOR_0"); attribute != prim.attributes.end()) {
     const std::string role = "COLOR_0 of " + where;
     same_count(attribute->second, role);
-    colors =
-        read_floats(gltf_, attribute->second, role, 3, 4,
-                    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
-                    1.f, which);
+    colors = read_floats(gltf_, attribute->second, role, 3, 4, {kUnsignedByte | kUnsignedShort},
+                         1.f, which);
     for (size_t i = 0; i < colors.size(); ++i) {
       if (!finite(glm::vec3(colors[i])) || !std::isfinite(colors[i].w))
         gltf_.fail("accessor " + str(attribute->second) + " (" + role + ") element " +
@@ -267,7 +275,7 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
       normal_map && !normals.empty() && attribute != prim.attributes.end()) {
     const std::string role = "TANGENT of " + where;
     same_count(attribute->second, role);
-    tangents = read_floats(gltf_, attribute->second, role, 4, 4, {}, 0.f, which);
+    tangents = read_floats(gltf_, attribute->second, role, 4, 4, direction_types, 0.f, which);
     for (glm::vec4& t : tangents) {
       // A mirroring transform turns the bitangent cross(n, t) around: flip its sign back.
       t = glm::vec4(xf.tangent * glm::vec3(t), (t.w < 0.f) != xf.flips ? -1.f : 1.f);

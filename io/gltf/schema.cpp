@@ -41,10 +41,17 @@ constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 
 // The extensions the loader (io/gltf/) reads (KHR_materials_volume only as thin-walled, with a
 // warning).
-constexpr std::string_view kSupportedExtensions[] = {
-    "EXT_mesh_gpu_instancing", "KHR_lights_punctual",    "KHR_materials_emissive_strength",
-    "KHR_materials_ior",       "KHR_materials_specular", "KHR_materials_transmission",
-    "KHR_materials_volume",    "KHR_texture_transform"};
+constexpr std::string_view kSupportedExtensions[] = {"EXT_mesh_gpu_instancing",
+                                                     "EXT_meshopt_compression",
+                                                     "KHR_draco_mesh_compression",
+                                                     "KHR_lights_punctual",
+                                                     "KHR_materials_emissive_strength",
+                                                     "KHR_materials_ior",
+                                                     "KHR_materials_specular",
+                                                     "KHR_materials_transmission",
+                                                     "KHR_materials_volume",
+                                                     "KHR_mesh_quantization",
+                                                     "KHR_texture_transform"};
 
 // The root arrays (each an array of at least one object), and what one element is called.
 struct Kind {
@@ -495,6 +502,22 @@ class Checker {
       if (integer(*s, at / "byteStride", 4, 252) % 4 != 0)
         fail(at / "byteStride", describe(*s) + " is not a multiple of 4");
     if (const json* t = has(v, at, "target")) enum_int(*t, at / "target", {34962, 34963});
+    // Its sizes as tinygltf keeps them (int), so that the decoder (compression.cpp) reads them
+    // as the file says.
+    if (const json* x = extension(v, at, "EXT_meshopt_compression")) {
+      const Pointer xt = at / "extensions" / "EXT_meshopt_compression";
+      index_member(*x, xt, "buffer", "buffers", true);
+      if (const json* o = has(*x, xt, "byteOffset")) integer(*o, xt / "byteOffset", 0, kMaxInt);
+      integer(need(*x, xt, "byteLength"), xt / "byteLength", 1, kMaxInt);
+      integer(need(*x, xt, "byteStride"), xt / "byteStride", 1, 256);
+      integer(need(*x, xt, "count"), xt / "count", 1, kMaxInt);
+      const json& mode = need(*x, xt, "mode");
+      if (mode != "ATTRIBUTES" && mode != "TRIANGLES" && mode != "INDICES")
+        fail(xt / "mode", describe(mode) + " is not ATTRIBUTES, TRIANGLES or INDICES");
+      if (const json* f = has(*x, xt, "filter"))
+        if (*f != "NONE" && *f != "OCTAHEDRAL" && *f != "QUATERNION" && *f != "EXPONENTIAL")
+          fail(xt / "filter", describe(*f) + " is not NONE, OCTAHEDRAL, QUATERNION or EXPONENTIAL");
+    }
   }
 
   void accessor(const json& a, const Pointer& at) {
@@ -659,6 +682,13 @@ class Checker {
       index_member(prim, p, "indices", "accessors");
       index_member(prim, p, "material", "materials");
       if (const json* v = has(prim, p, "mode")) enum_int(*v, p / "mode", {0, 1, 2, 3, 4, 5, 6});
+      if (const json* x = extension(prim, p, "KHR_draco_mesh_compression")) {
+        const Pointer xt = p / "extensions" / "KHR_draco_mesh_compression";
+        index_member(*x, xt, "bufferView", "bufferViews", true);
+        const json& ids = property(need(*x, xt, "attributes"), xt / "attributes");
+        for (auto it = ids.begin(); it != ids.end(); ++it)
+          integer(it.value(), xt / "attributes" / it.key(), 0, kMaxInt);
+      }
       if (const json* targets = has(prim, p, "targets")) {
         array(*targets, p / "targets", "an array of objects");
         for (size_t t = 0; t < targets->size(); ++t)
