@@ -357,11 +357,18 @@ int info(const std::vector<std::string>& args) {
   if (!scene.tangents.empty()) attributes += ", tangents (from the file or generated)";
   std::printf("attributes %s\n", attributes.c_str());
   const Scene::Ignored& ig = scene.ignored;
-  if (ig.any())
+  if (ig.volumes || ig.specular_textures)
     std::printf(
         "ignores    %zu volume thicknesses (rendered thin-walled), %zu specular-textured "
         "materials (rendered by their factors)\n",
         ig.volumes, ig.specular_textures);
+  if (!ig.extensions.empty())
+    std::printf("not read   %s\n", one_line(ig.unread_extensions()).c_str());
+  if (ig.occlusion_textures)
+    std::printf(
+        "occlusion  %zu materials' occlusion textures left unread (a path tracer computes "
+        "occlusion)\n",
+        ig.occlusion_textures);
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {

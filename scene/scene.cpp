@@ -46,4 +46,16 @@ glm::vec3 PunctualLight::irradiance_towards(const glm::vec3& to) const {
   return glm::vec3(glm::dvec3(intensity) * falloff);
 }
 
+std::string Scene::Ignored::unread_extensions() const {
+  std::string out;
+  for (const auto& [name, kinds] : extensions) {
+    std::string where;
+    for (const auto& [kind, n] : kinds)
+      where += (where.empty() ? "" : ", ") + std::to_string(n) + " " + kind + (n == 1 ? "" : "s");
+    out += (out.empty() ? "" : ", ") + name.substr(0, 100) + " (" +
+           (where.empty() ? "listed in extensionsUsed" : where) + ")";
+  }
+  return out;
+}
+
 }  // namespace dacrt

@@ -7,6 +7,7 @@
 #include <array>
 #include <glm/glm.hpp>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -59,12 +60,19 @@ struct Scene {
   size_t cameras_from_file = 0;       // if 0, cameras[0] was made to frame the scene's bounds
 
   // What the file uses that this version does not render as specified (the loader warns once):
-  // materials with KHR_materials_specular textures (factors only), and KHR_materials_volume
-  // materials with a thickness (rendered thin-walled, without refraction or attenuation). Counted
-  // per material of the file.
+  // materials with KHR_materials_specular textures (factors only), KHR_materials_volume
+  // materials with a thickness (rendered thin-walled, without refraction or attenuation), both
+  // counted per material of the file; extensions the file uses that are not read at all (by
+  // name: the kinds of element that carry them and how many; none when only listed in
+  // extensionsUsed). Occlusion textures are left unread on purpose (a path tracer computes
+  // occlusion): counted for `dacrt info`, not warned about.
   struct Ignored {
     size_t specular_textures = 0, volumes = 0;
-    bool any() const { return specular_textures || volumes; }
+    std::map<std::string, std::map<std::string, size_t>> extensions;
+    size_t occlusion_textures = 0;
+    bool any() const { return specular_textures || volumes || !extensions.empty(); }
+    // "KHR_materials_sheen (2 materials), EXT_foo (listed in extensionsUsed)", or "".
+    std::string unread_extensions() const;
   } ignored;
 
   // Counts from the file, for `dacrt info`.

@@ -3,6 +3,7 @@
 // of the element at fault. Valid content the loader does not support loads, with a warning.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -290,7 +291,7 @@ TEST_CASE("gltf schema: extensionsRequired") {
   CHECK(load_gltf(w.write_gltf(dir / "supported.gltf")).lights.size() == 1);
 }
 
-TEST_CASE("gltf schema: an unknown extension that is only used loads, without a word") {
+TEST_CASE("gltf schema: an unknown extension that is only used loads, with one warning") {
   TempDir dir("schema-used");
   GltfWriter w = rich_file();
   w.doc["extensionsUsed"].push_back("EXT_unknown_future");
@@ -299,7 +300,10 @@ TEST_CASE("gltf schema: an unknown extension that is only used loads, without a 
   w.doc["extras"] = "extras may be any JSON value";
   w.doc["nodes"][0]["unknownProperty"] = {{"is", "allowed"}};
   const std::string path = w.write_gltf(dir / "used.gltf");
-  CHECK(stderr_of([&] { CHECK(load_gltf(path).geometry.size() == 2); }).empty());
+  const std::string err = stderr_of([&] { CHECK(load_gltf(path).geometry.size() == 2); });
+  CHECK(std::count(err.begin(), err.end(), '\n') == 1);
+  CHECK(err.find("not read in this version (rendered without them): EXT_unknown_future (1 "
+                 "material, 1 node)") != std::string::npos);
   // But an extension's value must be an object, known or not.
   w.doc["nodes"][0]["extensions"]["EXT_unknown_future"] = 1;
   check_error(w.write_gltf(dir / "ext-number.gltf"),
@@ -651,4 +655,28 @@ TEST_CASE("gltf schema: every rule, one mutation each") {
     ++refused;
   }
   CHECK(refused > 100);
+}
+
+TEST_CASE("gltf schema: extensions used but not read are named in one warning, with counts") {
+  TempDir dir("schema-unread");
+  GltfWriter w = rich_file();
+  w.doc["extensionsUsed"].push_back("KHR_materials_clearcoat");
+  w.doc["extensionsUsed"].push_back("EXT_listed_only");
+  w.doc["materials"][0]["extensions"]["KHR_materials_clearcoat"] = {{"clearcoatFactor", 1.0}};
+  w.doc["materials"][1]["extensions"]["KHR_materials_clearcoat"] = {{"clearcoatFactor", 0.5}};
+  w.doc["nodes"][0]["extensions"]["EXT_vendor_thing"] = json::object();
+  w.doc["materials"][0]["occlusionTexture"] = {{"index", 0}};
+  const std::string path = w.write_gltf(dir / "unread.gltf");
+  Scene scene;
+  const std::string err = stderr_of([&] { scene = load_gltf(path); });
+  INFO(err);
+  CHECK(std::count(err.begin(), err.end(), '\n') == 1);
+  CHECK(err.find("warning: " + path +
+                 ": extensions not read in this version (rendered without "
+                 "them): EXT_listed_only (listed in extensionsUsed), EXT_vendor_thing (1 node), "
+                 "KHR_materials_clearcoat (2 materials)") != std::string::npos);
+  CHECK(scene.ignored.extensions.at("KHR_materials_clearcoat").at("material") == 2);
+  CHECK(scene.ignored.occlusion_textures == 2);  // and the rich file's textured material
+  // Extensions that are read are not named; nothing unread, no warning.
+  CHECK(scene.ignored.extensions.count("KHR_texture_transform") == 0);
 }

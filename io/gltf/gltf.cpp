@@ -32,11 +32,44 @@
 
 #include "io/gltf/file.h"
 #include "io/gltf/internal.h"
+#include "io/gltf/schema.h"
 #include "util/text.h"
 
 namespace dacrt {
 namespace gltf {
 namespace {
+
+// The extensions the file uses that the loader does not read, by the kind of element carrying
+// them (a material, a node, the file...), and the materials with an occlusion texture.
+void note_unread(const Gltf& gltf, Scene::Ignored& ignored) {
+  const tinygltf::Model& m = gltf.model;
+  auto note = [&](const tinygltf::ExtensionMap& extensions, const char* kind) {
+    for (const auto& [name, value] : extensions)
+      if (!gltf_extension_supported(name)) ++ignored.extensions[name][kind];
+  };
+  auto each = [&](const auto& elements, const char* kind) {
+    for (const auto& e : elements) note(e.extensions, kind);
+  };
+  note(m.extensions, "file");
+  each(m.materials, "material");
+  each(m.textures, "texture");
+  each(m.images, "image");
+  each(m.samplers, "sampler");
+  each(m.nodes, "node");
+  each(m.meshes, "mesh");
+  for (const tinygltf::Mesh& mesh : m.meshes) each(mesh.primitives, "primitive");
+  each(m.cameras, "camera");
+  each(m.scenes, "scene");
+  each(m.accessors, "accessor");
+  each(m.bufferViews, "bufferView");
+  each(m.buffers, "buffer");
+  each(m.animations, "animation");
+  each(m.skins, "skin");
+  for (const std::string& name : m.extensionsUsed)
+    if (!gltf_extension_supported(name)) ignored.extensions[name];  // at least listed
+  for (const tinygltf::Material& material : m.materials)
+    ignored.occlusion_textures += material.occlusionTexture.index >= 0;
+}
 
 Scene run(const Gltf& gltf, int scene) {
   Scene out;
@@ -53,6 +86,7 @@ Scene run(const Gltf& gltf, int scene) {
     gltf.fail(std::string(by_default ? "default " : "") + "scene " + str(scene) +
               " does not exist (" + str(count) + " scenes)");
   out.materials = load_materials(gltf, out.ignored);
+  note_unread(gltf, out.ignored);
   if (count > 0) load_nodes(gltf, scene, meshes, out);
   load_textures(gltf, meshes.texture_used(), out);
 
@@ -74,7 +108,12 @@ Scene run(const Gltf& gltf, int scene) {
     };
     add(i.specular_textures, "KHR_materials_specular textures");
     add(i.volumes, "KHR_materials_volume thicknesses (rendered thin-walled)");
-    print_message("warning: " + gltf.path + ": not rendered as specified in this version: " + what);
+    if (!what.empty())
+      print_message("warning: " + gltf.path +
+                    ": not rendered as specified in this version: " + what);
+    if (const std::string unread = i.unread_extensions(); !unread.empty())
+      print_message("warning: " + gltf.path +
+                    ": extensions not read in this version (rendered without them): " + unread);
   }
   return out;
 }
