@@ -87,7 +87,7 @@ Output
 Render options that apply to every configuration: those of `dacrt render --help` (--width,
 --height, --camera, --max-depth, --integrator, --threads, ...) but for -o, --preview, --view,
 --exposure, --stats, --aov, --spp, --time-limit and --checkpoint. Those that change the image
-itself (--width, --height, --camera, --look-from, --look-at, --up, --fov, --scene,
+itself (--width, --height, --camera, --look-from, --look-at, --up, --fov, --scene, --variant,
 --environment, --point-light) cannot be set per configuration.
 
 Metrics (on linear radiance, every channel of every pixel, against the reference r):
@@ -99,8 +99,8 @@ sample so far.
 
 // Options that change the image itself: every configuration must share them (one reference).
 const std::set<std::string> shared_only = {
-    "--width", "--height", "--camera", "--look-from",   "--look-at",
-    "--up",    "--fov",    "--scene",  "--environment", "--point-light"};
+    "--width", "--height", "--camera",  "--look-from",   "--look-at",    "--up",
+    "--fov",   "--scene",  "--variant", "--environment", "--point-light"};
 // Render options that mean nothing here.
 const std::set<std::string> not_applicable = {"--preview",    "--view",      "--exposure",
                                               "--stats",      "--aov",       "--spp",
@@ -296,8 +296,7 @@ std::vector<Config> parse_configs(const ConvergeArgs& c) {
 // The largest allocations of the renders, estimated before any is made (as `dacrt render` does):
 // a configuration's film and path state, twice with --noise, beside the reference image. Throws
 // Error when they exceed the memory this process may still take.
-void check_memory(const ConvergeArgs& a, const std::vector<Config>& configs,
-                  const Shot& shot) {
+void check_memory(const ConvergeArgs& a, const std::vector<Config>& configs, const Shot& shot) {
   const RenderMemory reference = render_memory(shot, a.shared.settings, false);
   uint64_t need = reference.image + reference.paths;
   for (const Config& c : configs) {

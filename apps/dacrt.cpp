@@ -50,7 +50,7 @@ constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer 
 
 Usage:
   dacrt render SCENE [options]   render a glTF 2.0 scene (.gltf or .glb) to OpenEXR
-  dacrt info SCENE [--scene N]   triangles, meshes, materials, lights, cameras, bounds
+  dacrt info SCENE [--scene N]   triangles, meshes, materials, variants, lights, cameras, bounds
   dacrt views                    the display views a preview can use (`render --view`), from
                                  $OCIO when it is set
   dacrt bench SCENE [options]    every backend on the same rays of each type: build and trace
@@ -92,6 +92,7 @@ Image
   --up X,Y,Z                 its up direction (default: the chosen camera's, +Y when framed)
   --fov DEGREES              its vertical field of view (default: the chosen camera's)
   --scene INDEX              which of the file's scenes (default: the file's default scene)
+  --variant NAME             the KHR_materials_variants variant to render (dacrt info lists them)
 Light transport
   --integrator NAME          path (default: path tracing), direct (direct lighting, NEE + MIS,
                              one scattering event), ao (ambient occlusion), albedo, normal, depth
@@ -369,6 +370,12 @@ int info(const std::vector<std::string>& args) {
         "occlusion  %zu materials' occlusion textures left unread (a path tracer computes "
         "occlusion)\n",
         ig.occlusion_textures);
+  if (!scene.variants.empty()) {
+    std::string names;
+    for (const std::string& v : scene.variants) names += (names.empty() ? "" : ", ") + v;
+    std::printf("variants   %zu (render --variant NAME): %s\n", scene.variants.size(),
+                one_line(names).c_str());
+  }
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {

@@ -125,6 +125,9 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     if (v.empty() || *end != '\0' || !(degrees > 0.f && degrees < 180.f))
       throw UsageError("--fov wants degrees in (0, 180), got '" + v + "'");
     r.settings.camera_override.fov_degrees = degrees;
+  } else if (a == "--variant") {
+    r.gltf.variant = value();
+    if (r.gltf.variant.empty()) throw UsageError("--variant needs a name (see dacrt info SCENE)");
   } else if (a == "--scene")
     r.gltf.scene = int(parse_int(a, value(), 0, 1 << 20));
   else if (a == "--backend")

@@ -58,6 +58,9 @@ struct Scene {
   std::vector<Camera> cameras;        // never empty after loading: see `cameras_from_file`
   std::vector<PunctualLight> lights;  // KHR_lights_punctual, one per node that has one
   size_t cameras_from_file = 0;       // if 0, cameras[0] was made to frame the scene's bounds
+  // KHR_materials_variants: the file's variant names, and the one rendered (empty: none).
+  std::vector<std::string> variants;
+  std::string variant;
 
   // What the file uses that this version does not render as specified (the loader warns once):
   // materials with KHR_materials_specular textures (factors only), KHR_materials_volume

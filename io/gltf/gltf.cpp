@@ -71,8 +71,33 @@ void note_unread(const Gltf& gltf, Scene::Ignored& ignored) {
     ignored.occlusion_textures += material.occlusionTexture.index >= 0;
 }
 
-Scene run(const Gltf& gltf, int scene) {
+// The file's KHR_materials_variants names (checked by the schema: an array of named objects).
+std::vector<std::string> variant_names(const Gltf& gltf) {
+  std::vector<std::string> names;
+  auto x = gltf.model.extensions.find("KHR_materials_variants");
+  if (x == gltf.model.extensions.end() || !x->second.Has("variants")) return names;
+  const tinygltf::Value& variants = x->second.Get("variants");
+  for (size_t i = 0; i < variants.ArrayLen(); ++i)
+    names.push_back(variants.Get(int(i)).Get("name").Get<std::string>());
+  return names;
+}
+
+Scene run(Gltf& gltf, const GltfOptions& options) {
+  int scene = options.scene;
   Scene out;
+  out.variants = variant_names(gltf);
+  if (!options.variant.empty()) {
+    auto it = std::find(out.variants.begin(), out.variants.end(), options.variant);
+    if (it == out.variants.end()) {
+      std::string known;
+      for (const std::string& v : out.variants) known += (known.empty() ? "" : ", ") + v;
+      throw SettingError(gltf.path + ": --variant \"" + one_line(options.variant.substr(0, 100)) +
+                         "\" is not a material variant of the file (" +
+                         (known.empty() ? std::string("it has none") : "it has: " + known) + ")");
+    }
+    gltf.variant = int(it - out.variants.begin());
+    out.variant = options.variant;
+  }
   MeshLoader meshes(gltf, out);
   out.path = gltf.path;
   // Required extensions, types, ranges and indices were checked against the schema
@@ -129,10 +154,11 @@ Scene load(const std::string& path, const GltfOptions& options, Read read) {
   try {
     std::vector<std::string> files;
     tinygltf::Model model = read(files);
-    Scene scene = gltf::run(gltf::Gltf(path, model), options.scene);
+    gltf::Gltf gltf(path, model);
+    Scene scene = gltf::run(gltf, options);
     scene.files = std::move(files);
     return scene;
-  } catch (const Error&) {
+  } catch (const Error&) {  // SettingError too
     throw;
   } catch (const std::bad_alloc&) {
     throw Error(path + ": out of memory while loading");

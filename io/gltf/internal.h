@@ -35,6 +35,8 @@ struct Gltf {
   mutable uint64_t sparse_entries = 0;  // in all of them, which is bounded
   // The file uses KHR_mesh_quantization: attributes may be integers (read_vec3, read_floats).
   bool quantized = false;
+  // The KHR_materials_variants variant the primitives take their materials from (-1: their own).
+  int variant = -1;
   // Decompressed geometry (compression.cpp), made once and kept for the load:
   // EXT_meshopt_compression bufferViews, and the accessors of KHR_draco_mesh_compression primitives
   // (by index; the primitives decoded); its bytes in all, which are bounded.
@@ -193,6 +195,7 @@ class MeshLoader {
   void add_primitive(int mesh, int index, const Transform& xf, bool first_instance);
   void use_textures(const Material& m);
   uint32_t material_for(int index, const std::string& where);
+  int variant_material(const tinygltf::Primitive& prim) const;
 
   const Gltf& gltf_;
   Scene& scene_;

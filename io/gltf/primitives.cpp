@@ -90,6 +90,23 @@ void MeshLoader::use_textures(const Material& m) {
     if (ref && *ref) texture_used_[size_t(ref->texture)] = true;
 }
 
+// The primitive's material, or with a KHR_materials_variants variant chosen, the one its mapping
+// for that variant names (checked by the schema: mappings of a material and variant indices).
+int MeshLoader::variant_material(const tinygltf::Primitive& prim) const {
+  if (gltf_.variant < 0) return prim.material;
+  auto x = prim.extensions.find("KHR_materials_variants");
+  if (x == prim.extensions.end() || !x->second.Has("mappings")) return prim.material;
+  const tinygltf::Value& mappings = x->second.Get("mappings");
+  for (size_t k = 0; k < mappings.ArrayLen(); ++k) {
+    const tinygltf::Value& mapping = mappings.Get(int(k));
+    const tinygltf::Value& variants = mapping.Get("variants");
+    for (size_t v = 0; v < variants.ArrayLen(); ++v)
+      if (variants.Get(int(v)).GetNumberAsInt() == gltf_.variant)
+        return mapping.Get("material").GetNumberAsInt();
+  }
+  return prim.material;
+}
+
 uint32_t MeshLoader::material_for(int index, const std::string& where) {
   if (index == -1) {  // the glTF default material, appended once, only if used
     if (default_material_ < 0) {
@@ -141,7 +158,7 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     skipped_unpositioned_ += first_instance;
     return;
   }
-  uint32_t material = material_for(prim.material, where);
+  uint32_t material = material_for(variant_material(prim), where);
   const Material& mat = scene_.materials[material];
   use_textures(mat);
   if (prim.extensions.count("KHR_draco_mesh_compression")) decode_draco(gltf_, prim, where);

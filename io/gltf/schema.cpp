@@ -41,17 +41,11 @@ constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 
 // The extensions the loader (io/gltf/) reads (KHR_materials_volume only as thin-walled, with a
 // warning).
-constexpr std::string_view kSupportedExtensions[] = {"EXT_mesh_gpu_instancing",
-                                                     "EXT_meshopt_compression",
-                                                     "KHR_draco_mesh_compression",
-                                                     "KHR_lights_punctual",
-                                                     "KHR_materials_emissive_strength",
-                                                     "KHR_materials_ior",
-                                                     "KHR_materials_specular",
-                                                     "KHR_materials_transmission",
-                                                     "KHR_materials_volume",
-                                                     "KHR_mesh_quantization",
-                                                     "KHR_texture_transform"};
+constexpr std::string_view kSupportedExtensions[] = {
+    "EXT_mesh_gpu_instancing", "EXT_meshopt_compression",         "KHR_draco_mesh_compression",
+    "KHR_lights_punctual",     "KHR_materials_emissive_strength", "KHR_materials_ior",
+    "KHR_materials_specular",  "KHR_materials_transmission",      "KHR_materials_variants",
+    "KHR_materials_volume",    "KHR_mesh_quantization",           "KHR_texture_transform"};
 
 // The root arrays (each an array of at least one object), and what one element is called.
 struct Kind {
@@ -183,6 +177,16 @@ class Checker {
       }
     }
     if (const json* lights = light_list()) light_count_ = lights->size();
+    if (const json* x = extension(root_, top, "KHR_materials_variants")) {
+      const Pointer at = top / "extensions" / "KHR_materials_variants";
+      const json& variants =
+          array(need(*x, at, "variants"), at / "variants", "an array of objects");
+      for (size_t i = 0; i < variants.size(); ++i) {
+        property(variants[i], at / "variants" / i);
+        string(need(variants[i], at / "variants" / i, "name"), at / "variants" / i / "name");
+      }
+      variant_count_ = variants.size();
+    }
     index_member(root_, top, "scene", "scenes");
 
     each("buffers", &Checker::buffer);
@@ -214,6 +218,7 @@ class Checker {
 
   size_t count(std::string_view array) const {
     if (array == "lights") return light_count_;
+    if (array == "variants") return variant_count_;
     auto a = root_.find(array);
     return a == root_.end() ? 0 : a->size();  // checked to be an array first
   }
@@ -682,6 +687,17 @@ class Checker {
       index_member(prim, p, "indices", "accessors");
       index_member(prim, p, "material", "materials");
       if (const json* v = has(prim, p, "mode")) enum_int(*v, p / "mode", {0, 1, 2, 3, 4, 5, 6});
+      if (const json* x = extension(prim, p, "KHR_materials_variants")) {
+        const Pointer xt = p / "extensions" / "KHR_materials_variants";
+        const json& mappings =
+            array(need(*x, xt, "mappings"), xt / "mappings", "an array of objects");
+        for (size_t k = 0; k < mappings.size(); ++k) {
+          const json& mapping = property(mappings[k], xt / "mappings" / k);
+          index_member(mapping, xt / "mappings" / k, "material", "materials", true);
+          indices(need(mapping, xt / "mappings" / k, "variants"), xt / "mappings" / k / "variants",
+                  "variants");
+        }
+      }
       if (const json* x = extension(prim, p, "KHR_draco_mesh_compression")) {
         const Pointer xt = p / "extensions" / "KHR_draco_mesh_compression";
         index_member(*x, xt, "bufferView", "bufferViews", true);
@@ -804,6 +820,7 @@ class Checker {
   const std::string& path_;
   const json& root_;
   size_t light_count_ = 0;
+  size_t variant_count_ = 0;  // KHR_materials_variants
   std::vector<std::string> warnings_;
 };
 
