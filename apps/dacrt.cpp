@@ -360,8 +360,9 @@ int info(const std::vector<std::string>& args) {
   if (ig.any())
     std::printf(
         "ignores    %zu volume thicknesses (rendered thin-walled), %zu specular-textured "
-        "materials (rendered by their factors)\n",
-        ig.volumes, ig.specular_textures);
+        "materials (rendered by their factors), %zu KTX2 textures (rendered from their "
+        "fallback images)\n",
+        ig.volumes, ig.specular_textures, ig.ktx2_textures);
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {

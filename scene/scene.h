@@ -60,11 +60,12 @@ struct Scene {
 
   // What the file uses that this version does not render as specified (the loader warns once):
   // materials with KHR_materials_specular textures (factors only), and KHR_materials_volume
-  // materials with a thickness (rendered thin-walled, without refraction or attenuation). Counted
-  // per material of the file.
+  // materials with a thickness (rendered thin-walled, without refraction or attenuation), counted
+  // per material of the file; textures a material samples whose KHR_texture_basisu (KTX2) image
+  // gives way to their fallback source (no KTX2 decoder), counted per texture.
   struct Ignored {
-    size_t specular_textures = 0, volumes = 0;
-    bool any() const { return specular_textures || volumes; }
+    size_t specular_textures = 0, volumes = 0, ktx2_textures = 0;
+    bool any() const { return specular_textures || volumes || ktx2_textures; }
   } ignored;
 
   // Counts from the file, for `dacrt info`.

@@ -8,15 +8,17 @@
 // NORMAL, TANGENT, TEXCOORD_0/1 and COLOR_0 (float or normalised integers); the metallic-roughness
 // factors with KHR_materials_ior and KHR_materials_specular, emissiveFactor ×
 // KHR_materials_emissive_strength, doubleSided; baseColor, metallic-roughness, normal and
-// emissive textures with KHR_texture_transform and samplers, from PNG or JPEG images (embedded,
-// in a bufferView, or external files); tangents generated where a normal map needs them and the
+// emissive textures with KHR_texture_transform and samplers, from PNG, JPEG or WebP
+// (EXT_texture_webp) images (embedded, in a bufferView, or external files), KHR_texture_basisu
+// textures from their fallback image; tangents generated where a normal map needs them and the
 // file has none; perspective and orthographic cameras.
 // Triangle lists, strips and fans. Skipped with one warning line each: point and line primitives,
 // primitives without POSITION (the spec says to skip them).
 // Ignored: occlusion textures (a path tracer computes occlusion), images no material uses (never
 // decoded), skins, morph targets, animations, and extensions that are only "used" (the spec says
 // the asset renders without them).
-// Rejected: files that *require* an extension not read here (compressed or quantised meshes...).
+// Rejected: files that *require* an extension not read here (compressed or quantised meshes, KTX2
+// textures...), and textures whose only image is KTX2.
 // Normals that are NaN, infinite or zero are replaced by the triangle's geometric normal: they are
 // only shading hints. A non-finite position is an error, since the triangle has no place.
 //
@@ -72,6 +74,8 @@ Scene run(const Gltf& gltf, int scene) {
     };
     add(i.specular_textures, "KHR_materials_specular textures");
     add(i.volumes, "KHR_materials_volume thicknesses (rendered thin-walled)");
+    add(i.ktx2_textures,
+        "KHR_texture_basisu textures (rendered from their fallback images: no KTX2 decoder)");
     print_message("warning: " + gltf.path + ": not rendered as specified in this version: " + what);
   }
   return out;
