@@ -1,7 +1,7 @@
 // One fuzzing input, as the fuzz target and the suite's fuzz test both treat it. A glTF (JSON, or
 // GLB by its magic) is loaded, decoding the images its materials use, and what loads is traced by
 // dacrt and compared with brute force (trace_check.h). Anything else is handed to the image
-// decoder as a glTF image's bytes, so the fuzzer reaches PNG and JPEG decoding directly too, and
+// decoder as a glTF image's bytes, so the fuzzer reaches PNG, JPEG and WebP decoding directly, and
 // every other format must be refused by its signature.
 #pragma once
 

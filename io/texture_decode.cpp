@@ -1,31 +1,37 @@
-// Decoding of glTF images: PNG through libpng, JPEG through libjpeg-turbo, chosen by the bytes'
-// signature (never by the mimeType, which files get wrong). Everything else is refused, naming
-// the format when its signature is known (Radiance HDR, BMP, GIF, PSD, PNM, TIFF, WebP, ...).
+// Decoding of glTF images: PNG through libpng, JPEG through libjpeg-turbo, WebP (EXT_texture_webp)
+// through libwebp, chosen by the bytes' signature (never by the mimeType, which files get wrong).
+// Everything else is refused, naming the format when its signature is known (Radiance HDR, BMP,
+// GIF, PSD, PNM, TIFF, KTX2, ...).
 //
 // - Bounds: the size is read from the header and refused above 2^27 texels before any row or
-//   output buffer exists (libpng's user limits, 2^27 a side, back this up). libpng refuses any
-//   chunk but IDAT longer than 8 MiB and drops an ancillary chunk inflating past 8 MiB; the text,
-//   ICC profile, suggested-palette and Exif chunks (zTXt, iTXt, tEXt, iCCP, sPLT, eXIf) are
-//   skipped unread. libpng allocates through operator new, so the test suite's allocation
-//   counter sees it. A progressive JPEG may have at most 500 scans (libjpeg-turbo's own fuzzing
-//   limit): each scan passes over the whole image, so a small file of many scans would otherwise
-//   take minutes.
+//   output buffer exists (libpng's user limits, 2^27 a side, back this up; WebP's own limit is
+//   16384 a side). libpng refuses any chunk but IDAT longer than 8 MiB and drops an ancillary
+//   chunk inflating past 8 MiB; the text, ICC profile, suggested-palette and Exif chunks (zTXt,
+//   iTXt, tEXt, iCCP, sPLT, eXIf) are skipped unread. libpng allocates through operator new, so
+//   the test suite's allocation counter sees it. A progressive JPEG may have at most 500 scans
+//   (libjpeg-turbo's own fuzzing limit): each scan passes over the whole image, so a small file of
+//   many scans would otherwise take minutes. libwebp decodes into our buffer; a lossless WebP
+//   holds a second copy of its texels (ARGB, libwebp's malloc) while it decodes.
 // - Strictness: data that ends early is an error (PNG: the reader refuses to read past the end;
-//   JPEG: libjpeg's "premature end" warning, after which it would pad with grey, is an error),
-//   and so are CRC errors in critical PNG chunks and a bad zlib checksum (the PNG is read through
-//   IEND). Other warnings (e.g. a bad CRC in an ancillary chunk, which is dropped) are ignored:
-//   neither library prints anything.
+//   JPEG: libjpeg's "premature end" warning, after which it would pad with grey, is an error;
+//   WebP: libwebp's simple API says so), and so are CRC errors in critical PNG chunks and a bad
+//   zlib checksum (the PNG is read through IEND). Other warnings (e.g. a bad CRC in an ancillary
+//   chunk, which is dropped) are ignored: no library prints anything. Lossy WebP and JPEG data
+//   have no checksum: damage inside them decodes to damaged texels.
 // - Output: always RGBA, 16 bits per channel for 16-bit PNGs (host order), 8 otherwise; palette,
 //   grey, grey + alpha, tRNS and 1-, 2- and 4-bit samples expanded. No gamma or ICC correction
 //   (glTF colour textures are sRGB by definition). JPEG: greyscale, YCbCr, RGB, progressive and
 //   arithmetic-coded files; CMYK and YCCK are converted to RGB without a profile, taken as
-//   inverted (Adobe's convention) when the file has an Adobe marker.
+//   inverted (Adobe's convention) when the file has an Adobe marker. WebP: lossy (YUV 4:2:0,
+//   upsampled by libwebp) and lossless, alpha kept unpremultiplied.
 // - Apple CgBI PNGs (iOS-optimised, not standard PNG) are refused. An APNG decodes to its default
-//   image (IDAT), what viewers that do not know APNG show; the animation chunks are skipped.
+//   image (IDAT), what viewers that do not know APNG show; the animation chunks are skipped. An
+//   animated WebP has no such default image (libwebp's still-image API refuses it): refused.
 //
-// Thread-safe: every call has its own decoder state; errors come back by longjmp from the
-// libraries' error handlers into the one function per step that armed it. Those functions keep
-// only trivially destructible locals, and the output buffers are allocated outside them.
+// Thread-safe: every call has its own decoder state; errors come back by longjmp from libpng's
+// and libjpeg's error handlers into the one function per step that armed it (libwebp returns a
+// status instead). Those functions keep only trivially destructible locals, and the output
+// buffers are allocated outside them.
 #include "io/texture_decode.h"
 
 // clang-format off
@@ -34,6 +40,7 @@
 #include <jerror.h>
 // clang-format on
 #include <png.h>
+#include <webp/decode.h>
 
 #include <bit>
 #include <csetjmp>
@@ -60,10 +67,12 @@ bool has_at(const unsigned char* bytes, size_t size, std::string_view signature,
          std::memcmp(bytes + at, signature.data(), signature.size()) == 0;
 }
 
-enum class Format { png, jpeg };
+enum class Format { png, jpeg, webp };
 
-// The format of the bytes, from their signature; anything but PNG and JPEG is an error naming
-// the format the bytes look like, or their first bytes.
+constexpr const char* kSupported = "(only PNG, JPEG and WebP are supported)";
+
+// The format of the bytes, from their signature; anything but PNG, JPEG and WebP is an error
+// naming the format the bytes look like, or their first bytes.
 Format sniff(const unsigned char* bytes, size_t size, const std::string& what) {
   if (size == 0) fail(what, "it has no data");
   if (has_at(bytes, size, "\x89PNG\r\n\x1a\n"sv)) {
@@ -72,6 +81,7 @@ Format sniff(const unsigned char* bytes, size_t size, const std::string& what) {
     return Format::png;
   }
   if (has_at(bytes, size, "\xff\xd8\xff"sv)) return Format::jpeg;
+  if (has_at(bytes, size, "RIFF"sv) && has_at(bytes, size, "WEBP"sv, 8)) return Format::webp;
   struct Signature {
     std::string_view bytes;
     size_t at;
@@ -86,9 +96,10 @@ Format sniff(const unsigned char* bytes, size_t size, const std::string& what) {
       {"\x53\x80\xf6\x34"sv, 0, "a Softimage PIC"},
       {"II*\0"sv, 0, "a TIFF"},
       {"MM\0*"sv, 0, "a TIFF"},
-      {"WEBP"sv, 8, "a WebP"},
+      {"WEBP"sv, 8, "a damaged WebP (its RIFF signature is altered)"},
       {"qoif"sv, 0, "a QOI"},
       {"DDS "sv, 0, "a DDS"},
+      {"\xabKTX 20\xbb"sv, 0, "a KTX2 (KHR_texture_basisu)"},
       {"\xabKTX"sv, 0, "a KTX"},
       {"\x76\x2f\x31\x01"sv, 0, "an OpenEXR"},
       {"ftypavif"sv, 4, "an AVIF"},
@@ -99,22 +110,19 @@ Format sniff(const unsigned char* bytes, size_t size, const std::string& what) {
   };
   for (const Signature& s : known)
     if (has_at(bytes, size, s.bytes, s.at))
-      fail(what, std::string("it is ") + s.name +
-                     " image, not PNG or JPEG (only PNG and JPEG are supported)");
+      fail(what, std::string("it is ") + s.name + " image, not PNG, JPEG or WebP " + kSupported);
   // Netpbm: P1 to P7, then white space.
   if (size >= 3 && bytes[0] == 'P' && bytes[1] >= '1' && bytes[1] <= '7' &&
       (bytes[2] == ' ' || bytes[2] == '\t' || bytes[2] == '\r' || bytes[2] == '\n'))
-    fail(what,
-         "it is a Netpbm (PBM/PGM/PPM/PAM) image, not PNG or JPEG (only PNG and JPEG are "
-         "supported)");
+    fail(what, std::string("it is a Netpbm (PBM/PGM/PPM/PAM) image, not PNG, JPEG or WebP ") +
+                   kSupported);
   std::string first;
   for (size_t i = 0; i < size && i < 8; ++i) {
     char hex[4];
     std::snprintf(hex, sizeof hex, "%s%02x", i ? " " : "", bytes[i]);
     first += hex;
   }
-  fail(what, "its first bytes (" + first +
-                 ") are not a PNG or JPEG signature (only PNG and JPEG are supported)");
+  fail(what, "its first bytes (" + first + ") are not a PNG, JPEG or WebP signature " + kSupported);
 }
 
 struct Header {
@@ -398,20 +406,101 @@ class JpegDecoder {
   Header header_;
 };
 
+// ---- WebP --------------------------------------------------------------------------------------
+
+// libwebp's status codes in words.
+std::string webp_status(VP8StatusCode status) {
+  switch (status) {
+    case VP8_STATUS_OUT_OF_MEMORY:
+      return "out of memory";
+    case VP8_STATUS_BITSTREAM_ERROR:
+      return "bitstream error";
+    case VP8_STATUS_UNSUPPORTED_FEATURE:
+      return "a feature libwebp does not decode";
+    case VP8_STATUS_SUSPENDED:
+    case VP8_STATUS_NOT_ENOUGH_DATA:
+      return "the data ends before the image does (truncated file)";
+    default:
+      return "libwebp's status " + std::to_string(int(status));
+  }
+}
+
+class WebpDecoder {
+ public:
+  // The header (RIFF, VP8X, and the VP8 or VP8L frame header) only: nothing is allocated.
+  WebpDecoder(const unsigned char* bytes, size_t size, const std::string& what)
+      : bytes_(bytes), size_(size), what_(what) {
+    if (!WebPInitDecoderConfig(&config_)) fail(what_, "libwebp's version does not match");
+    const VP8StatusCode status = WebPGetFeatures(bytes, size, &config_.input);
+    if (status != VP8_STATUS_OK) failed(status);
+    if (config_.input.has_animation)
+      fail(what_, "it is an animated WebP (only still WebP images are supported)");
+    header_.width = uint32_t(config_.input.width);
+    header_.height = uint32_t(config_.input.height);
+    check_size(header_, what_);
+  }
+  WebpDecoder(const WebpDecoder&) = delete;
+  WebpDecoder& operator=(const WebpDecoder&) = delete;
+
+  const Header& header() const { return header_; }
+
+  TextureImage decode() {
+    TextureImage image;
+    image.width = int(header_.width);
+    image.height = int(header_.height);
+    image.rgba8.resize(4 * size_t(header_.width) * header_.height);
+    WebPDecBuffer& out = config_.output;
+    out.colorspace = MODE_RGBA;  // not premultiplied (MODE_rgbA)
+    out.is_external_memory = 1;
+    out.u.RGBA.rgba = image.rgba8.data();
+    out.u.RGBA.stride = int(4 * header_.width);
+    out.u.RGBA.size = image.rgba8.size();
+    const VP8StatusCode status = WebPDecode(bytes_, size_, &config_);
+    WebPFreeDecBuffer(&out);  // frees nothing of ours: the memory is external
+    if (status != VP8_STATUS_OK) failed(status);
+    return image;
+  }
+
+ private:
+  [[noreturn]] void failed(VP8StatusCode status) {
+    fail(what_, std::string("invalid WebP data: ") + webp_status(status));
+  }
+
+  const unsigned char* bytes_;
+  size_t size_;
+  std::string what_;
+  WebPDecoderConfig config_;
+  Header header_;
+};
+
 }  // namespace
 
 uint64_t decoded_size(const unsigned char* bytes, size_t size, const std::string& what) {
   Header h;
-  if (sniff(bytes, size, what) == Format::png)
-    h = PngDecoder(bytes, size, what).header();
-  else
-    h = JpegDecoder(bytes, size, what).header();
+  switch (sniff(bytes, size, what)) {
+    case Format::png:
+      h = PngDecoder(bytes, size, what).header();
+      break;
+    case Format::jpeg:
+      h = JpegDecoder(bytes, size, what).header();
+      break;
+    case Format::webp:
+      h = WebpDecoder(bytes, size, what).header();
+      break;
+  }
   return uint64_t(h.width) * h.height * 4 * (h.wide ? 2 : 1);
 }
 
 TextureImage decode_image(const unsigned char* bytes, size_t size, const std::string& what) {
-  if (sniff(bytes, size, what) == Format::png) return PngDecoder(bytes, size, what).decode();
-  return JpegDecoder(bytes, size, what).decode();
+  switch (sniff(bytes, size, what)) {
+    case Format::png:
+      return PngDecoder(bytes, size, what).decode();
+    case Format::jpeg:
+      return JpegDecoder(bytes, size, what).decode();
+    case Format::webp:
+      break;
+  }
+  return WebpDecoder(bytes, size, what).decode();
 }
 
 }  // namespace dacrt

@@ -39,11 +39,13 @@ TEST_CASE("the glTF loader and the image decoders survive every kept fuzzing inp
     const std::string ext = path.extension().string();
     if (name.rfind("hostile-", 0) == 0 && ext != ".gltf" && ext != ".glb")
       CHECK(outcome.kind == dacrt::FuzzOutcome::refused);
-    if (name.rfind("seed-", 0) == 0 && (ext == ".png" || ext == ".jpg"))
+    if (name.rfind("seed-", 0) == 0 && (ext == ".png" || ext == ".jpg" || ext == ".webp"))
       CHECK(outcome.kind == dacrt::FuzzOutcome::decoded);
+    if (name.rfind("seed-", 0) == 0 && (ext == ".gltf" || ext == ".glb"))
+      CHECK(outcome.kind == dacrt::FuzzOutcome::loaded);
   });
   MESSAGE(inputs << " inputs, " << errors << " rejected with an error, " << traced << " traced, "
                  << decoded << " images decoded");
-  CHECK(traced >= 2);   // the textured seed and the extent past float, at least
-  CHECK(decoded >= 6);  // the seed PNGs and JPEGs
+  CHECK(traced >= 3);   // the textured seeds and the extent past float, at least
+  CHECK(decoded >= 9);  // the seed PNGs, JPEGs and WebPs
 }

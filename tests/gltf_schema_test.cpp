@@ -263,6 +263,11 @@ TEST_CASE("gltf schema: extensionsRequired") {
   w.doc["extensionsRequired"] = {"KHR_meshopt_compression"};
   check_error(w.write_gltf(dir / "compressed.gltf"),
               {"/extensionsRequired/0", "KHR_meshopt_compression", "not supported"});
+  w.doc["extensionsUsed"] = {"KHR_texture_basisu"};
+  w.doc["extensionsRequired"] = {"KHR_texture_basisu"};
+  check_error(w.write_gltf(dir / "ktx2.gltf"),
+              {"/extensionsRequired/0: requires extension \"KHR_texture_basisu\", which is not "
+               "supported (its images are KTX2, and this version has no KTX2 decoder)"});
   w.doc["extensionsUsed"] = {"KHR_texture_transform"};
   w.doc["extensionsRequired"] = {"KHR_lights_punctual"};  // supported, but not listed as used
   check_error(w.write_gltf(dir / "not-used.gltf"),
@@ -375,12 +380,17 @@ TEST_CASE("gltf schema: the node hierarchy") {
 TEST_CASE("gltf schema: images, and a MIME type this version does not decode warns") {
   TempDir dir("schema-images");
   GltfWriter w = rich_file();
-  w.doc["images"][0]["mimeType"] = "image/webp";
-  const std::string path = w.write_gltf(dir / "webp.gltf");
-  CHECK(warnings(path) ==
-        std::vector<std::string>{path + ": /images/0/mimeType: \"image/webp\" is not image/png or "
-                                        "image/jpeg, the types this version decodes"});
+  w.doc["images"][0]["mimeType"] = "image/gif";
+  const std::string path = w.write_gltf(dir / "gif.gltf");
+  CHECK(warnings(path) == std::vector<std::string>{
+                              path + ": /images/0/mimeType: \"image/gif\" is not image/png, "
+                                     "image/jpeg or image/webp, the types this version decodes"});
   CHECK(stderr_of([&] { load_gltf(path); }).find("warning: " + path + ": /images/0/mimeType") == 0);
+  // WebP is decoded; KTX2 never is, which the loader says of each texture that has one.
+  for (const char* type : {"image/png", "image/jpeg", "image/webp", "image/ktx2"}) {
+    w.doc["images"][0]["mimeType"] = type;
+    CHECK(warnings(w.write_gltf(dir / "typed.gltf")).empty());
+  }
   w.doc["images"][0].erase("mimeType");
   check_error(w.write_gltf(dir / "no-mime.gltf"),
               {"/images/0/mimeType: is missing (it is required with a bufferView)"});
@@ -459,6 +469,13 @@ TEST_CASE("gltf schema: every rule, one mutation each") {
       {"/samplers/0/wrapT", 10496, "/samplers/0/wrapT: 10496 is not one of 33071, 33648 or 10497"},
       {"/textures/0/sampler", 1, "/textures/0/sampler: 1 is not an index"},
       {"/textures/0/source", true, "/textures/0/source: true is not an index"},
+      {"/textures/0/extensions",
+       {{"EXT_texture_webp", {{"source", 1}}}},
+       "/textures/0/extensions/EXT_texture_webp/source: 1 is not an index"},
+      {"/textures/0/extensions", {{"EXT_texture_webp", json::object()}}, nullptr},
+      {"/textures/0/extensions",
+       {{"KHR_texture_basisu", {{"source", 0.5}}}},
+       "/textures/0/extensions/KHR_texture_basisu/source: 0.5 is not an index"},
       // Materials and texture infos.
       {"/materials/0/pbrMetallicRoughness",
        {1},

@@ -1,7 +1,9 @@
-// Image decoding (io/texture_decode.cpp) as a whole: PNGs and JPEGs decode to 8- or 16-bit RGBA,
-// a bad file is one error naming the image, and every other format is refused by its signature
-// (among them the files stb_image hung or overran on), in the loader and the command line too.
-// The PNG and JPEG decoders in detail: png_decode_test.cpp, jpeg_decode_test.cpp.
+// Image decoding (io/texture_decode.cpp) as a whole: PNGs, JPEGs and WebPs decode to 8- or 16-bit
+// RGBA, a bad file is one error naming the image, and every other format is refused by its
+// signature (among them the files stb_image hung or overran on), in the loader and the command
+// line too.
+// The PNG, JPEG and WebP decoders in detail: png_decode_test.cpp, jpeg_decode_test.cpp,
+// webp_decode_test.cpp.
 #include "io/texture_decode.h"
 
 #include <doctest/doctest.h>
@@ -108,22 +110,24 @@ std::vector<unsigned char> psd() {  // 1 × 1 RGB, raw
 
 }  // namespace
 
-TEST_CASE("image formats: only PNG and JPEG are decoded; others are refused by their signature") {
+TEST_CASE("image formats: only PNG, JPEG and WebP are decoded; others are refused by signature") {
   const struct {
     const char* name;
     std::vector<unsigned char> bytes;
     const char* says;
   } cases[] = {
-      {"truncated Radiance HDR", truncated_hdr(), "is a Radiance HDR image, not PNG or JPEG"},
+      {"truncated Radiance HDR", truncated_hdr(), "is a Radiance HDR image, not PNG, JPEG or WebP"},
       {"16-bit PGM, 16 x 16", pgm16(16), "is a Netpbm"},
       {"16-bit PGM, 2048 x 2048", pgm16(2048), "is a Netpbm"},
       {"BMP", bmp(), "is a BMP image"},
       {"GIF", gif(), "is a GIF image"},
       {"PSD", psd(), "is a Photoshop (PSD) image"},
       // TGA has no signature: stb_image decodes whatever its header checks let through.
-      {"TGA", tga(), "its first bytes (00 00 0a 00 00 00 00 00) are not a PNG or JPEG signature"},
+      {"TGA", tga(),
+       "its first bytes (00 00 0a 00 00 00 00 00) are not a PNG, JPEG or WebP signature"},
       {"eight bytes", {1, 2, 3, 4, 5, 6, 7, 8}, "its first bytes (01 02 03 04 05 06 07 08)"},
       {"two bytes", {0xff, 0xd8}, "is a damaged JPEG"},
+      {"KTX2", ktx2(), "is a KTX2 (KHR_texture_basisu) image"},
   };
   for (const auto& c : cases) {
     INFO(c.name);
@@ -131,7 +135,7 @@ TEST_CASE("image formats: only PNG and JPEG are decoded; others are refused by t
     INFO(e);
     CHECK(e.rfind("x.png cannot be decoded: ", 0) == 0);
     CHECK(has(e, c.says));
-    CHECK(has(e, "(only PNG and JPEG are supported)"));
+    CHECK(has(e, "(only PNG, JPEG and WebP are supported)"));
     CHECK(!has(e, "\n"));
     CHECK_THROWS_WITH_AS(decoded_size(c.bytes.data(), c.bytes.size(), "x.png"), e.c_str(), Error);
   }
@@ -157,6 +161,6 @@ TEST_CASE("image formats: the truncated HDR labelled image/png fails at once, lo
       CHECK(has(r.err, path + ": image 0 cannot be decoded: it is a Radiance HDR image"));
       CHECK(!std::filesystem::exists(dir / "out.exr"));
     }
-  check_error(glb, {"image 0 cannot be decoded", "Radiance HDR", "only PNG and JPEG"});
-  check_error(gltf, {"image 0 cannot be decoded", "Radiance HDR", "only PNG and JPEG"});
+  check_error(glb, {"image 0 cannot be decoded", "Radiance HDR", "only PNG, JPEG and WebP"});
+  check_error(gltf, {"image 0 cannot be decoded", "Radiance HDR", "only PNG, JPEG and WebP"});
 }

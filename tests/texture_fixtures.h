@@ -5,8 +5,10 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -50,22 +52,31 @@ inline GltfWriter quad_file(const nlohmann::json& material,
 
 enum class Embed { data_uri, buffer_view, file };
 
+// Adds `bytes` as an image of MIME type `mime` (`image/png`, `image/webp`...: the data URI's
+// type, the bufferView's mimeType, the file's extension); returns the image index.
+inline int add_image(GltfWriter& w, const std::vector<unsigned char>& bytes,
+                     Embed embed = Embed::data_uri, const std::string& dir = "",
+                     const std::string& mime = "image/png") {
+  nlohmann::json image;
+  if (embed == Embed::data_uri) {
+    image = {{"uri", "data:" + mime + ";base64," + base64(bytes)}};
+  } else if (embed == Embed::buffer_view) {
+    image = {{"bufferView", w.add_view(bytes.data(), bytes.size())}, {"mimeType", mime}};
+  } else {
+    const std::string name =
+        "image" + std::to_string(w.doc["images"].size()) + "." + mime.substr(mime.find('/') + 1);
+    write_bytes(dir + "/" + name, bytes.data(), bytes.size());
+    image = {{"uri", name}};
+  }
+  w.doc["images"].push_back(image);
+  return int(w.doc["images"].size()) - 1;
+}
+
 // Adds `png` as image + texture (with `sampler` unless null); returns the texture index.
 inline int add_texture(GltfWriter& w, const std::vector<unsigned char>& png,
                        nlohmann::json sampler = nullptr, Embed embed = Embed::data_uri,
                        const std::string& dir = "") {
-  nlohmann::json image;
-  if (embed == Embed::data_uri) {
-    image = {{"uri", "data:image/png;base64," + base64(png)}};
-  } else if (embed == Embed::buffer_view) {
-    image = {{"bufferView", w.add_view(png.data(), png.size())}, {"mimeType", "image/png"}};
-  } else {
-    const std::string name = "image" + std::to_string(w.doc["images"].size()) + ".png";
-    write_bytes(dir + "/" + name, png.data(), png.size());
-    image = {{"uri", name}};
-  }
-  w.doc["images"].push_back(image);
-  nlohmann::json texture = {{"source", w.doc["images"].size() - 1}};
+  nlohmann::json texture = {{"source", add_image(w, png, embed, dir)}};
   if (!sampler.is_null()) {
     w.doc["samplers"].push_back(sampler);
     texture["sampler"] = w.doc["samplers"].size() - 1;
@@ -90,6 +101,15 @@ inline QuadPoint quad_point(const Scene& scene, float x, float y) {
 inline SurfacePoint quad_surface(const Scene& scene, float x, float y) {
   const QuadPoint p = quad_point(scene, x, y);
   return surface_at(scene, p.tri, p.u, p.v, glm::vec3(0, 0, 1));
+}
+
+// The start of a KTX 2.0 file (KHR_texture_basisu's images): its identifier, then zeros.
+inline std::vector<unsigned char> ktx2() {
+  static const unsigned char identifier[12] = {0xab, 'K',  'T',  'X',  ' ',  '2',
+                                               '0',  0xbb, '\r', '\n', 0x1a, '\n'};
+  std::vector<unsigned char> out(80, 0);
+  std::copy(std::begin(identifier), std::end(identifier), out.begin());
+  return out;
 }
 
 // The error decode_image throws for `bytes`, or "no error".

@@ -248,9 +248,16 @@ std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
       if (auto texture = slot ? index_at(*slot, "index", textures) : std::nullopt)
         texture_used[*texture] = true;
   }
-  for (size_t t = 0; t < textures; ++t)
-    if (auto source = index_at(doc["textures"][t], "source", images); texture_used[t] && source)
-      image_used[*source] = true;
+  // A texture's image: its EXT_texture_webp source, else its own source (which is also the
+  // fallback of a KHR_texture_basisu image), as io/gltf/images.cpp's load_textures chooses.
+  for (size_t t = 0; t < textures; ++t) {
+    if (!texture_used[t]) continue;
+    const nlohmann::json& texture = doc["textures"][t];
+    auto source =
+        index_at(member(member(texture, "extensions"), "EXT_texture_webp"), "source", images);
+    if (!source) source = index_at(texture, "source", images);
+    if (source) image_used[*source] = true;
+  }
   return image_used;
 }
 
@@ -274,7 +281,8 @@ void plan_external_files(const nlohmann::json& doc, const std::string& base_dir,
   const nlohmann::json& images = member(doc, "images");
   for (size_t i = 0; i < array_size(doc, "images"); ++i) {
     const nlohmann::json& uri = member(images[i], "uri");
-    if (!uri.is_string()) continue;
+    // Data URIs are no files: tinygltf decodes some, decode_data_uris the others.
+    if (!uri.is_string() || uri.get_ref<const std::string&>().rfind("data:", 0) == 0) continue;
     const std::string path = uri_path(base_dir, uri.get<std::string>());
     files.uri_paths.insert(path);
     files.image_paths.insert(path);
@@ -376,6 +384,27 @@ bool keep_encoded_image(tinygltf::Image* image, const int index, std::string*, s
   if (needed && image->bufferView == -1 && bytes && size > 0)
     image->image.assign(bytes, bytes + size);
   return true;
+}
+
+// tinygltf decodes only the data URIs of the types it knows (PNG, JPEG, BMP, GIF...), and takes
+// the others (data:image/webp;base64,...) for file names: the base64 ones of the images the render
+// uses are decoded here. Any other data URI leaves its image empty (the loader says so).
+void decode_data_uris(const nlohmann::json& doc, const std::vector<bool>& image_used,
+                      tinygltf::Model& model) {
+  const nlohmann::json& images = member(doc, "images");
+  for (size_t i = 0; i < model.images.size() && i < image_used.size(); ++i) {
+    const nlohmann::json& uri = member(images[i], "uri");
+    if (!image_used[i] || !uri.is_string()) continue;
+    const std::string& text = uri.get_ref<const std::string&>();
+    const size_t comma = text.find(',');
+    if (!text.starts_with("data:") || comma == std::string::npos ||
+        !std::string_view(text).substr(0, comma).ends_with(";base64") || tinygltf::IsDataURI(text))
+      continue;
+    std::string mime_type;
+    tinygltf::DecodeDataURI(&model.images[i].image, mime_type,
+                            "data:application/octet-stream;base64," + text.substr(comma + 1), 0,
+                            false);
+  }
 }
 
 // Buffer and image URIs may name any path. tinygltf tests existence with fopen, which blocks
@@ -528,6 +557,7 @@ tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
   if (!external.error.empty()) throw Error(path + ": " + external.error);
   if (!ok) parse_failed(path, model, err, warn);
   restore(model, workarounds);
+  decode_data_uris(doc, external.image_used, model);
   if (files) *files = std::move(external.noted);
   return model;
 }

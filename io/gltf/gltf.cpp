@@ -10,15 +10,17 @@
 // NORMAL, TANGENT, TEXCOORD_0/1 and COLOR_0 (float or normalised integers); the metallic-roughness
 // factors with KHR_materials_ior and KHR_materials_specular, emissiveFactor ×
 // KHR_materials_emissive_strength, doubleSided; baseColor, metallic-roughness, normal and
-// emissive textures with KHR_texture_transform and samplers, from PNG or JPEG images (embedded,
-// in a bufferView, or external files); tangents generated where a normal map needs them and the
+// emissive textures with KHR_texture_transform and samplers, from PNG, JPEG or WebP
+// (EXT_texture_webp) images (embedded, in a bufferView, or external files), KHR_texture_basisu
+// textures from their fallback image; tangents generated where a normal map needs them and the
 // file has none; perspective and orthographic cameras.
 // Triangle lists, strips and fans. Skipped with one warning line each: point and line primitives,
 // primitives without POSITION (the spec says to skip them).
 // Ignored: occlusion textures (a path tracer computes occlusion), images no material uses (never
 // decoded), skins, morph targets, animations, and extensions that are only "used" (the spec says
 // the asset renders without them).
-// Rejected: files that *require* an extension not read here.
+// Rejected: files that *require* an extension not read here, and textures whose only image is
+// KTX2 (KHR_texture_basisu).
 // Normals that are NaN, infinite or zero are replaced by the triangle's geometric normal: they are
 // only shading hints. A non-finite position is an error, since the triangle has no place.
 //
@@ -39,13 +41,17 @@ namespace dacrt {
 namespace gltf {
 namespace {
 
+// KHR_texture_basisu is not read, but its textures' fallbacks are, and counted apart
+// (ktx2_textures).
+constexpr std::string_view kBasisu = "KHR_texture_basisu";
+
 // The extensions the file uses that the loader does not read, by the kind of element carrying
 // them (a material, a node, the file...), and the materials with an occlusion texture.
 void note_unread(const Gltf& gltf, Scene::Ignored& ignored) {
   const tinygltf::Model& m = gltf.model;
   auto note = [&](const tinygltf::ExtensionMap& extensions, const char* kind) {
     for (const auto& [name, value] : extensions)
-      if (!gltf_extension_supported(name)) ++ignored.extensions[name][kind];
+      if (!gltf_extension_supported(name) && name != kBasisu) ++ignored.extensions[name][kind];
   };
   auto each = [&](const auto& elements, const char* kind) {
     for (const auto& e : elements) note(e.extensions, kind);
@@ -66,7 +72,8 @@ void note_unread(const Gltf& gltf, Scene::Ignored& ignored) {
   each(m.animations, "animation");
   each(m.skins, "skin");
   for (const std::string& name : m.extensionsUsed)
-    if (!gltf_extension_supported(name)) ignored.extensions[name];  // at least listed
+    if (!gltf_extension_supported(name) && name != kBasisu)
+      ignored.extensions[name];  // at least listed
   for (const tinygltf::Material& material : m.materials)
     ignored.occlusion_textures += material.occlusionTexture.index >= 0;
 }
@@ -133,6 +140,8 @@ Scene run(Gltf& gltf, const GltfOptions& options) {
     };
     add(i.specular_textures, "KHR_materials_specular textures");
     add(i.volumes, "KHR_materials_volume thicknesses (rendered thin-walled)");
+    add(i.ktx2_textures,
+        "KHR_texture_basisu textures (rendered from their fallback images: no KTX2 decoder)");
     if (!what.empty())
       print_message("warning: " + gltf.path +
                     ": not rendered as specified in this version: " + what);

@@ -12,7 +12,8 @@
 //   alphaMode, wrap mode...) are errors. The schema leaves room for values that extensions define,
 //   and the validator only warns about them (VALUE_NOT_IN_LIST), but no extension the loader reads
 //   defines any, so the loader could only guess. Image MIME types are the exception: extensions
-//   (EXT_texture_webp, KHR_texture_basisu) add some, with a PNG or JPEG fallback; they warn.
+//   add some, with a PNG or JPEG fallback; types other than PNG, JPEG, WebP (EXT_texture_webp,
+//   read) and KTX2 (KHR_texture_basisu, whose fallback the loader uses and warns about) warn.
 // - Integers are bounded by what tinygltf stores them in (int, or 2^53 where it keeps size_t).
 #include "io/gltf/schema.h"
 
@@ -42,10 +43,11 @@ constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 // The extensions the loader (io/gltf/) reads (KHR_materials_volume only as thin-walled, with a
 // warning).
 constexpr std::string_view kSupportedExtensions[] = {
-    "EXT_mesh_gpu_instancing", "EXT_meshopt_compression",         "KHR_draco_mesh_compression",
-    "KHR_lights_punctual",     "KHR_materials_emissive_strength", "KHR_materials_ior",
-    "KHR_materials_specular",  "KHR_materials_transmission",      "KHR_materials_variants",
-    "KHR_materials_volume",    "KHR_mesh_quantization",           "KHR_texture_transform"};
+    "EXT_mesh_gpu_instancing",    "EXT_meshopt_compression", "EXT_texture_webp",
+    "KHR_draco_mesh_compression", "KHR_lights_punctual",     "KHR_materials_emissive_strength",
+    "KHR_materials_ior",          "KHR_materials_specular",  "KHR_materials_transmission",
+    "KHR_materials_variants",     "KHR_materials_volume",    "KHR_mesh_quantization",
+    "KHR_texture_transform"};
 
 // The root arrays (each an array of at least one object), and what one element is called.
 struct Kind {
@@ -477,7 +479,10 @@ class Checker {
              describe((*required)[i]) + " is required but not listed in extensionsUsed");
       if (!gltf_extension_supported(name))
         fail(top / "extensionsRequired" / i,
-             "requires extension " + describe((*required)[i]) + ", which is not supported");
+             "requires extension " + describe((*required)[i]) + ", which is not supported" +
+                 (name == "KHR_texture_basisu"
+                      ? " (its images are KTX2, and this version has no KTX2 decoder)"
+                      : ""));
     }
   }
 
@@ -580,9 +585,12 @@ class Checker {
     if (view && !mime) fail(at / "mimeType", "is missing (it is required with a bufferView)");
     if (mime) {
       string(*mime, at / "mimeType");
-      if (*mime != "image/png" && *mime != "image/jpeg")
-        warn(at / "mimeType",
-             describe(*mime) + " is not image/png or image/jpeg, the types this version decodes");
+      // KTX2 images are never decoded: the loader says so for each texture that has one.
+      if (*mime != "image/png" && *mime != "image/jpeg" && *mime != "image/webp" &&
+          *mime != "image/ktx2")
+        warn(at / "mimeType", describe(*mime) +
+                                  " is not image/png, image/jpeg or image/webp, the types this "
+                                  "version decodes");
     }
   }
 
@@ -597,6 +605,10 @@ class Checker {
   void texture(const json& t, const Pointer& at) {
     index_member(t, at, "sampler", "samplers");
     index_member(t, at, "source", "images");
+    // Another image for the texture (the validator allows an empty object, with no source).
+    for (const char* name : {"EXT_texture_webp", "KHR_texture_basisu"})
+      if (const json* x = extension(t, at, name))
+        index_member(*x, at / "extensions" / name, "source", "images");
   }
 
   void material(const json& m, const Pointer& at) {
