@@ -12,7 +12,7 @@ struct GltfOptions {
   int scene = -1;  // which scene of the file; -1 = the file's default scene (or scene 0)
   // KHR_materials_variants: the variant whose materials the primitives take; empty: their own.
   // A name the file does not have is a SettingError naming those it has.
-  std::string variant;
+  std::string variant{};
 };
 
 Scene load_gltf(const std::string& path, const GltfOptions& options = {});
