@@ -51,12 +51,6 @@ struct View {
   }
 };
 
-// Bytes per component; 0 for INT (5124) and DOUBLE, which glTF 2.0 accessors do not allow.
-size_t component_size(int type) {
-  static constexpr size_t sizes[] = {1, 1, 2, 2, 0, 4, 4};  // BYTE ... FLOAT = 5120 ... 5126
-  return type >= 5120 && type <= 5126 ? sizes[type - 5120] : 0;
-}
-
 bool unsigned_index_type(int type) {
   return type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
          type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
@@ -257,6 +251,11 @@ size_t element_index(const Gltf& gltf, const View& v, Elements which, size_t k,
 }
 
 }  // namespace
+
+size_t component_size(int type) {
+  static constexpr size_t sizes[] = {1, 1, 2, 2, 0, 4, 4};  // BYTE ... FLOAT = 5120 ... 5126
+  return type >= 5120 && type <= 5126 ? sizes[type - 5120] : 0;
+}
 
 size_t accessor_count(const Gltf& gltf, int accessor, const std::string& role) {
   return view(gltf, accessor, role).count;  // checked against its bufferView; nothing is read

@@ -107,22 +107,6 @@ void decode_meshopt(const Gltf& gltf, int index, const tinygltf::Value& x, Bytes
   if (filter == "EXPONENTIAL") meshopt_decodeFilterExp(out.data(), count, stride);
 }
 
-// Bytes per component of a glTF componentType (0: not one an accessor may have).
-size_t component_bytes(int type) {
-  switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return 2;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return 4;
-  }
-  return 0;
-}
-
 // Draco attribute `att`'s values for every point, as accessor `a` lays them out (tightly).
 template <class T>
 void convert(const draco::Mesh& mesh, const draco::PointAttribute& att, int components,
@@ -191,7 +175,7 @@ void decode_draco(const Gltf& gltf, const tinygltf::Primitive& prim, const std::
   };
   if (prim.indices != -1) {
     const tinygltf::Accessor& a = accessor(prim.indices, "indices");
-    const size_t size = component_bytes(a.componentType);
+    const size_t size = component_size(a.componentType);
     if (a.type != TINYGLTF_TYPE_SCALAR || size == 0 ||
         a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
         a.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
@@ -229,7 +213,7 @@ void decode_draco(const Gltf& gltf, const tinygltf::Primitive& prim, const std::
                 one_line(name.substr(0, 40)) + ")");
     const tinygltf::Accessor& a = accessor(it->second, name);
     const int components = a.type == TINYGLTF_TYPE_SCALAR ? 1 : a.type;
-    const size_t size = component_bytes(a.componentType);
+    const size_t size = component_size(a.componentType);
     if (size == 0 || components < 1 || components > 4)
       gltf.fail(what + ": accessor " + str(it->second) + " (" + one_line(name.substr(0, 40)) +
                 ") is not a vector of up to 4 components");

@@ -110,6 +110,9 @@ Span meshopt_view(const Gltf& gltf, int index);
 // Decodes primitive `prim`'s KHR_draco_mesh_compression data (`where` names it) into its
 // accessors' layouts (Gltf::decoded_accessors), which the readers below then read.
 void decode_draco(const Gltf& gltf, const tinygltf::Primitive& prim, const std::string& where);
+// Bytes per component of a componentType; 0 for INT (5124), DOUBLE and anything else glTF 2.0
+// accessors do not allow.
+size_t component_size(int type);
 // Accessor `accessor`'s element count, checked against its bufferView (nothing is read).
 size_t accessor_count(const Gltf& gltf, int accessor, const std::string& role);
 // Which elements the readers below read: all of them (nullptr), or those listed, in that order
