@@ -364,6 +364,9 @@ int info(const std::vector<std::string>& args) {
         "materials (rendered by their factors), %zu KTX2 textures (rendered from their "
         "fallback images)\n",
         ig.volumes, ig.specular_textures, ig.ktx2_textures);
+  if (ig.sourceless_textures || ig.unknown_lights)
+    std::printf("skips      %zu textures without a source image, %zu lights of unknown types\n",
+                ig.sourceless_textures, ig.unknown_lights);
   if (!ig.extensions.empty())
     std::printf("not read   %s\n", one_line(ig.unread_extensions()).c_str());
   if (ig.occlusion_textures)

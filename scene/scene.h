@@ -74,8 +74,12 @@ struct Scene {
     size_t specular_textures = 0, volumes = 0, ktx2_textures = 0;
     std::map<std::string, std::map<std::string, size_t>> extensions;
     size_t occlusion_textures = 0;
+    // Textures without a source image (the spec leaves them undefined: rendered without them)
+    // and lights of a type KHR_lights_punctual does not define (skipped).
+    size_t sourceless_textures = 0, unknown_lights = 0;
     bool any() const {
-      return specular_textures || volumes || ktx2_textures || !extensions.empty();
+      return specular_textures || volumes || ktx2_textures || sourceless_textures ||
+             unknown_lights || !extensions.empty();
     }
     // "KHR_materials_sheen (2 materials), EXT_foo (listed in extensionsUsed)", or "".
     std::string unread_extensions() const;

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "io/gltf.h"
+#include "tests/captured_stderr.h"
 #include "tests/gltf_check.h"
 #include "tests/temp_dir.h"
 #include "tests/texture_fixtures.h"
@@ -98,8 +99,20 @@ TEST_CASE("texture errors name the file and the element") {
     check_error(w.write_gltf(dir / "garbage.gltf"), {"image 0", "cannot be decoded"});
     w.doc["textures"] = {{{"source", 3}}};
     check_error(w.write_gltf(dir / "source.gltf"), {"/textures/0/source", "3"});
+  }
+  {
+    // A texture without a source image (valid; the spec leaves what it shows undefined) is not
+    // sampled, with a warning: the material renders by its factors.
+    GltfWriter w = textured();
+    add_texture(w, png8(2, 2, 4, kTexels));
     w.doc["textures"] = {json::object()};
-    check_error(w.write_gltf(dir / "no-source.gltf"), {"texture 0", "has no source image"});
+    CapturedStderr err;
+    const Scene scene = load_gltf(w.write_gltf(dir / "no-source.gltf"));
+    const std::string text = err.text();
+    CHECK_FALSE(scene.materials[0].base_color_texture);
+    CHECK(scene.ignored.sourceless_textures == 1);
+    CHECK(text.find("1 textures without a source image (materials rendered without them)") !=
+          std::string::npos);
   }
   {
     GltfWriter w = textured({{"index", 4}});
@@ -107,9 +120,19 @@ TEST_CASE("texture errors name the file and the element") {
                 {"/materials/0/pbrMetallicRoughness/baseColorTexture/index", "4"});
   }
   {
+    // Sets past TEXCOORD_1 are not read: refused where a primitive samples one, not in a
+    // material no primitive uses.
     GltfWriter w = textured({{"index", 0}, {"texCoord", 2}});
     add_texture(w, png8(2, 2, 4, kTexels));
-    check_error(w.write_gltf(dir / "texcoord.gltf"), {"material 0", "texCoord 2"});
+    check_error(w.write_gltf(dir / "texcoord.gltf"),
+                {"mesh 0 primitive 0", "samples TEXCOORD_2", "reads TEXCOORD_0 and TEXCOORD_1"});
+    w.doc["materials"].push_back(w.doc["materials"][0]);
+    w.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 0;
+    CHECK(load_gltf(w.write_gltf(dir / "texcoord-unused.gltf")).materials.size() == 2);
+    // A set the primitive does not have (the validator's MESH_PRIMITIVE_TOO_FEW_TEXCOORDS).
+    w.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
+    check_error(w.write_gltf(dir / "texcoord-missing.gltf"),
+                {"mesh 0 primitive 0", "samples TEXCOORD_1", "which the primitive does not have"});
   }
   {
     GltfWriter w = textured();

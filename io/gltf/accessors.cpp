@@ -395,9 +395,14 @@ std::vector<uint32_t> read_indices(const Gltf& gltf, int accessor, const std::st
   if (v.components != 1 || !unsigned_index_type(v.component_type))
     gltf.fail("accessor " + str(accessor) + " (" + role +
               ") must be an UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT SCALAR");
+  // The type's largest value is the primitive restart value, which the spec forbids.
+  const uint64_t restart = (uint64_t(1) << (8 * size)) - 1;
   std::vector<uint32_t> indices(v.count);
   for (size_t k = 0; k < v.count; ++k) {
     indices[k] = read_uint(v.element(k), size);
+    if (indices[k] == restart)
+      gltf.fail("accessor " + str(accessor) + " (" + role + ") element " + str(k) + " is " +
+                str(indices[k]) + ", the primitive restart value, which glTF forbids");
     if (indices[k] >= vertex_count)
       gltf.fail("accessor " + str(accessor) + " (" + role + ") element " + str(k) + " is index " +
                 str(indices[k]) + ", past the vertex count " + str(vertex_count));

@@ -444,6 +444,23 @@ struct Workarounds {
   bool any() const { return !indices.empty() || !fallback_buffers.empty(); }
 };
 
+// JSON has one number type: 1.0 is the integer 1 (the validator agrees), but tinygltf ignores an
+// index or count written with a decimal point. Every whole number written so (within 2^53, where
+// doubles are exact) becomes an integer literal. True when any did.
+bool whole_numbers_as_integers(nlohmann::json& v) {
+  bool changed = false;
+  if (v.is_number_float()) {
+    const double x = v.get<double>();
+    if (x == std::floor(x) && std::fabs(x) <= 9007199254740992.0) {
+      v = x < 0 ? nlohmann::json(int64_t(x)) : nlohmann::json(uint64_t(x));
+      changed = true;
+    }
+  } else if (v.is_structured()) {
+    for (nlohmann::json& child : v) changed |= whole_numbers_as_integers(child);
+  }
+  return changed;
+}
+
 Workarounds work_around_tinygltf(nlohmann::json& doc) {
   Workarounds w;
   auto array = [&](const char* key) -> nlohmann::json* {
@@ -530,10 +547,11 @@ tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
   } catch (const nlohmann::json::exception& e) {
     throw Error(path + ": JSON does not parse: " + summary(e.what()));
   }
-  for (const std::string& warning : check_gltf_schema(path, doc))
-    print_message("warning: " + warning);
+  const SchemaCheck schema = check_gltf_schema(path, doc);
+  for (const std::string& warning : schema.warnings) print_message("warning: " + warning);
+  const bool whole_numbers = schema.whole_floats && whole_numbers_as_integers(doc);
   const Workarounds workarounds = work_around_tinygltf(doc);
-  if (workarounds.any()) {
+  if (workarounds.any() || whole_numbers) {
     changed = rewritten(data, binary, json_size, doc);
     input = &changed;
   }

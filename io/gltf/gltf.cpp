@@ -132,6 +132,8 @@ Scene run(Gltf& gltf, const GltfOptions& options) {
   };
   warn(meshes.skipped_modes(), "point and line primitives");
   warn(meshes.skipped_unpositioned(), "primitives without POSITION");
+  out.ignored.sourceless_textures = gltf.sourceless_textures.size();
+  out.ignored.unknown_lights = gltf.unknown_lights.size();
   const Scene::Ignored& i = out.ignored;
   if (i.any()) {
     std::string what;
@@ -142,6 +144,8 @@ Scene run(Gltf& gltf, const GltfOptions& options) {
     add(i.volumes, "KHR_materials_volume thicknesses (rendered thin-walled)");
     add(i.ktx2_textures,
         "KHR_texture_basisu textures (rendered from their fallback images: no KTX2 decoder)");
+    add(i.sourceless_textures, "textures without a source image (materials rendered without them)");
+    add(i.unknown_lights, "lights of a type KHR_lights_punctual does not define (skipped)");
     if (!what.empty())
       print_message("warning: " + gltf.path +
                     ": not rendered as specified in this version: " + what);

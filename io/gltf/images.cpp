@@ -41,13 +41,6 @@ std::pair<const unsigned char*, size_t> image_bytes(const Gltf& gltf, size_t i,
   return {image.image.data(), image.image.size()};
 }
 
-// The source image of extension `name` of texture `t`, or -1 (the schema checked the index).
-int extension_source(const tinygltf::Texture& t, const char* name) {
-  auto x = t.extensions.find(name);
-  if (x == t.extensions.end() || !x->second.Has("source")) return -1;
-  return x->second.Get("source").GetNumberAsInt();
-}
-
 // The bufferView, or a hash of the encoded bytes (FNV-1a).
 uint64_t source_hash(const Gltf& gltf, size_t i) {
   const tinygltf::Image& image = gltf.model.images[i];
@@ -76,6 +69,12 @@ Wrap wrap_mode(const Gltf& gltf, int mode, const std::string& what) {
 }
 
 }  // namespace
+
+int extension_source(const tinygltf::Texture& t, const char* name) {
+  auto x = t.extensions.find(name);
+  if (x == t.extensions.end() || !x->second.Has("source")) return -1;
+  return x->second.Get("source").GetNumberAsInt();
+}
 
 void load_textures(const Gltf& gltf, const std::vector<bool>& texture_used, Scene& scene) {
   std::vector<bool> image_used(gltf.model.images.size(), false);

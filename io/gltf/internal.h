@@ -44,6 +44,9 @@ struct Gltf {
   mutable std::map<int, std::vector<unsigned char>> decoded_views, decoded_accessors;
   mutable std::set<const tinygltf::Primitive*> decoded_primitives;
   mutable uint64_t decoded_bytes = 0;
+  // What is skipped with a warning, by index: textures without a source image (materials
+  // render as without them) and lights of a type KHR_lights_punctual does not define.
+  mutable std::set<int> sourceless_textures, unknown_lights;
 
   Gltf(const std::string& path, const tinygltf::Model& model) : path(path), model(model) {
     for (const std::string& name : model.extensionsUsed)
@@ -157,6 +160,9 @@ std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored);
 // Images (images.cpp): samplers for every texture; images decoded (in parallel) for the textures
 // materials use (`texture_used`, one flag a texture). Fills the scene's textures and images.
 void load_textures(const Gltf& gltf, const std::vector<bool>& texture_used, Scene& scene);
+// The source image of extension `name` (EXT_texture_webp, KHR_texture_basisu) of texture `t`, or
+// -1 (the schema checked the index).
+int extension_source(const tinygltf::Texture& t, const char* name);
 
 // Primitives (primitives.cpp).
 

@@ -27,8 +27,10 @@ std::optional<PunctualLight> load_light(const Gltf& gltf, const tinygltf::Node& 
     l.type = PunctualLight::Type::spot;
   else if (src.type == "directional")
     l.type = PunctualLight::Type::directional;
-  else
-    gltf.fail(what + ": type \"" + src.type + "\" is not point, spot or directional");
+  else {  // not one the extension defines (the schema checked it is a string)
+    gltf.unknown_lights.insert(int(light));
+    return std::nullopt;
+  }
   // Each number must hold in float, as the renderer keeps it: 1e39 is finite in the file and
   // infinite as float, which would make every sample of the light NaN.
   glm::dvec3 color(1.0);

@@ -42,6 +42,12 @@ TextureRef texture_ref(const Gltf& gltf, const Info& info, const std::string& wh
   if (info.index < 0 || size_t(info.index) >= gltf.model.textures.size())
     gltf.fail(what + " refers to texture " + str(info.index) + ", which does not exist (" +
               str(gltf.model.textures.size()) + " textures)");
+  const tinygltf::Texture& texture = gltf.model.textures[size_t(info.index)];
+  if (texture.source == -1 && extension_source(texture, "EXT_texture_webp") == -1 &&
+      extension_source(texture, "KHR_texture_basisu") == -1) {
+    gltf.sourceless_textures.insert(info.index);  // the spec leaves it undefined: not sampled
+    return ref;
+  }
   ref.texture = info.index;
   int set = info.texCoord;
   if (auto ext = info.extensions.find("KHR_texture_transform"); ext != info.extensions.end()) {
@@ -77,10 +83,9 @@ TextureRef texture_ref(const Gltf& gltf, const Info& info, const std::string& wh
     ref.transform = glm::mat3x2(glm::vec2(c * scale.x, -s * scale.x),
                                 glm::vec2(s * scale.y, c * scale.y), offset);
   }
-  if (set < 0 || set > 1)
-    gltf.fail(what + ": texCoord " + str(set) +
-              " is not supported (TEXCOORD_0 and TEXCOORD_1 are)");
-  ref.texcoord = uint8_t(set);
+  if (set < 0) gltf.fail(what + ": texCoord " + str(set) + " is negative");
+  // Sets past TEXCOORD_1 are refused by the primitives that use the material (primitives.cpp).
+  ref.texcoord = uint8_t(std::min(set, 255));
   return ref;
 }
 

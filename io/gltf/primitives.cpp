@@ -255,13 +255,20 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   const size_t before = scene_.geometry.size();
   // Texture coordinates, only for the sets some material samples.
   std::vector<glm::vec2> uv[2];
+  for (const TextureRef* ref : mat.sampled_textures())
+    if (ref && *ref && ref->texcoord > 1)
+      gltf_.fail(where + ": its material samples TEXCOORD_" + str(int(ref->texcoord)) +
+                 (ref->texcoord == 255 ? " or a later set" : "") +
+                 ", and this version reads TEXCOORD_0 and TEXCOORD_1 only");
   for (int set = 0; set < 2; ++set) {
     const std::string name = set ? "TEXCOORD_1" : "TEXCOORD_0";
     auto attribute = prim.attributes.find(name);
     bool needed = false;  // does this primitive's material sample set `set`?
     for (const TextureRef* ref : mat.sampled_textures())
       needed |= ref && *ref && ref->texcoord == set;
-    if (!needed || attribute == prim.attributes.end()) continue;
+    if (!needed) continue;
+    if (attribute == prim.attributes.end())
+      gltf_.fail(where + ": its material samples " + name + ", which the primitive does not have");
     const std::string role = name + " of " + where;
     same_count(attribute->second, role);
     std::vector<glm::vec4> values =
@@ -277,10 +284,12 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     colors = read_floats(gltf_, attribute->second, role, 3, 4, {kUnsignedByte | kUnsignedShort},
                          1.f, which);
     for (size_t i = 0; i < colors.size(); ++i) {
-      if (!finite(glm::vec3(colors[i])) || !std::isfinite(colors[i].w))
+      // Float colours must lie in [0, 1] (the spec's words), normalized ones do by their type.
+      const glm::vec4& c = colors[i];
+      if (!(glm::all(glm::greaterThanEqual(c, glm::vec4(0.f))) &&
+            glm::all(glm::lessThanEqual(c, glm::vec4(1.f)))))
         gltf_.fail("accessor " + str(attribute->second) + " (" + role + ") element " +
-                   str(vertex(i)) + " is not finite");
-      colors[i] = glm::clamp(colors[i], 0.f, 1.f);
+                   str(vertex(i)) + " is not within [0, 1]");
     }
     colors_.start(before, glm::vec4(1.f));
   }

@@ -163,7 +163,7 @@ class Checker {
  public:
   Checker(const std::string& path, const json& root) : path_(path), root_(root) {}
 
-  std::vector<std::string> run() {
+  SchemaCheck run() {
     if (!root_.is_object())
       throw Error(path_ + ": the JSON is " + describe(root_) + ", not an object");
     const Pointer top;
@@ -207,7 +207,7 @@ class Checker {
       for (size_t i = 0; i < lights->size(); ++i)
         light((*lights)[i], top / "extensions" / "KHR_lights_punctual" / "lights" / i);
     hierarchy();
-    return std::move(warnings_);
+    return {std::move(warnings_), whole_floats_};
   }
 
  private:
@@ -297,9 +297,10 @@ class Checker {
         if (i >= lo && i <= hi) return i;
       } else if (v.is_number_float()) {
         const double x = v.get<double>();
-        if (x == std::floor(x) && x >= double(lo) && x <= double(hi))
-          fail(at, describe(v) + " is written as a float: " + what +
-                       " must be written as an integer (tinygltf would ignore it)");
+        if (x == std::floor(x) && x >= double(lo) && x <= double(hi)) {
+          whole_floats_ = true;
+          return int64_t(x);
+        }
       }
     }
     fail(at, describe(v) + " is not " + what);
@@ -703,11 +704,19 @@ class Checker {
         const Pointer xt = p / "extensions" / "KHR_materials_variants";
         const json& mappings =
             array(need(*x, xt, "mappings"), xt / "mappings", "an array of objects");
+        // A variant maps a primitive to one material: in one mapping at most.
+        std::vector<bool> mapped(variant_count_, false);
         for (size_t k = 0; k < mappings.size(); ++k) {
           const json& mapping = property(mappings[k], xt / "mappings" / k);
           index_member(mapping, xt / "mappings" / k, "material", "materials", true);
-          indices(need(mapping, xt / "mappings" / k, "variants"), xt / "mappings" / k / "variants",
-                  "variants");
+          const Pointer vt = xt / "mappings" / k / "variants";
+          const json& variants = need(mapping, xt / "mappings" / k, "variants");
+          indices(variants, vt, "variants");
+          for (size_t i = 0; i < variants.size(); ++i) {
+            const size_t v = variants[i].get<size_t>();
+            if (mapped[v]) fail(vt / i, "variant " + str(int64_t(v)) + " is mapped twice");
+            mapped[v] = true;
+          }
         }
       }
       if (const json* x = extension(prim, p, "KHR_draco_mesh_compression")) {
@@ -762,8 +771,11 @@ class Checker {
   }
 
   void light(const json& l, const Pointer& at) {
-    const std::string type =
-        enum_string(need(l, at, "type"), at / "type", {"directional", "point", "spot"});
+    // A type this version does not know (the validator warns) is left to the loader, which
+    // skips the light with a warning.
+    const json& type = need(l, at, "type");
+    if (type.is_string() && type != "directional" && type != "point" && type != "spot") return;
+    enum_string(type, at / "type", {"directional", "point", "spot"});
     numbers_member(l, at, "color", 3, kUnit);
     number_member(l, at, "intensity", kNonNegative);
     number_member(l, at, "range", kPositive);
@@ -834,6 +846,7 @@ class Checker {
   size_t light_count_ = 0;
   size_t variant_count_ = 0;  // KHR_materials_variants
   std::vector<std::string> warnings_;
+  mutable bool whole_floats_ = false;  // an integer written as 1.0
 };
 
 }  // namespace
@@ -843,7 +856,7 @@ bool gltf_extension_supported(std::string_view name) {
          std::end(kSupportedExtensions);
 }
 
-std::vector<std::string> check_gltf_schema(const std::string& path, const nlohmann::json& doc) {
+SchemaCheck check_gltf_schema(const std::string& path, const nlohmann::json& doc) {
   return Checker(path, doc).run();
 }
 

@@ -14,10 +14,16 @@
 
 namespace dacrt {
 
-// Throws dacrt::Error "<path>: <JSON pointer>: <what is wrong>" for the first violation. Returns
-// the warnings, one line each ("<path>: <JSON pointer>: <what>"), for valid content that this
-// version does not read as the file means it.
-std::vector<std::string> check_gltf_schema(const std::string& path, const nlohmann::json& doc);
+struct SchemaCheck {
+  // One line each ("<path>: <JSON pointer>: <what>"), for valid content that this version does not
+  // read as the file means it.
+  std::vector<std::string> warnings;
+  // Some integer is written with a decimal point (1.0): valid JSON and glTF, but tinygltf ignores
+  // such a value, so the loader rewrites them first (io/gltf/file.cpp).
+  bool whole_floats = false;
+};
+// Throws dacrt::Error "<path>: <JSON pointer>: <what is wrong>" for the first violation.
+SchemaCheck check_gltf_schema(const std::string& path, const nlohmann::json& doc);
 
 // Whether the loader (io/gltf/) reads extension `name` (a file may require only those).
 bool gltf_extension_supported(std::string_view name);
