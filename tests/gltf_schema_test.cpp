@@ -200,8 +200,13 @@ TEST_CASE("gltf schema: a scene's node index of 0.5, and 1.0 written as a float"
   w.doc["scenes"][0]["nodes"][1] = 0.5;
   check_error(w.write_gltf(dir / "half.gltf"), {"/scenes/0/nodes/1: 0.5 is not an index"});
   // JSON's 2.0 is the integer 2 (so says the validator), which tinygltf would ignore (the scene
-  // would lose the node): the loader rewrites it, in a .gltf and in a GLB's JSON chunk.
+  // would lose the node, the mesh its triangles): the loader rewrites them, in a .gltf and in a
+  // GLB's JSON chunk.
   w.doc["scenes"][0]["nodes"][1] = original.get<double>();
+  for (json& node : w.doc["nodes"])
+    if (node.contains("mesh")) node["mesh"] = node["mesh"].get<double>();
+  for (json& view : w.doc["bufferViews"]) view["byteLength"] = view["byteLength"].get<double>();
+  for (json& accessor : w.doc["accessors"]) accessor["count"] = accessor["count"].get<double>();
   REQUIRE(w.doc.dump().find(".0") != std::string::npos);
   CHECK(dacrt::load_gltf(w.write_gltf(dir / "float.gltf")).geometry.size() == triangles);
   CHECK(dacrt::load_gltf(w.write_glb(dir / "float.glb")).geometry.size() == triangles);
