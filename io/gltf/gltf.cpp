@@ -13,11 +13,12 @@
 // emissive textures with KHR_texture_transform and samplers, from PNG, JPEG or WebP
 // (EXT_texture_webp) images (embedded, in a bufferView, or external files), KHR_texture_basisu
 // textures from their fallback image; tangents generated where a normal map needs them and the
-// file has none; perspective and orthographic cameras.
+// file has none; perspective and orthographic cameras; animations (animation.cpp), skins
+// (skins.cpp) and morph targets, at GltfOptions::time or at rest.
 // Triangle lists, strips and fans. Skipped with one warning line each: point and line primitives,
 // primitives without POSITION (the spec says to skip them).
 // Ignored: occlusion textures (a path tracer computes occlusion), images no material uses (never
-// decoded), skins, morph targets, animations, and extensions that are only "used" (the spec says
+// decoded), KHR_animation_pointer channels, and extensions that are only "used" (the spec says
 // the asset renders without them).
 // Rejected: files that *require* an extension not read here, and textures whose only image is
 // KTX2 (KHR_texture_basisu).
@@ -122,6 +123,7 @@ Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& 
     gltf.fail(std::string(by_default ? "default " : "") + "scene " + str(scene) +
               " does not exist (" + str(count) + " scenes)");
   out.materials = load_materials(gltf, out.ignored);
+  if (!geometry_only) check_skins(gltf);
   note_unread(gltf, out.ignored);
   if (count > 0) load_nodes(gltf, scene, meshes, out);
   if (!geometry_only) load_textures(gltf, meshes.texture_used(), out);

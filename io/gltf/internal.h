@@ -272,6 +272,8 @@ double animation_end(const std::vector<Animation>& animations);
 // matrices are FLOAT MAT4, enough of them, finite).
 std::vector<glm::dmat4> joint_matrices(const Gltf& gltf, int skin,
                                        const std::vector<glm::dmat4>& world);
+// Every skin of the file checked so (those no node uses too).
+void check_skins(const Gltf& gltf);
 
 // Nodes (nodes.cpp): the node tree of scene `scene` walked from its roots, each node's meshes
 // given to `meshes`, its camera and light added to `out`. World transforms are composed in

@@ -6,41 +6,51 @@
 
 namespace dacrt::gltf {
 
-std::vector<glm::dmat4> joint_matrices(const Gltf& gltf, int skin,
-                                       const std::vector<glm::dmat4>& world) {
+namespace {
+
+// Skin `skin`'s inverse bind matrices, one per joint (identity when the skin has none), checked.
+std::vector<glm::dmat4> inverse_binds(const Gltf& gltf, int skin) {
   const tinygltf::Skin& s = gltf.model.skins[size_t(skin)];
   const std::string at = "skins[" + str(skin) + "]";
   if (s.joints.empty()) gltf.fail(at + ".joints is empty");
-  std::vector<glm::dmat4> out(s.joints.size(), glm::dmat4(1.0));
-  std::vector<glm::vec4> ibm;  // 4 columns a matrix
-  if (s.inverseBindMatrices != -1) {
-    const int a = s.inverseBindMatrices;
-    const std::string role = at + ".inverseBindMatrices";
-    if (a < 0 || size_t(a) >= gltf.model.accessors.size())
-      gltf.fail(role + ": accessor " + str(a) + " does not exist");
-    const tinygltf::Accessor& acc = gltf.model.accessors[size_t(a)];
-    if (acc.type != TINYGLTF_TYPE_MAT4 || acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-      gltf.fail(role + ": accessor " + str(a) + " must be FLOAT MAT4");
-    if (acc.count < s.joints.size())
-      gltf.fail(role + ": accessor " + str(a) + " has " + str(acc.count) + " matrices for " +
-                str(s.joints.size()) + " joints");
-    ibm = read_matrix_columns(gltf, a, role);
-  }
-  for (size_t j = 0; j < s.joints.size(); ++j) {
-    const int joint = s.joints[j];
-    if (joint < 0 || size_t(joint) >= gltf.model.nodes.size())
-      gltf.fail(at + ".joints[" + str(j) + "]: node " + str(joint) + " does not exist (" +
+  for (size_t j = 0; j < s.joints.size(); ++j)
+    if (s.joints[j] < 0 || size_t(s.joints[j]) >= gltf.model.nodes.size())
+      gltf.fail(at + ".joints[" + str(j) + "]: node " + str(s.joints[j]) + " does not exist (" +
                 str(gltf.model.nodes.size()) + " nodes)");
-    glm::dmat4 inverse_bind(1.0);
-    if (!ibm.empty())
-      for (int c = 0; c < 4; ++c) {
-        const glm::vec4& column = ibm[4 * j + size_t(c)];
-        if (!finite(glm::vec3(column)) || !std::isfinite(column.w))
-          gltf.fail(at + ".inverseBindMatrices: matrix " + str(j) + " is not finite");
-        inverse_bind[c] = glm::dvec4(column);
-      }
-    out[j] = world[size_t(joint)] * inverse_bind;
-  }
+  std::vector<glm::dmat4> out(s.joints.size(), glm::dmat4(1.0));
+  if (s.inverseBindMatrices == -1) return out;
+  const int a = s.inverseBindMatrices;
+  const std::string role = at + ".inverseBindMatrices";
+  if (a < 0 || size_t(a) >= gltf.model.accessors.size())
+    gltf.fail(role + ": accessor " + str(a) + " does not exist");
+  const tinygltf::Accessor& acc = gltf.model.accessors[size_t(a)];
+  if (acc.type != TINYGLTF_TYPE_MAT4 || acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+    gltf.fail(role + ": accessor " + str(a) + " must be FLOAT MAT4");
+  if (acc.count < s.joints.size())  // the spec: at least one a joint
+    gltf.fail(role + ": accessor " + str(a) + " has " + str(acc.count) + " matrices for " +
+              str(s.joints.size()) + " joints");
+  const std::vector<glm::vec4> columns = read_matrix_columns(gltf, a, role);
+  for (size_t j = 0; j < s.joints.size(); ++j)  // those past the joints are not used
+    for (int c = 0; c < 4; ++c) {
+      const glm::vec4& column = columns[4 * j + size_t(c)];
+      if (!finite(glm::vec3(column)) || !std::isfinite(column.w))
+        gltf.fail(role + ": matrix " + str(j) + " is not finite");
+      out[j][c] = glm::dvec4(column);
+    }
+  return out;
+}
+
+}  // namespace
+
+void check_skins(const Gltf& gltf) {
+  for (size_t s = 0; s < gltf.model.skins.size(); ++s) inverse_binds(gltf, int(s));
+}
+
+std::vector<glm::dmat4> joint_matrices(const Gltf& gltf, int skin,
+                                       const std::vector<glm::dmat4>& world) {
+  std::vector<glm::dmat4> out = inverse_binds(gltf, skin);
+  const std::vector<int>& joints = gltf.model.skins[size_t(skin)].joints;
+  for (size_t j = 0; j < joints.size(); ++j) out[j] = world[size_t(joints[j])] * out[j];
   return out;
 }
 
