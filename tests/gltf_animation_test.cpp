@@ -299,6 +299,15 @@ TEST_CASE("skins and animations: malformed ones are refused, naming the element"
     const std::string path = skinned(dir, 1.f, "index.gltf", {{"skins", {{{"joints", {1}}}}}});
     refused(path, "names joint 1, but the skin has 1");
   }
+  // Keyframes are bounded before they are read: 2^27 times without a bufferView (zeros).
+  {
+    GltfWriter w;
+    const int node = w.add_triangles(kQuad);
+    animate(w, node, "translation", "STEP", {0, 1}, {0, 0, 0, 1, 0, 0}, "VEC3", 3);
+    w.doc["accessors"][1] = {{"componentType", kFloat}, {"count", 1 << 27}, {"type", "SCALAR"}};
+    refused(w.write_gltf(dir / "huge.gltf"),
+            "animations[0].samplers[0] brings the file's keyframes to more than");
+  }
   // Weights for a mesh without targets.
   {
     GltfWriter w;

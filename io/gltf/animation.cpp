@@ -50,8 +50,13 @@ glm::dquat slerp(glm::dquat a, glm::dquat b, double s) {
 
 }  // namespace
 
+// Keyframe values (floats) in all of a file's samplers, at most: they are kept for the load and
+// every frame (an accessor without a bufferView could ask for 2^28 zeros at no cost in the file).
+constexpr uint64_t kMaxAnimationFloats = uint64_t(1) << 26;
+
 std::vector<Animation> read_animations(const Gltf& gltf) {
   const tinygltf::Model& model = gltf.model;
+  uint64_t floats = 0;  // read so far, in every sampler
   std::vector<Animation> out;
   out.reserve(model.animations.size());
   for (size_t a = 0; a < model.animations.size(); ++a) {
@@ -134,6 +139,15 @@ std::vector<Animation> read_animations(const Gltf& gltf) {
       if (model.accessors[size_t(in.input)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT ||
           model.accessors[size_t(in.input)].type != TINYGLTF_TYPE_SCALAR)
         gltf.fail(where + ".input: accessor " + str(in.input) + " must be FLOAT SCALAR");
+      // Bounded before anything is read: the times and (at most 3 × 4 × targets a keyframe) the
+      // values.
+      const uint64_t keys = accessor_count(gltf, in.input, where + ".input");
+      if (in.output < 0 || size_t(in.output) >= model.accessors.size())
+        gltf.fail(where + ".output: accessor " + str(in.output) + " does not exist");
+      floats += keys + uint64_t(accessor_count(gltf, in.output, where + ".output")) * 4;
+      if (floats > kMaxAnimationFloats)
+        gltf.fail(where + " brings the file's keyframes to more than " +
+                  str(kMaxAnimationFloats) + " numbers");
       const std::vector<glm::vec4> times =
           read_floats(gltf, in.input, where + ".input", 1, 1, {}, 0.f);
       if (times.empty()) gltf.fail(where + ".input: accessor " + str(in.input) + " is empty");
