@@ -245,8 +245,9 @@ TEST_CASE("skins: vertices follow their joints by their weights, the mesh node's
   check_lands(whole, std::nullopt, {0.f, 0.f});  // at the bind pose: where the mesh says
   check_lands(whole, 1.0, {0.5f, 0.3f});        // joint 1 moved by (0.5, 0.3)
   check_lands(whole, 0.5, {0.25f, 0.15f});
-  const std::string half = skinned(dir, 0.5f, "half.gltf");
-  check_lands(half, 1.0, {0.25f, 0.15f});
+  // Weights 0.75 and 0.25: a quarter of joint 1's move (equal weights would give half).
+  const std::string quarter = skinned(dir, 0.25f, "quarter.gltf");
+  check_lands(quarter, 1.0, {0.125f, 0.075f});
 }
 
 TEST_CASE("skins and animations: malformed ones are refused, naming the element") {
