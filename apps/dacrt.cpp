@@ -93,6 +93,14 @@ Image
   --fov DEGREES              its vertical field of view (default: the chosen camera's)
   --scene INDEX              which of the file's scenes (default: the file's default scene)
   --variant NAME             the KHR_materials_variants variant to render (dacrt info lists them)
+Animation
+  --time SECONDS             evaluate the file's animations at this time (all of them play;
+                             default: the rest pose, nodes and morph weights as the file gives them)
+  --frames FIRST:LAST        render frames FIRST..LAST, frame f at time f / fps, to OUT.%04d.exr
+                             (and PREVIEW.%04d.png); each frame's geometry is re-made in place, and
+                             the time that takes and each backend's build time are printed (and
+                             written to --stats)
+  --fps F                    frames per second for --frames (default 24)
 Light transport
   --integrator NAME          path (default: path tracing), direct (direct lighting, NEE + MIS,
                              one scattering event), ao (ambient occlusion), albedo, normal, depth
@@ -203,13 +211,28 @@ int render(const std::vector<std::string>& args) {
   } catch (const Error& e) {
     throw UsageError(std::string("--backend-option: ") + e.what());
   }
+  // The frames rendered: one (-1: no number in the names), or FIRST..LAST of --frames, each at
+  // time frame / fps with its number in its outputs' names.
+  std::vector<int> frames = {-1};
+  if (r.frames) {
+    frames.clear();
+    for (int f = r.frames->first; f <= r.frames->second; ++f) frames.push_back(f);
+  }
+  auto frame_runs = [&](int frame) {
+    std::vector<BackendRun> out = runs;
+    if (frame >= 0)
+      for (BackendRun& run : out)
+        run.output = with_frame(run.output, frame), run.preview = with_frame(run.preview, frame);
+    return out;
+  };
   std::vector<NamedFile> inputs = {{"the scene", r.scene}}, outputs;
   if (!r.settings.environment_file.empty()) {
     check_input_file(r.settings.environment_file, "environment map");
     inputs.push_back({"the environment map", r.settings.environment_file});
   }
-  for (const BackendRun& run : runs)
-    outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
+  for (int frame : frames)
+    for (const BackendRun& run : frame_runs(frame))
+      outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
   outputs.push_back({"--stats", r.stats});
   if (!r.preview.empty()) {
     set_color_warnings(!r.quiet);
@@ -225,80 +248,127 @@ int render(const std::vector<std::string>& args) {
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     size_t(r.threads));
 
+  auto seconds_since = [](std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  auto frame_time = [&](int frame) { return double(frame) / r.fps; };
+  if (r.frames) r.gltf.time = frame_time(frames.front());
   auto t_load = std::chrono::steady_clock::now();
-  Scene scene = load_gltf(r.scene, r.gltf);
-  double load_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+  const GltfAnimation file(r.scene, r.gltf);
+  Scene scene = file.load();
+  double load_seconds = seconds_since(t_load);
   for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
   check_outputs(outputs, inputs);
 
   const RenderSettings& s = r.settings;
-  const Shot shot = make_shot(scene, s);
-  check_memory(r, shot);
-  if (!r.quiet)
-    for (const std::string& note : shot.notes) print_message(note);
-
   // From here on SIGINT and SIGTERM stop the render and write what it has.
   StopOnSignals signals;
   r.passes.stop = &signals.token();
   r.backend_options.threads = r.threads;
-  size_t rendered = 0;  // the runs begun: a stop skips the backends after it
-  for (BackendRun& run : runs) {
-    ++rendered;
-    const auto t0 = std::chrono::steady_clock::now();
-    auto backend =
-        Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
-    RenderJob job(scene, *backend, s, shot);
-    Film film = job.film();
-    Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
-                      shot.pixels() * uint64_t(s.spp), !r.quiet);
-    const RenderOutcome outcome = job.run(film, 0, uint32_t(s.spp), progress, r.passes,
-                                          [&](const Film& so_far, const RenderOutcome& o) {
-                                            write_outputs(r, scene, shot, run, so_far, o);
-                                          });
-    run.stats = job.stats();
-    run.backend_stats = backend->stats();
-    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    run.spp = outcome.spp();
-    if (outcome.stopped) run.stopped = signals.signal() == SIGTERM ? "SIGTERM" : "SIGINT";
-    if (outcome.timed_out) run.stopped = "the time limit";
-    // A render stopped before its first sample leaves the previous outputs as they were.
-    if (film.max_count() == 0 && outcome.stopped) break;
-    write_outputs(r, scene, shot, run, film, outcome);
-    if (!r.quiet) print_summary(run, shot, s);
-    if (outcome.stopped) break;  // the backends after it are not rendered
-  }
-
-  const auto has_samples = [](const BackendRun& run) { return run.spp > 0 || run.stopped.empty(); };
-  size_t kept = 0;
-  for (size_t k = 0; k < rendered; ++k) kept += has_samples(runs[k]);
-  if (!r.stats.empty() && kept > 0) {
-    auto describe = [&](const BackendRun& run) {
-      nlohmann::json j = {{"scene", r.scene},
-                          {"triangles", scene.geometry.size()},
-                          {"width", shot.width},
-                          {"height", shot.height},
-                          {"spp", run.spp},
-                          {"spp_requested", s.spp},
-                          {"integrator", s.integrator},
-                          {"sampler", sampler_name(s.sampler)},
-                          {"threads", tbb::this_task_arena::max_concurrency()},
-                          {"load_seconds", load_seconds}};
-      if (!run.stopped.empty()) j["stopped_by"] = run.stopped;
-      j.update(to_json(run));
-      return j;
-    };
-    nlohmann::json j;
-    if (runs.size() == 1) {
-      j = describe(runs[0]);
-    } else {
-      j = {{"backends", nlohmann::json::array()}};
-      for (size_t k = 0; k < rendered; ++k)
-        if (has_samples(runs[k])) j["backends"].push_back(describe(runs[k]));
+  nlohmann::json frame_stats = nlohmann::json::array();
+  std::vector<BackendRun> last_runs;
+  for (int frame : frames) {
+    // A frame's geometry is made in place: the file's scene posed at its time (the first came
+    // with the load).
+    double geometry_seconds = load_seconds;
+    if (frame != frames.front()) {
+      const auto t0 = std::chrono::steady_clock::now();
+      file.pose(frame_time(frame), scene);
+      geometry_seconds = seconds_since(t0);
     }
-    write_atomically(r.stats, "statistics",
-                     [&](std::ostream& out) { out << json_text(j) << "\n"; });
+    const Shot shot = make_shot(scene, s);
+    if (frame == frames.front()) {
+      check_memory(r, shot);
+      if (!r.quiet)
+        for (const std::string& note : shot.notes) print_message(note);
+    }
+    std::vector<BackendRun> runs_now = frame_runs(frame);
+    size_t rendered = 0;  // the runs begun: a stop skips the backends after it
+    for (BackendRun& run : runs_now) {
+      ++rendered;
+      const auto t0 = std::chrono::steady_clock::now();
+      auto backend =
+          Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
+      run.build_seconds = seconds_since(t0);
+      RenderJob job(scene, *backend, s, shot);
+      Film film = job.film();
+      Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
+                        shot.pixels() * uint64_t(s.spp), !r.quiet);
+      const RenderOutcome outcome = job.run(film, 0, uint32_t(s.spp), progress, r.passes,
+                                            [&](const Film& so_far, const RenderOutcome& o) {
+                                              write_outputs(r, scene, shot, run, so_far, o);
+                                            });
+      run.stats = job.stats();
+      run.backend_stats = backend->stats();
+      run.seconds = seconds_since(t0);
+      run.spp = outcome.spp();
+      if (outcome.stopped) run.stopped = signals.signal() == SIGTERM ? "SIGTERM" : "SIGINT";
+      if (outcome.timed_out) run.stopped = "the time limit";
+      // A render stopped before its first sample leaves the previous outputs as they were.
+      if (film.max_count() == 0 && outcome.stopped) break;
+      write_outputs(r, scene, shot, run, film, outcome);
+      if (!r.quiet) print_summary(run, shot, s);
+      if (outcome.stopped) break;  // the backends after it are not rendered
+    }
+    runs_now.resize(rendered);
+    if (r.frames && !r.quiet) {
+      char line[160];
+      std::snprintf(line, sizeof line, "frame %d (t = %g s): geometry %.3f ms%s", frame,
+                    frame_time(frame), 1e3 * geometry_seconds,
+                    frame == frames.front() ? " (the load)" : "");
+      std::string text = line;
+      for (const BackendRun& run : runs_now) {
+        std::snprintf(line, sizeof line, ", %s build %.3f ms", run.backend.c_str(),
+                      1e3 * run.build_seconds);
+        text += line;
+      }
+      print_message(text);
+    }
+
+    const auto has_samples = [](const BackendRun& run) {
+      return run.spp > 0 || run.stopped.empty();
+    };
+    size_t kept = 0;
+    for (const BackendRun& run : runs_now) kept += has_samples(run);
+    if (!r.stats.empty() && kept > 0) {
+      auto describe = [&](const BackendRun& run) {
+        nlohmann::json j = {{"scene", r.scene},
+                            {"triangles", scene.geometry.size()},
+                            {"width", shot.width},
+                            {"height", shot.height},
+                            {"spp", run.spp},
+                            {"spp_requested", s.spp},
+                            {"integrator", s.integrator},
+                            {"sampler", sampler_name(s.sampler)},
+                            {"threads", tbb::this_task_arena::max_concurrency()},
+                            {"load_seconds", load_seconds}};
+        if (!run.stopped.empty()) j["stopped_by"] = run.stopped;
+        j.update(to_json(run));
+        return j;
+      };
+      nlohmann::json j;
+      if (runs.size() == 1) {
+        j = describe(runs_now[0]);
+      } else {
+        j = {{"backends", nlohmann::json::array()}};
+        for (const BackendRun& run : runs_now)
+          if (has_samples(run)) j["backends"].push_back(describe(run));
+      }
+      if (r.frames) {
+        // Each frame: its number, time, the seconds its geometry took to make, and its renders.
+        j["frame"] = frame;
+        j["time"] = frame_time(frame);
+        j["geometry_seconds"] = geometry_seconds;
+        frame_stats.push_back(j);
+        j = {{"frames", frame_stats}};
+      }
+      write_atomically(r.stats, "statistics",
+                       [&](std::ostream& out) { out << json_text(j) << "\n"; });
+    }
+    last_runs = std::move(runs_now);
+    if (signals.signal()) break;
   }
+  runs = std::move(last_runs);
   if (signals.signal()) return 128 + signals.signal();
   if (runs.size() > 1) print_comparison(stdout, runs);
   return 0;

@@ -128,6 +128,28 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
   } else if (a == "--variant") {
     r.gltf.variant = value();
     if (r.gltf.variant.empty()) throw UsageError("--variant needs a name (see dacrt info SCENE)");
+  } else if (a == "--time") {
+    const std::string v = value();
+    char* end = nullptr;
+    const double t = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !(t >= 0.0 && t < 1e9))
+      throw UsageError("--time wants seconds, a number >= 0, got '" + v + "'");
+    r.gltf.time = t;
+  } else if (a == "--frames") {
+    const std::string v = value();
+    const size_t colon = v.find(':');
+    if (colon == std::string::npos)
+      throw UsageError("--frames wants FIRST:LAST (frame numbers), got '" + v + "'");
+    const long first = parse_int(a + " FIRST", v.substr(0, colon), 0, 999999);
+    const long last = parse_int(a + " LAST", v.substr(colon + 1), 0, 999999);
+    if (last < first)
+      throw UsageError("--frames " + v + ": LAST is before FIRST");
+    if (last - first >= 100000)
+      throw UsageError("--frames " + v + ": more than 100000 frames");
+    r.frames = std::pair{int(first), int(last)};
+  } else if (a == "--fps") {
+    r.fps = parse_seconds(a, value());
+    r.fps_given = true;
   } else if (a == "--scene")
     r.gltf.scene = int(parse_int(a, value(), 0, 1 << 20));
   else if (a == "--backend")
@@ -200,6 +222,9 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
   if (!r.display_flag.empty() && r.preview.empty())
     throw UsageError(r.display_flag + " needs --preview (it changes only the PNG preview)");
   if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
+  if (r.fps_given && !r.frames) throw UsageError("--fps needs --frames");
+  if (r.frames && r.gltf.time)
+    throw UsageError("--time and --frames both give the time: use one (a frame's is frame / fps)");
   return r;
 }
 

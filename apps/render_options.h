@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <utility>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -29,6 +31,10 @@ struct RenderArgs {
   std::string backend = "dacrt";
   Options backend_options;
   int threads = 0;
+  // --frames FIRST:LAST: the frames rendered, each at time frame / fps (--fps, default 24).
+  std::optional<std::pair<int, int>> frames;
+  double fps = 24.0;
+  bool fps_given = false;
   bool quiet = false, help = false;
   RenderSettings settings;  // what is rendered: the image's options
   PassOptions passes;       // how the samples are scheduled: --pass-spp, --time-limit, --checkpoint

@@ -51,6 +51,12 @@ std::string with_backend(const std::string& path, const std::string& backend) {
   return (p.parent_path() / (p.stem().string() + "." + backend + p.extension().string())).string();
 }
 
+std::string with_frame(const std::string& path, int frame) {
+  char number[16];
+  std::snprintf(number, sizeof number, "%04d", frame);
+  return with_backend(path, number);
+}
+
 nlohmann::json to_json(const BackendRun& run) {
   const RenderStats& stats = run.stats;
   const Stats& b = run.backend_stats;
@@ -59,6 +65,7 @@ nlohmann::json to_json(const BackendRun& run) {
       {"backend", run.backend},
       {"render_seconds", stats.seconds},
       {"seconds_with_build", run.seconds},
+      {"build_seconds", run.build_seconds},
       {"paths", stats.paths},
       {"wavefront", stats.wavefront},
       {"dropped_samples", stats.dropped_samples},

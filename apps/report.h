@@ -17,6 +17,7 @@ struct BackendRun {
   RenderStats stats;
   Stats backend_stats;
   double seconds = 0.0;  // whole render, the backend's build included
+  double build_seconds = 0.0;  // the backend's build (Backend::create) alone
   uint32_t spp = 0;      // samples every pixel has (fewer than asked when stopped early)
   std::string stopped;   // why the render stopped early ("SIGINT", "the time limit"), or empty
 };
@@ -25,6 +26,9 @@ struct BackendRun {
 std::vector<std::string> split_list(const std::string& list);
 // out.exr → out.NAME.exr (empty stays empty).
 std::string with_backend(const std::string& path, const std::string& backend);
+
+// out.exr → out.0007.exr for frame 7 (empty stays empty).
+std::string with_frame(const std::string& path, int frame);
 
 nlohmann::json to_json(const BackendRun& run);
 void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings& s);

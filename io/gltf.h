@@ -2,6 +2,8 @@
 // naming the file and the element at fault for anything malformed.
 #pragma once
 
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "scene/scene.h"
@@ -13,6 +15,10 @@ struct GltfOptions {
   // KHR_materials_variants: the variant whose materials the primitives take; empty: their own.
   // A name the file does not have is a SettingError naming those it has.
   std::string variant{};
+  // The time in seconds the file's animations are evaluated at (every animation plays at once,
+  // each held at its ends); none: the rest pose (the nodes as the file gives them, morph weights
+  // their defaults: the node's, else the mesh's, else 0).
+  std::optional<double> time{};
 };
 
 Scene load_gltf(const std::string& path, const GltfOptions& options = {});
@@ -20,5 +26,26 @@ Scene load_gltf(const std::string& path, const GltfOptions& options = {});
 // messages and is where external buffers are looked for.
 Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
                        const GltfOptions& options = {});
+
+// A glTF file read once (its model and checked animations are kept) whose scene can then be
+// posed at other times without reading the file again: the frames of an animation.
+class GltfAnimation {
+ public:
+  // Reads the file; throws Error as load_gltf does.
+  GltfAnimation(const std::string& path, const GltfOptions& options = {});
+  ~GltfAnimation();
+  // The whole scene at options.time (load_gltf's).
+  Scene load() const;
+  // Re-makes `scene` (which load() made) at `time`: its triangles and per-corner attributes, its
+  // cameras and lights; materials and textures are kept as they are.
+  void pose(double time, Scene& scene) const;
+  // The last keyframe time of the file's animations (0 without any).
+  double end() const;
+  size_t animation_count() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace dacrt

@@ -187,12 +187,17 @@ View view(const Gltf& gltf, int index, const std::string& role) {
   View v;
   v.count = a.count;
   v.component_type = a.componentType;
-  v.components = a.type == TINYGLTF_TYPE_SCALAR ? 1 : (a.type >= 2 && a.type <= 4 ? a.type : 0);
+  v.components = a.type == TINYGLTF_TYPE_SCALAR          ? 1
+                 : a.type >= 2 && a.type <= 4                ? a.type
+                 : a.type == TINYGLTF_TYPE_MAT4 && a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT
+                     ? 16  // inverse bind matrices (FLOAT: no column padding)
+                     : 0;
   size_t csize = component_size(a.componentType);
   if (csize == 0)
     gltf.fail(what + " has componentType " + str(a.componentType) +
               ", which glTF 2.0 does not allow");
-  if (v.components == 0) gltf.fail(what + " has a matrix type, which no vertex attribute uses");
+  if (v.components == 0)
+    gltf.fail(what + " has a matrix type other than FLOAT MAT4, which nothing reads");
   size_t element = csize * size_t(v.components);
   v.stride = element;
 
@@ -385,6 +390,16 @@ std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::stri
       for (int c = 0; c < 3; ++c)
         out[k][c] = plain ? plain_value(e, c, type) : component_value(e, c, type);
   }
+  return out;
+}
+
+std::vector<glm::vec4> read_matrix_columns(const Gltf& gltf, int accessor,
+                                          const std::string& role) {
+  const View v = view(gltf, accessor, role);
+  if (v.components != 16)
+    gltf.fail("accessor " + str(accessor) + " (" + role + ") must be FLOAT MAT4");
+  std::vector<glm::vec4> out(4 * v.count);
+  for (size_t k = 0; k < v.count; ++k) std::memcpy(&out[4 * k], v.element(k), 64);
   return out;
 }
 

@@ -13,11 +13,12 @@
 // emissive textures with KHR_texture_transform and samplers, from PNG, JPEG or WebP
 // (EXT_texture_webp) images (embedded, in a bufferView, or external files), KHR_texture_basisu
 // textures from their fallback image; tangents generated where a normal map needs them and the
-// file has none; perspective and orthographic cameras.
+// file has none; perspective and orthographic cameras; animations (animation.cpp), skins
+// (skins.cpp) and morph targets, at GltfOptions::time or at rest.
 // Triangle lists, strips and fans. Skipped with one warning line each: point and line primitives,
 // primitives without POSITION (the spec says to skip them).
 // Ignored: occlusion textures (a path tracer computes occlusion), images no material uses (never
-// decoded), skins, morph targets, animations, and extensions that are only "used" (the spec says
+// decoded), KHR_animation_pointer channels, and extensions that are only "used" (the spec says
 // the asset renders without them).
 // Rejected: files that *require* an extension not read here, and textures whose only image is
 // KTX2 (KHR_texture_basisu).
@@ -89,7 +90,11 @@ std::vector<std::string> variant_names(const Gltf& gltf) {
   return names;
 }
 
-Scene run(Gltf& gltf, const GltfOptions& options) {
+// The scene at options.time. `geometry_only`: what a frame re-makes (triangles, their attributes,
+// cameras and lights), without decoding the textures or warning again.
+Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& animations,
+          bool geometry_only = false) {
+  if (options.time) gltf.pose = pose_at(animations, gltf.model.nodes.size(), *options.time);
   int scene = options.scene;
   Scene out;
   out.variants = variant_names(gltf);
@@ -118,14 +123,16 @@ Scene run(Gltf& gltf, const GltfOptions& options) {
     gltf.fail(std::string(by_default ? "default " : "") + "scene " + str(scene) +
               " does not exist (" + str(count) + " scenes)");
   out.materials = load_materials(gltf, out.ignored);
+  if (!geometry_only) check_skins(gltf);
   note_unread(gltf, out.ignored);
   if (count > 0) load_nodes(gltf, scene, meshes, out);
-  load_textures(gltf, meshes.texture_used(), out);
+  if (!geometry_only) load_textures(gltf, meshes.texture_used(), out);
 
   meshes.finish();
   if (out.materials.empty()) out.materials.push_back(default_material());
   out.cameras_from_file = out.cameras.size();
   if (out.cameras.empty()) out.cameras.push_back(frame_bounds(out.bounds(), 0.f));
+  if (geometry_only) return out;
 
   auto warn = [&](size_t n, const char* what) {
     if (n > 0) print_message("warning: " + gltf.path + ": skipped " + str(n) + " " + what);
@@ -161,16 +168,11 @@ Scene run(Gltf& gltf, const GltfOptions& options) {
 
 namespace {
 
-// Runs `read` (which gives the model) and the loader, turning every failure into one Error line.
-template <typename Read>
-Scene load(const std::string& path, const GltfOptions& options, Read read) {
+// Runs `body`, turning every failure into one Error line naming `path`.
+template <typename Body>
+auto guarded(const std::string& path, Body body) {
   try {
-    std::vector<std::string> files;
-    tinygltf::Model model = read(files);
-    gltf::Gltf gltf(path, model);
-    Scene scene = gltf::run(gltf, options);
-    scene.files = std::move(files);
-    return scene;
+    return body();
   } catch (const Error&) {  // SettingError too
     throw;
   } catch (const std::bad_alloc&) {
@@ -182,16 +184,79 @@ Scene load(const std::string& path, const GltfOptions& options, Read read) {
 
 }  // namespace
 
+struct GltfAnimation::Impl {
+  std::string path;
+  GltfOptions options;
+  std::vector<std::string> files;
+  tinygltf::Model model;
+  std::vector<gltf::Animation> animations;
+
+  template <typename Read>
+  Impl(const std::string& path, const GltfOptions& options, Read read)
+      : path(path), options(options) {
+    guarded(path, [&] {
+      model = read(files);
+      gltf::Gltf gltf(path, model);
+      animations = gltf::read_animations(gltf);
+      return 0;
+    });
+  }
+  Scene load(const GltfOptions& at, bool geometry_only) const {
+    return guarded(path, [&] {
+      gltf::Gltf gltf(path, model);
+      Scene scene = gltf::run(gltf, at, animations, geometry_only);
+      scene.files = files;
+      return scene;
+    });
+  }
+};
+
+GltfAnimation::GltfAnimation(const std::string& path, const GltfOptions& options)
+    : impl_(std::make_unique<Impl>(path, options, [&](std::vector<std::string>& files) {
+        return read_gltf_model(path, options.scene, &files);
+      })) {}
+
+GltfAnimation::~GltfAnimation() = default;
+
+Scene GltfAnimation::load() const {
+  return impl_->load(impl_->options, false);
+}
+
+void GltfAnimation::pose(double time, Scene& scene) const {
+  GltfOptions at = impl_->options;
+  at.time = time;
+  Scene posed = impl_->load(at, true);
+  scene.geometry = std::move(posed.geometry);
+  scene.normals = std::move(posed.normals);
+  for (int set = 0; set < 2; ++set) scene.texcoords[set] = std::move(posed.texcoords[set]);
+  scene.colors = std::move(posed.colors);
+  scene.tangents = std::move(posed.tangents);
+  scene.cameras = std::move(posed.cameras);
+  scene.cameras_from_file = posed.cameras_from_file;
+  scene.lights = std::move(posed.lights);
+}
+
+double GltfAnimation::end() const {
+  return gltf::animation_end(impl_->animations);
+}
+
+size_t GltfAnimation::animation_count() const {
+  return impl_->animations.size();
+}
+
 Scene load_gltf(const std::string& path, const GltfOptions& options) {
-  return load(path, options, [&](std::vector<std::string>& files) {
-    return read_gltf_model(path, options.scene, &files);
-  });
+  return GltfAnimation(path, options).load();
 }
 
 Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
                        const GltfOptions& options) {
-  return load(path, options, [&](std::vector<std::string>& files) {
-    return parse_gltf_model(path, data, size, options.scene, &files);
+  return guarded(path, [&] {
+    std::vector<std::string> files;
+    tinygltf::Model model = parse_gltf_model(path, data, size, options.scene, &files);
+    gltf::Gltf gltf(path, model);
+    Scene scene = gltf::run(gltf, options, gltf::read_animations(gltf));
+    scene.files = std::move(files);
+    return scene;
   });
 }
 

@@ -24,6 +24,31 @@
 
 namespace dacrt::gltf {
 
+// Animations (animation.cpp): plain data read once from the file, evaluated at any time.
+enum class Interpolation : uint8_t { step, linear, cubic };
+enum class AnimationPath : uint8_t { translation, rotation, scale, weights };
+struct AnimationSampler {
+  Interpolation interpolation = Interpolation::linear;
+  std::vector<float> input;   // keyframe times: finite, >= 0, strictly increasing, at least one
+  std::vector<float> output;  // input × (1, or 3 for CUBICSPLINE) × components floats
+  size_t components = 0;      // per value: 3, 4 (x, y, z, w), or the morph target count
+};
+struct AnimationChannel {
+  uint32_t sampler, node;
+  AnimationPath path;
+  size_t components;
+};
+struct Animation {
+  std::vector<AnimationSampler> samplers;  // those no channel uses are left empty
+  std::vector<AnimationChannel> channels;  // KHR_animation_pointer channels left out (warned)
+};
+// A node's animated values at one time; what is not animated is the node's own.
+struct NodePose {
+  std::optional<glm::dvec3> translation, scale;
+  std::optional<glm::dquat> rotation;
+  std::vector<float> weights;  // empty: not animated
+};
+
 // The file being loaded: its path (which starts every message) and tinygltf's model of it, and
 // what reading its accessors has worked out once for all their reads.
 struct Gltf {
@@ -47,6 +72,8 @@ struct Gltf {
   // What is skipped with a warning, by index: textures without a source image (materials
   // render as without them) and lights of a type KHR_lights_punctual does not define.
   mutable std::set<int> sourceless_textures, unknown_lights;
+  // The animated values of each node at the time rendered (empty: the rest pose).
+  std::vector<NodePose> pose;
 
   Gltf(const std::string& path, const tinygltf::Model& model) : path(path), model(model) {
     for (const std::string& name : model.extensionsUsed)
@@ -138,6 +165,8 @@ std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::st
                                    float fill, Elements which = nullptr);
 // Unit quaternions (x, y, z, w): FLOAT, or normalised BYTE or SHORT as the spec allows.
 std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std::string& role);
+// A FLOAT MAT4 accessor's matrices as their columns, 4 a matrix.
+std::vector<glm::vec4> read_matrix_columns(const Gltf& gltf, int accessor, const std::string& role);
 // A primitive's indices: an unsigned SCALAR accessor, each index below `vertex_count`.
 std::vector<uint32_t> read_indices(const Gltf& gltf, int accessor, const std::string& role,
                                    size_t vertex_count);
@@ -177,6 +206,19 @@ struct CornerStream {
   }
 };
 
+// What an instance of a mesh is posed with: its morph weights (one per target) and, when skinned,
+// its skin's joint matrices.
+struct MeshPose {
+  std::vector<float> weights;
+  const std::vector<glm::dmat4>* joints = nullptr;
+};
+
+// Per-vertex skinning matrices (skins.cpp) of primitive `prim` (`where` names it) for the vertices
+// `which` of its `vertex_count`: the JOINTS_n / WEIGHTS_n sets' weighted sum of `joints`.
+std::vector<glm::dmat4> skin_matrices(const Gltf& gltf, const tinygltf::Primitive& prim,
+                                      const std::string& where, size_t vertex_count,
+                                      const std::vector<glm::dmat4>& joints, Elements which);
+
 // Meshes flattened into the scene's world-space triangles, one instance at a time, with the
 // per-corner attributes some primitive has (normals, texture coordinates, colours, tangents) and
 // the materials' textures marked used.
@@ -185,7 +227,7 @@ class MeshLoader {
   MeshLoader(const Gltf& gltf, Scene& scene);
 
   // Mesh `mesh` (which node `node` refers to) placed by `world` (in double: see nodes.cpp).
-  void add_mesh(int mesh, const glm::dmat4& world, int node);
+  void add_mesh(int mesh, const glm::dmat4& world, int node, const MeshPose& pose = {});
   // Moves the per-corner attributes into the scene, once every mesh is added.
   void finish();
 
@@ -219,6 +261,25 @@ class MeshLoader {
   size_t skipped_modes_ = 0, skipped_unpositioned_ = 0;
   uint64_t work_ = 0;  // triangles asked for, every instance and primitive counted
 };
+
+// The file's animations, checked; one error line names the element ("animations[0].samplers[1]
+// .input").
+std::vector<Animation> read_animations(const Gltf& gltf);
+// Sampler `s`'s value at time t into out[0..components): held at the ends, STEP, LINEAR (slerp
+// when `rotation`) or CUBICSPLINE; rotations come out as unit quaternions (x, y, z, w).
+void sample(const AnimationSampler& s, double t, bool rotation, float* out);
+// Every channel of every animation at time t, for `nodes` nodes.
+std::vector<NodePose> pose_at(const std::vector<Animation>& animations, size_t nodes, double t);
+// The last keyframe time of any channel (0 without any).
+double animation_end(const std::vector<Animation>& animations);
+
+// Skins (skins.cpp): the joint matrices of skin `skin` (world(joint) × inverse bind matrix, one per
+// joint) from the nodes' world transforms `world`, checked (joints exist, the inverse bind
+// matrices are FLOAT MAT4, enough of them, finite).
+std::vector<glm::dmat4> joint_matrices(const Gltf& gltf, int skin,
+                                       const std::vector<glm::dmat4>& world);
+// Every skin of the file checked so (those no node uses too).
+void check_skins(const Gltf& gltf);
 
 // Nodes (nodes.cpp): the node tree of scene `scene` walked from its roots, each node's meshes
 // given to `meshes`, its camera and light added to `out`. World transforms are composed in

@@ -69,6 +69,7 @@ std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
 
 glm::dmat4 local_transform(const Gltf& gltf, int index) {
   const tinygltf::Node& n = gltf.model.nodes[size_t(index)];
+  const NodePose* pose = gltf.pose.empty() ? nullptr : &gltf.pose[size_t(index)];
   std::string what = "node " + str(index);
   auto expect = [&](const std::vector<double>& v, size_t size, const char* name) {
     if (!v.empty() && v.size() != size)
@@ -84,19 +85,32 @@ glm::dmat4 local_transform(const Gltf& gltf, int index) {
     m[3][3] = 1.0;
   } else {
     glm::dmat4 t(1.0), r(1.0), s(1.0);
-    if (expect(n.translation, 3, "translation"))
+    // An animated value replaces the node's own (read_animations refused matrix nodes).
+    if (pose && pose->translation)
+      t[3] = glm::dvec4(*pose->translation, 1.0);
+    else if (expect(n.translation, 3, "translation"))
       t[3] = glm::dvec4(n.translation[0], n.translation[1], n.translation[2], 1.0);
-    if (expect(n.rotation, 4, "rotation")) {
+    std::optional<glm::dvec4> q;
+    if (pose && pose->rotation) {
+      q = glm::dvec4(pose->rotation->x, pose->rotation->y, pose->rotation->z, pose->rotation->w);
+    } else if (expect(n.rotation, 4, "rotation")) {
       // The spec asks for a unit quaternion. Files round theirs, so within 1 % of unit length it
       // is normalised (in double); further off, the file does not say which rotation it means.
-      const glm::dvec4 q(n.rotation[0], n.rotation[1], n.rotation[2], n.rotation[3]);
-      const double length = glm::length(q);
+      q = glm::dvec4(n.rotation[0], n.rotation[1], n.rotation[2], n.rotation[3]);
+      const double length = glm::length(*q);
       if (!(std::abs(length - 1.0) <= 0.01))
         gltf.fail(what + ": rotation is not a unit quaternion (its length is " + num(length) + ")");
-      const glm::dvec4 u = q / length;
+    }
+    if (q) {
+      const double length = glm::length(*q);
+      if (!(length > 0.0) || !std::isfinite(length))
+        gltf.fail(what + ": rotation is not a usable quaternion");
+      const glm::dvec4 u = *q / length;
       r = glm::mat4_cast(glm::dquat(u.w, u.x, u.y, u.z));
     }
-    if (expect(n.scale, 3, "scale"))
+    if (pose && pose->scale)
+      s = glm::scale(glm::dmat4(1.0), *pose->scale);
+    else if (expect(n.scale, 3, "scale"))
       for (int axis = 0; axis < 3; ++axis) s[axis][axis] = n.scale[size_t(axis)];
     m = t * r * s;
   }
@@ -104,6 +118,72 @@ glm::dmat4 local_transform(const Gltf& gltf, int index) {
     for (int r = 0; r < 3; ++r)
       if (!std::isfinite(m[c][r])) gltf.fail(what + ": transform is not finite");
   return m;
+}
+
+// The morph weights node `index` renders mesh `mesh` with: animated, else the node's, else the
+// mesh's, else zeros; one per morph target (the spec: as many as the mesh's targets).
+std::vector<float> morph_weights(const Gltf& gltf, int index, int mesh) {
+  const tinygltf::Node& n = gltf.model.nodes[size_t(index)];
+  if (mesh < 0 || size_t(mesh) >= gltf.model.meshes.size()) return {};
+  const tinygltf::Mesh& m = gltf.model.meshes[size_t(mesh)];
+  const size_t targets = m.primitives.empty() ? 0 : m.primitives[0].targets.size();
+  for (size_t p = 1; p < m.primitives.size(); ++p)
+    if (m.primitives[p].targets.size() != targets)
+      gltf.fail("meshes[" + str(mesh) + "].primitives[" + str(p) + "].targets: " +
+                str(m.primitives[p].targets.size()) + " morph targets, but primitive 0 has " +
+                str(targets) + " (they must have as many)");
+  auto check = [&](const std::vector<double>& w, const std::string& at) {
+    if (!w.empty() && w.size() != targets)
+      gltf.fail(at + ": " + str(w.size()) + " weights for " + str(targets) + " morph targets");
+    std::vector<float> out(w.size());
+    for (size_t k = 0; k < w.size(); ++k) {
+      const auto f = as_float(w[k]);
+      if (!f) gltf.fail(at + ": weight " + str(k) + " is not a finite float");
+      out[k] = *f;
+    }
+    return out;
+  };
+  const std::vector<float> of_mesh = check(m.weights, "meshes[" + str(mesh) + "].weights");
+  const std::vector<float> of_node = check(n.weights, "nodes[" + str(index) + "].weights");
+  if (!gltf.pose.empty() && !gltf.pose[size_t(index)].weights.empty())
+    return gltf.pose[size_t(index)].weights;
+  if (!of_node.empty()) return of_node;
+  if (!of_mesh.empty()) return of_mesh;
+  return std::vector<float>(targets, 0.f);
+}
+
+// Joints outside the scene's tree get world transforms too: their parents' chains, from the
+// nodes' children lists (`reached`: the nodes the scene placed, whose `world` is known).
+void place_outside_joints(const Gltf& gltf, const std::vector<int>& reached,
+                          std::vector<glm::dmat4>& world) {
+  const auto& nodes = gltf.model.nodes;
+  std::vector<int> parent;
+  std::vector<char> done(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i) done[i] = reached[i] != -2;
+  for (const tinygltf::Skin& skin : gltf.model.skins)
+    for (int joint : skin.joints) {
+      if (joint < 0 || size_t(joint) >= nodes.size() || done[size_t(joint)]) continue;
+      if (parent.empty()) {
+        parent.assign(nodes.size(), -1);
+        for (size_t i = 0; i < nodes.size(); ++i)
+          for (int c : nodes[i].children)
+            if (c >= 0 && size_t(c) < nodes.size() && parent[size_t(c)] == -1)
+              parent[size_t(c)] = int(i);
+      }
+      // The chain up to a placed node or a root, at most every node (else a cycle).
+      std::vector<int> chain;
+      for (int a = joint; a != -1 && !done[size_t(a)]; a = parent[size_t(a)]) {
+        if (chain.size() > nodes.size())
+          gltf.fail("node " + str(joint) + " (a joint) has a cycle among its ancestors");
+        chain.push_back(a);
+      }
+      for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+        const int p = parent[size_t(*it)];
+        world[size_t(*it)] = (p == -1 ? glm::dmat4(1.0) : world[size_t(p)]) *
+                             local_transform(gltf, *it);
+        done[size_t(*it)] = 1;
+      }
+    }
 }
 
 }  // namespace
@@ -136,24 +216,47 @@ void load_nodes(const Gltf& gltf, int scene, MeshLoader& meshes, Scene& out) {
 
   const auto& roots = gltf.model.scenes[size_t(scene)].nodes;
   for (auto it = roots.rbegin(); it != roots.rend(); ++it) push(*it, kRoot, glm::dmat4(1.0));
+  // The world transforms first (skins need their joints'), then what the nodes place, in the
+  // same order.
+  std::vector<glm::dmat4> world(gltf.model.nodes.size(), glm::dmat4(1.0));
+  std::vector<int> order;
   while (!stack.empty()) {
     Pending item = stack.back();
     stack.pop_back();
     const tinygltf::Node& node = gltf.model.nodes[size_t(item.node)];
     ++out.node_count;
-    const glm::dmat4 world = item.parent_world * local_transform(gltf, item.node);
+    world[size_t(item.node)] = item.parent_world * local_transform(gltf, item.node);
+    order.push_back(item.node);
+    for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
+      push(*it, item.node, world[size_t(item.node)]);
+  }
+  place_outside_joints(gltf, parent, world);
+  std::map<int, std::vector<glm::dmat4>> skins;  // joint matrices, by skin
+  for (int index : order) {
+    const tinygltf::Node& node = gltf.model.nodes[size_t(index)];
+    const glm::dmat4& w = world[size_t(index)];
     if (node.mesh != -1) {
+      MeshPose mesh_pose;
+      mesh_pose.weights = morph_weights(gltf, index, node.mesh);
+      if (node.skin != -1) {
+        if (node.skin < 0 || size_t(node.skin) >= gltf.model.skins.size())
+          gltf.fail("nodes[" + str(index) + "].skin: skin " + str(node.skin) + " does not exist");
+        auto known = skins.find(node.skin);
+        if (known == skins.end())
+          known = skins.emplace(node.skin, joint_matrices(gltf, node.skin, world)).first;
+        mesh_pose.joints = &known->second;
+      }
+      // A skinned mesh is placed by its joints alone: the spec ignores its node's transform.
+      const glm::dmat4 placed = node.skin != -1 ? glm::dmat4(1.0) : w;
       // EXT_mesh_gpu_instancing: the mesh once per instance, never at the node itself.
-      if (auto instances = instance_transforms(gltf, node, item.node, meshes); !instances)
-        meshes.add_mesh(node.mesh, world, item.node);
+      if (auto instances = instance_transforms(gltf, node, index, meshes); !instances)
+        meshes.add_mesh(node.mesh, placed, index, mesh_pose);
       else
         for (const glm::mat4& m : *instances)
-          meshes.add_mesh(node.mesh, world * glm::dmat4(m), item.node);
+          meshes.add_mesh(node.mesh, placed * glm::dmat4(m), index, mesh_pose);
     }
-    if (node.camera != -1) out.cameras.push_back(load_camera(gltf, node.camera, world, item.node));
-    if (auto light = load_light(gltf, node, world, item.node)) out.lights.push_back(*light);
-    for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
-      push(*it, item.node, world);
+    if (node.camera != -1) out.cameras.push_back(load_camera(gltf, node.camera, w, index));
+    if (auto light = load_light(gltf, node, w, index)) out.lights.push_back(*light);
   }
 }
 

@@ -31,6 +31,7 @@ struct MeshLoader::Transform {
   glm::mat3 tangent;  // world's 3x3, up to a positive factor
   bool flips;         // negative determinant: mirrored, so the winding must be swapped back
   int node;
+  const MeshPose* pose;
 };
 
 namespace {
@@ -53,7 +54,7 @@ MeshLoader::MeshLoader(const Gltf& gltf, Scene& scene)
       texture_used_(gltf.model.textures.size(), false),
       mesh_seen_(gltf.model.meshes.size(), false) {}
 
-void MeshLoader::add_mesh(int mesh, const glm::dmat4& world, int node) {
+void MeshLoader::add_mesh(int mesh, const glm::dmat4& world, int node, const MeshPose& pose) {
   if (mesh < 0 || size_t(mesh) >= gltf_.model.meshes.size())
     gltf_.fail("node " + str(node) + " refers to mesh " + str(mesh) + ", which does not exist");
   bool first_instance = !mesh_seen_[size_t(mesh)];
@@ -72,7 +73,7 @@ void MeshLoader::add_mesh(int mesh, const glm::dmat4& world, int node) {
   }
   const bool flips = glm::determinant(unit) < 0.0;
   Transform xf{world, direction_matrix(flips ? -cofactor : cofactor), direction_matrix(linear),
-               flips, node};
+               flips, node, &pose};
   for (size_t p = 0; p < gltf_.model.meshes[size_t(mesh)].primitives.size(); ++p)
     add_primitive(mesh, int(p), xf, first_instance);
 }
@@ -229,15 +230,10 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
                          uint8_t(quantized ? small : 0)};
   std::vector<glm::vec3> points =
       read_vec3(gltf_, position->second, "POSITION of " + where, which, position_types);
-  for (size_t i = 0; i < points.size(); ++i) {
+  for (size_t i = 0; i < points.size(); ++i)
     if (!finite(points[i]))
       gltf_.fail("accessor " + str(position->second) + " (POSITION of " + where + ") vertex " +
                  str(vertex(i)) + " is not finite");
-    points[i] = glm::vec3(xf.world * glm::dvec4(points[i], 1.0));
-    if (!finite(points[i]))
-      gltf_.fail("node " + str(xf.node) + " puts vertex " + str(vertex(i)) + " of " + where +
-                 " at a non-finite position");
-  }
 
   auto same_count = [&](int accessor, const std::string& role) {
     const size_t n = accessor_count(gltf_, accessor, role);
@@ -245,11 +241,58 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
       gltf_.fail("accessor " + str(accessor) + " (" + role + ") has " + str(n) +
                  " elements but POSITION has " + str(vertex_count));
   };
+  // Morph targets: each target's `attribute` deltas times its weight, added to `values`.
+  const std::vector<float>& weights = xf.pose->weights;
+  if (prim.targets.size() != weights.size())
+    gltf_.fail(where + " has " + str(prim.targets.size()) + " morph targets but its node gives " +
+               str(weights.size()) + " weights");
+  auto morph = [&](const char* attribute, std::vector<glm::vec3>& values, IntegerTypes types) {
+    for (size_t k = 0; k < prim.targets.size(); ++k) {
+      auto a = prim.targets[k].find(attribute);
+      if (a == prim.targets[k].end()) continue;
+      const std::string role = std::string(attribute) + " of " + where + " target " + str(k);
+      same_count(a->second, role);
+      if (weights[k] == 0.f) continue;  // nothing to add: not read
+      const std::vector<glm::vec3> deltas = read_vec3(gltf_, a->second, role, which, types);
+      for (size_t i = 0; i < values.size(); ++i) {
+        values[i] += weights[k] * deltas[i];
+        if (!finite(values[i]))
+          gltf_.fail("accessor " + str(a->second) + " (" + role + ") morphs vertex " +
+                     str(vertex(i)) + " to a non-finite value");
+      }
+    }
+  };
+  morph("POSITION", points, position_types);
+  // Skinning: each vertex by its own matrix (the joints', weighted); else the node's transform.
+  std::vector<glm::dmat4> skin;
+  if (xf.pose->joints)
+    skin = skin_matrices(gltf_, prim, where, vertex_count, *xf.pose->joints, which);
+  for (size_t i = 0; i < points.size(); ++i) {
+    points[i] = glm::vec3((skin.empty() ? xf.world : xf.world * skin[i]) *
+                          glm::dvec4(points[i], 1.0));
+    if (!finite(points[i]))
+      gltf_.fail("node " + str(xf.node) + " puts vertex " + str(vertex(i)) + " of " + where +
+                 " at a non-finite position");
+  }
+  // A direction's matrix for vertex i: the skin's (with the instance's) or the node's.
+  auto normal_matrix = [&](size_t i) {
+    if (skin.empty()) return xf.normal;
+    const glm::dmat3 m = glm::dmat3(xf.world) * glm::dmat3(skin[i]);
+    return direction_matrix(glm::dmat3(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]),
+                                       glm::cross(m[0], m[1])));
+  };
+  auto tangent_matrix = [&](size_t i) {
+    return skin.empty() ? xf.tangent
+                        : direction_matrix(glm::dmat3(xf.world) * glm::dmat3(skin[i]));
+  };
+
   std::vector<glm::vec3> normals;
   if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
     same_count(normal->second, "NORMAL of " + where);
     normals = read_vec3(gltf_, normal->second, "NORMAL of " + where, which, direction_types);
-    for (glm::vec3& n : normals) n = xf.normal * n;  // normalised per corner below
+    morph("NORMAL", normals, direction_types);
+    for (size_t i = 0; i < normals.size(); ++i)
+      normals[i] = normal_matrix(i) * normals[i];  // normalised per corner below
     if (!keep_normals_) start_normals();
   }
   const size_t before = scene_.geometry.size();
@@ -302,9 +345,13 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     const std::string role = "TANGENT of " + where;
     same_count(attribute->second, role);
     tangents = read_floats(gltf_, attribute->second, role, 4, 4, direction_types, 0.f, which);
-    for (glm::vec4& t : tangents) {
+    std::vector<glm::vec3> xyz(tangents.size());
+    for (size_t i = 0; i < tangents.size(); ++i) xyz[i] = glm::vec3(tangents[i]);
+    morph("TANGENT", xyz, direction_types);
+    for (size_t i = 0; i < tangents.size(); ++i) {
+      glm::vec4& t = tangents[i];
       // A mirroring transform turns the bitangent cross(n, t) around: flip its sign back.
-      t = glm::vec4(xf.tangent * glm::vec3(t), (t.w < 0.f) != xf.flips ? -1.f : 1.f);
+      t = glm::vec4(tangent_matrix(i) * xyz[i], (t.w < 0.f) != xf.flips ? -1.f : 1.f);
       if (!finite(glm::vec3(t))) t = glm::vec4(0.f);
     }
   }
