@@ -1,6 +1,7 @@
 // path (the default integrator): unidirectional path tracing. Every surface a path meets
 // reflects (or, thin-walled, transmits) by the glTF metallic-roughness BRDF around the shading
-// normal (materials/gltf_brdf.h); paths end by Russian roulette from --max-depth's roulette depth
+// normal (materials/gltf_brdf.h), and a volume's boundary also refracts into it (materials/
+// bsdf.h), where the path's media stack absorbs and sets the IORs (integrators/media.h); paths end by Russian roulette from --max-depth's roulette depth
 // (3) on, or at --max-depth scattering events (default 64). At each vertex next-event estimation
 // samples emissive triangles and punctual lights by power, or the environment map, and is
 // combined with BSDF sampling by multiple importance sampling (integrators/light_sampling.h).
@@ -235,7 +236,7 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   // A volume's boundary (integrators/media.h): refractive, with the IORs of the media on its two
   // sides; a dispersive one first makes the path follow one colour channel.
   MediumStack* stack = transmits && media_.medium(mat) ? &stacks_[path] : nullptr;
-  const bool front = glm::dot(scene_.geometry.unit_normal(tri), d) < 0.f;
+  const bool front = stack && glm::dot(scene_.geometry.unit_normal(tri), d) < 0.f;
   if (stack && media_.medium(mat)->dispersion > 0.f && stack->channel < 0) {
     const int c = std::min(2, int(3.f * random(wavelength)));
     glm::vec3 one(0.f);

@@ -163,6 +163,41 @@ TEST_CASE("volume: a sphere of water inside a sphere of glass under a sky of 1 r
   check_channels(r.film, glm::dvec3(1.0));
 }
 
+TEST_CASE("volume: a point light inside an absorbing volume: shadow and camera rays attenuate") {
+  // lit_plane's Lambert square (albedo 0.5, z = 0, seen from above over [−1, 1]²) inside an
+  // index-matched box z ∈ [−1, 2] absorbing σ = ln 2 per unit (c = 0.5 at d = 1), a point light
+  // of intensity 2 inside it: a pixel shows 0.5/π · 2 cos θ / d² · e^(−σ d) over the light's
+  // distance d, times e^(−2σ) = 1/4 over the camera ray's 2 units inside (a black sky: nothing
+  // else). The plane's vertices are the Lambert lanes', which must leave absorbing media alone.
+  Scene scene = lit_plane();
+  add_box(scene.geometry, glm::vec3(-3, -3, -1), glm::vec3(3, 3, 2), 1);
+  scene.materials.push_back(glass(1.f, glm::vec3(0.5f), 1.f));
+  PunctualLight l;
+  l.intensity = glm::vec3(2.f);
+  l.position = glm::vec3(0.3f, -0.2f, 1.f);
+  scene.lights = {l};
+  RenderSettings s;
+  s.width = s.height = 16, s.spp = 64;
+  Result r = render(scene, s);
+  const double sigma = std::log(2.0), brdf = 0.5 / glm::pi<double>();
+  for (int y = 0; y < 16; y += 3)
+    for (int x = 0; x < 16; x += 3) {
+      double expected = 0.0;  // the pixel's mean over a 16 × 16 grid of points
+      for (int i = 0; i < 16; ++i)
+        for (int j = 0; j < 16; ++j) {
+          const glm::dvec3 p(-1.0 + (x + (i + 0.5) / 16) / 8.0, 1.0 - (y + (j + 0.5) / 16) / 8.0,
+                             0.0);
+          const glm::dvec3 to = glm::dvec3(l.position) - p;
+          const double d2 = glm::dot(to, to), d = std::sqrt(d2);
+          expected += brdf * 2.0 * (to.z / d) / d2 * std::exp(-sigma * d) / 256.0;
+        }
+      expected *= 0.25;
+      const glm::dvec2 m = r.film.mean_and_error(size_t(y) * 16 + x);
+      INFO("pixel " << x << ", " << y << ": " << m.x << " ± " << m.y << ", expected " << expected);
+      CHECK(std::abs(m.x - expected) <= 5.0 * m.y + 2e-3 * expected);
+    }
+}
+
 TEST_CASE("volume: the media stack gives each interface the ratio of the IORs on its sides") {
   // Water (1.33) holding ice (1.31).
   Material water = glass(1.33f), ice = glass(1.31f), thin = glass(1.5f);
