@@ -30,7 +30,11 @@ enum Dimension : uint32_t {
   environment_pixel_v,
   alpha,  // + the ray type, + the triangle × 256: one number per ray and triangle, always
           // independent (a ray may test many triangles, none of them a pattern's dimension)
-  dimension_count = alpha
+  dimension_count = alpha,
+  // single, drawn from the independent hash (beyond the patterns, as alpha, and clear of alpha's
+  // numbers, alpha + 0…2 + triangle × 256): the colour channel a path picks at its first
+  // dispersive material (integrators/media.h)
+  wavelength = alpha + 8,
 };
 
 // Where a dimension sits in the sampler's patterns: pattern `slot` (its own scramble seeds), and

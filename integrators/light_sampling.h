@@ -20,7 +20,7 @@
 
 #include "integrators/dimensions.h"
 #include "integrators/lights.h"
-#include "materials/gltf_brdf.h"
+#include "materials/bsdf.h"
 #include "materials/sampling.h"
 #include "scene/environment.h"
 #include "scene/scene.h"
@@ -31,7 +31,7 @@ namespace dacrt {
 struct ShadingPoint {
   glm::vec3 ng;  // geometric normal, on the side the ray arrived from
   Frame frame;   // around the shading normal, on the same side
-  GltfBrdf brdf;
+  Bsdf brdf;
   glm::vec3 wo;            // towards the viewer, local
   glm::vec3 above, below;  // ray origins offset to either side (below only if it transmits)
   bool transmits;

@@ -1,6 +1,7 @@
 // path (the default integrator): unidirectional path tracing. Every surface a path meets
 // reflects (or, thin-walled, transmits) by the glTF metallic-roughness BRDF around the shading
-// normal (materials/gltf_brdf.h); paths end by Russian roulette from --max-depth's roulette depth
+// normal (materials/gltf_brdf.h), and a volume's boundary also refracts into it (materials/
+// bsdf.h), where the path's media stack absorbs and sets the IORs (integrators/media.h); paths end by Russian roulette from --max-depth's roulette depth
 // (3) on, or at --max-depth scattering events (default 64). At each vertex next-event estimation
 // samples emissive triangles and punctual lights by power, or the environment map, and is
 // combined with BSDF sampling by multiple importance sampling (integrators/light_sampling.h).
@@ -25,7 +26,8 @@ PathTracer::PathTracer(const Scene& scene, const Shot& shot, Backend& backend,
     : Wavefront(scene, shot, backend, settings),
       map_(shot_.environment_map && !shot_.environment_map->black() ? shot_.environment_map.get()
                                                                     : nullptr),
-      lights_(scene, shot_.lights, map_) {
+      lights_(scene, shot_.lights, map_),
+      media_(scene.materials) {
   if (lights_.empty())
     stats_.skipped.insert(
         stats_.skipped.begin(),
@@ -61,6 +63,8 @@ uint32_t PathTracer::shade_lambert_lanes(const RayBatch& rays, const HitBatch& h
     const size_t i = first + k;
     const uint32_t tri = hits.prim[i];
     in.ok[k] = hits.hit(i) && lambert_material_[g.material[tri]];
+    // (Their shadow rays know nothing of absorbing media.)
+    if (in.ok[k] && media_.absorbing() && stacks_[rays.path[i]].size) in.ok[k] = false;
     if (!in.ok[k]) continue;
     const uint32_t path = rays.path[i], depth = paths_.depth[path];
     const glm::vec3 d = rays.direction(i), &beta = paths_.throughput[path],
@@ -124,12 +128,16 @@ uint32_t PathTracer::shade_lambert_lanes(const RayBatch& rays, const HitBatch& h
 void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
   const size_t n = rays.size();
   scratch_rays(n);
+  if (media_.any() && stacks_.size() < paths_.throughput.size())
+    stacks_.resize(paths_.throughput.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](auto range) {
     VertexNumbers numbers[sampler_lanes];
     LambertIn in{};
     LambertOut out;
     for (size_t first = range.begin(); first < range.end(); first += sampler_lanes) {
       const size_t lanes = std::min(sampler_lanes, range.end() - first);
+      if (media_.any())
+        for (size_t k = 0; k < lanes; ++k) attenuate(rays, hits, uint32_t(first + k));
       draw(rays, first, lanes, dims_, numbers);
       const uint32_t taken =
           lambert_ ? shade_lambert_lanes(rays, hits, first, lanes, numbers, in, out) : 0;
@@ -147,6 +155,18 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
     }
   });
   push_rays(rays, nullptr);
+}
+
+void PathTracer::attenuate(const RayBatch& rays, const HitBatch& hits, uint32_t i) {
+  const uint32_t path = rays.path[i];
+  MediumStack& stack = stacks_[path];
+  if (paths_.depth[path] == 0) {
+    stack = {};
+    return;
+  }
+  if (!stack.size || !media_.absorbing()) return;
+  const float distance = hits.hit(i) ? hits.t[i] * glm::length(rays.direction(i)) : INFINITY;
+  paths_.throughput[path] *= media_.transmittance(stack, distance);
 }
 
 // Stage 3: a ray that left the scene sees the environment; its path ends.
@@ -206,26 +226,45 @@ bool PathTracer::survives(uint32_t path, const VertexDraw& random) {
 // sampling a bounce ray, each in the ray's slot q of the scratch queues.
 void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q,
                           const VertexDraw& random) {
-  const uint32_t path = rays.path[i];
+  const uint32_t path = rays.path[i], tri = hits.prim[i], mat = scene_.geometry.material[tri];
   const glm::vec3 d = rays.direction(i);
   const Hit h = hit_at(rays, hits, i);
   const glm::vec3 &p = h.p, &ng = h.ng, &ns = h.ns;
   const SurfacePoint& surface = h.surface;
   const bool transmits = surface.brdf.transmission > 0.f && surface.brdf.metallic < 1.f;
+  glm::vec3& beta = paths_.throughput[path];
+  // A volume's boundary (integrators/media.h): refractive, with the IORs of the media on its two
+  // sides; a dispersive one first makes the path follow one colour channel.
+  MediumStack* stack = transmits && media_.medium(mat) ? &stacks_[path] : nullptr;
+  const bool front = stack && glm::dot(scene_.geometry.unit_normal(tri), d) < 0.f;
+  if (stack && media_.medium(mat)->dispersion > 0.f && stack->channel < 0) {
+    const int c = std::min(2, int(3.f * random(wavelength)));
+    glm::vec3 one(0.f);
+    one[c] = 3.f * beta[c];
+    beta = one;
+    stack->channel = int8_t(c);
+  }
   const Frame frame(ns);
   const ShadingPoint x{ng,
                        frame,
-                       brdf_at(h, hits.prim[i]),
+                       stack ? Bsdf::volume(surface.brdf, media_.eta(*stack, mat, front))
+                             : Bsdf(brdf_at(h, tri)),
                        frame.to_local(-d),
                        offset_ray_origin({p, h.p_error}, ng),
                        transmits ? offset_ray_origin({p, h.p_error}, -ng) : p,
                        transmits};
-  glm::vec3& beta = paths_.throughput[path];
   if (!lights_.empty()) {
     ShadowRay& shadow = scratch_shadow_[q];
     auto pairs = [&](Dimension first) { return random.pair(first); };
     if (lights_.sample(p, x, random, pairs, shadow)) {
       shadow.contribution *= beta;
+      if (media_.absorbing()) {
+        // The shadow ray runs in the medium on its side of the surface.
+        MediumStack beyond = stacks_[path];
+        if (stack && glm::dot(shadow.direction, ng) < 0.f) Media::cross(beyond, mat, front);
+        shadow.contribution *=
+            media_.transmittance(beyond, shadow.tmax * glm::length(shadow.direction));
+      }
       has_shadow_[q] = carries_light(shadow.contribution);
     }
   }
@@ -242,6 +281,7 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   if (!origin) return;
   beta *= s->weight;
   if (!carries_light(beta)) return;
+  if (stack && s->wi.z < 0.f) Media::cross(*stack, mat, front);
   paths_.bsdf_pdf[path] = s->pdf;
   scratch_next_[q].origin = *origin;
   scratch_next_[q].direction = wi;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "integrators/lambert_lanes.h"
+#include "integrators/media.h"
 #include "integrators/wavefront.h"
 
 namespace dacrt {
@@ -18,6 +19,9 @@ class PathTracer final : public Wavefront {
   bool survives(uint32_t path, const VertexDraw& random);
   void material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q,
                 const VertexDraw& random);
+  // Before the stages: a path at depth 0 starts outside every volume; one inside an absorbing
+  // volume loses what the medium absorbed over the segment it just travelled (Beer–Lambert).
+  void attenuate(const RayBatch& rays, const HitBatch& hits, uint32_t i);
 
   // Russian roulette keeps a path with probability min(1, max(β) / roulette_floor) (survives).
   static constexpr float roulette_floor = 0.5f;
@@ -36,6 +40,10 @@ class PathTracer final : public Wavefront {
   uint32_t shade_lambert_lanes(const RayBatch& rays, const HitBatch& hits, size_t first,
                                size_t lanes, const VertexNumbers* numbers, LambertIn& in,
                                LambertOut& out);
+  // KHR_materials_volume (integrators/media.h): the scene's volumes, and by slot the stack of
+  // those each path is in (only when there are volumes).
+  const Media media_;
+  std::vector<MediumStack> stacks_;
   std::vector<Dimension> dims_;  // what a vertex draws (shade draws them for 16 rays at a time)
   uint32_t drawn_;               // their mask
 };

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <string>
@@ -23,7 +24,13 @@ struct Material {
   float ior = 1.5f;               // KHR_materials_ior
   float specular = 1.f;           // KHR_materials_specular.specularFactor
   glm::vec3 specular_color{1.f};  // KHR_materials_specular.specularColorFactor
-  float transmission = 0.f;       // KHR_materials_transmission.transmissionFactor (thin-walled)
+  float transmission = 0.f;       // KHR_materials_transmission.transmissionFactor
+  // KHR_materials_volume: thicknessFactor > 0 makes a transmissive material the boundary of a
+  // refractive, absorbing volume (volume(), integrators/media.h); 0 keeps it thin-walled.
+  float thickness = 0.f;                    // thicknessFactor (only its sign is used)
+  glm::vec3 attenuation_color{1.f};         // attenuationColor
+  float attenuation_distance = INFINITY;    // attenuationDistance (∞: no absorption)
+  float dispersion = 0.f;                   // KHR_materials_dispersion: 20 / Abbe number
   glm::vec3 emission{0.f};        // emissiveFactor × KHR_materials_emissive_strength (radiance)
   bool double_sided = false;      // emitters emit from their back face too
   float alpha = 1.f;              // baseColorFactor.a
@@ -53,6 +60,9 @@ struct Material {
     return false;
   }
 
+  // A volume's boundary: thick and transmissive (a volume without transmission has no effect, as
+  // KHR_materials_volume says: no light enters it).
+  bool volume() const { return thickness > 0.f && transmission > 0.f && metallic < 1.f; }
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
   BrdfParams brdf() const {
     return {base_color, metallic, roughness, ior, specular, specular_color, transmission};

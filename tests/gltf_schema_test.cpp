@@ -558,6 +558,13 @@ TEST_CASE("gltf schema: every rule, one mutation each") {
       {"/materials/1/extensions/KHR_materials_volume",
        {{"attenuationColor", {1, 1}}},
        "/materials/1/extensions/KHR_materials_volume/attenuationColor: has 2 elements"},
+      {"/materials/1/extensions/KHR_materials_volume",
+       {{"attenuationColor", {1, 1.5, 1}}},
+       "/materials/1/extensions/KHR_materials_volume/attenuationColor/1: 1.5 is not a number in "
+       "[0, 1]"},
+      {"/materials/1/extensions/KHR_materials_dispersion",
+       {{"dispersion", -0.1}},
+       "/materials/1/extensions/KHR_materials_dispersion/dispersion: -0.1 is not a number >= 0"},
       // Cameras.
       {"/cameras/0/type", "fisheye",
        "/cameras/0/type: \"fisheye\" is not \"perspective\" or \"orthographic\""},

@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 
+#include "tests/captured_stderr.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_triangle.h"
 #include "tests/gltf_writer.h"
@@ -253,6 +254,42 @@ TEST_CASE("gltf: metallic-roughness factors, KHR_materials_ior and KHR_materials
   CHECK(b.specular == 1.f);
 }
 
+TEST_CASE("gltf: KHR_materials_volume and KHR_materials_dispersion are read, without warnings") {
+  TempDir dir("volume");
+  GltfWriter w;
+  w.add_material({{"pbrMetallicRoughness", {{"metallicFactor", 0}}},
+                  {"extensions",
+                   {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+                    {"KHR_materials_volume",
+                     {{"thicknessFactor", 0.3},
+                      {"attenuationDistance", 2.5},
+                      {"attenuationColor", {0.5, 0.25, 1.0}}}},
+                    {"KHR_materials_dispersion", {{"dispersion", 0.36}}}}}});
+  // Defaults: thin-walled, no absorption, no dispersion.
+  w.add_material({{"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}}}});
+  int position = w.add_vec3(kTriangle);
+  w.set_scene(
+      {w.add_node({{"mesh", w.add_mesh({GltfWriter::primitive(position, {{"material", 0}}),
+                                        GltfWriter::primitive(position, {{"material", 1}})})}})});
+  dacrt::test::CapturedStderr err;
+  Scene scene = load_gltf(w.write_gltf(dir / "volume.gltf"));
+  const std::string warnings = err.text();
+  CHECK_MESSAGE(warnings.find("warning") == std::string::npos, warnings);
+  REQUIRE(scene.materials.size() == 2);
+  const dacrt::Material& a = scene.materials[0];
+  CHECK(a.thickness == doctest::Approx(0.3f));
+  CHECK(a.attenuation_distance == doctest::Approx(2.5f));
+  CHECK(near(a.attenuation_color, {0.5f, 0.25f, 1.f}));
+  CHECK(a.dispersion == doctest::Approx(0.36f));
+  CHECK(a.volume());
+  const dacrt::Material& b = scene.materials[1];
+  CHECK(b.thickness == 0.f);
+  CHECK(b.attenuation_distance == INFINITY);
+  CHECK(b.attenuation_color == glm::vec3(1.f));
+  CHECK(b.dispersion == 0.f);
+  CHECK(!b.volume());
+}
+
 TEST_CASE("gltf: KHR_lights_punctual lights, placed by their nodes") {
   TempDir dir("lights");
   GltfWriter w;
@@ -348,7 +385,9 @@ TEST_CASE("gltf: what this version does not render is counted (and warned about)
   CHECK(scene.geometry.size() == 4);
   const Scene::Ignored& i = scene.ignored;
   CHECK(i.specular_textures == 1);
-  CHECK(i.volumes == 1);
+  // KHR_materials_volume is read; without transmission it has no effect (no light enters).
+  CHECK(scene.materials[1].thickness == 0.5f);
+  CHECK(!scene.materials[1].volume());
   // Vertex colours are rendered: triangles before the first coloured one get white.
   REQUIRE(scene.colors.size() == 12);
   CHECK(scene.colors[0] == glm::vec4(1.f));

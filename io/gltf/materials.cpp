@@ -1,7 +1,8 @@
 // glTF materials: the metallic-roughness factors and textures, alpha modes, and the material
-// extensions read here (KHR_materials_emissive_strength, _ior, _specular, _transmission, the
-// thickness of _volume) with KHR_texture_transform on every textureInfo.
+// extensions read here (KHR_materials_emissive_strength, _ior, _specular, _transmission, _volume,
+// _dispersion) with KHR_texture_transform on every textureInfo.
 #include <algorithm>
+#include <cmath>
 
 #include "io/gltf/internal.h"
 
@@ -89,6 +90,53 @@ TextureRef texture_ref(const Gltf& gltf, const Info& info, const std::string& wh
   return ref;
 }
 
+// A number member of an extension object, or `fallback` when it is absent.
+double member_number(const Gltf& gltf, const tinygltf::Material& src, const std::string& what,
+                        const char* extension, const char* member, double fallback) {
+  if (!has_member(src, extension, member)) return fallback;
+  const tinygltf::Value& value = src.extensions.at(extension).Get(member);
+  if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
+    gltf.fail(what + ": " + extension + "." + member + " is not a finite number");
+  return value.GetNumberAsDouble();
+}
+
+// KHR_materials_volume and KHR_materials_dispersion (integrators/media.h renders them). The
+// thicknessTexture is checked but not sampled: thickness is a hint for rasterisers, and only
+// thicknessFactor > 0 (a volume) or 0 (thin-walled) matters to a path tracer.
+void read_volume(const Gltf& gltf, const tinygltf::Material& src, const std::string& what,
+                 Material& m) {
+  const char* volume = "KHR_materials_volume";
+  const std::string where = what + ": " + volume;
+  const double thickness = member_number(gltf, src, what, volume, "thicknessFactor", 0.0);
+  if (!(thickness >= 0.0)) gltf.fail(where + ".thicknessFactor is not a number >= 0");
+  m.thickness = float(std::min(thickness, 1e30));
+  if (has_member(src, volume, "thicknessTexture"))
+    texture_ref(gltf,
+                extension_texture(gltf, src.extensions.at(volume).Get("thicknessTexture"),
+                                  where + ".thicknessTexture"),
+                where + ".thicknessTexture");
+  const double distance =
+      member_number(gltf, src, what, volume, "attenuationDistance", INFINITY);
+  // (A finite number here: extension_number refuses infinities, so absent is the only +∞.)
+  if (!(distance > 0.0)) gltf.fail(where + ".attenuationDistance is not a number > 0");
+  m.attenuation_distance = distance > 3e38 ? INFINITY : std::max(float(distance), 1e-30f);
+  if (has_member(src, volume, "attenuationColor")) {
+    const tinygltf::Value& c = src.extensions.at(volume).Get("attenuationColor");
+    if (!c.IsArray() || c.ArrayLen() != 3)
+      gltf.fail(where + ".attenuationColor is not 3 numbers");
+    for (int k = 0; k < 3; ++k) {
+      const double v = c.Get(k).IsNumber() ? c.Get(k).GetNumberAsDouble() : -1.0;
+      if (!(v >= 0.0 && v <= 1.0)) gltf.fail(where + ".attenuationColor is not 3 numbers in [0, 1]");
+      m.attenuation_color[k] = float(v);
+    }
+  }
+  const double dispersion =
+      member_number(gltf, src, what, "KHR_materials_dispersion", "dispersion", 0.0);
+  if (!(dispersion >= 0.0))
+    gltf.fail(what + ": KHR_materials_dispersion.dispersion is not a number >= 0");
+  m.dispersion = float(std::min(dispersion, 1e6));
+}
+
 }  // namespace
 
 Material default_material() {
@@ -127,15 +175,9 @@ std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored) 
     if (!std::isfinite(base[3])) gltf.fail(what + ": baseColorFactor is not finite");
     m.alpha = std::clamp(float(base[3]), 0.f, 1.f);
     glm::vec3 emission = glm::clamp(glm::vec3(emissive[0], emissive[1], emissive[2]), 0.f, 1.f);
-    // A number member of an extension object, or `fallback` when it is absent.
     auto extension_number = [&](const char* extension, const char* member, double fallback) {
-      if (!has_member(src, extension, member)) return fallback;
-      const tinygltf::Value& value = src.extensions.at(extension).Get(member);
-      if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
-        gltf.fail(what + ": " + extension + "." + member + " is not a finite number");
-      return value.GetNumberAsDouble();
+      return member_number(gltf, src, what, extension, member, fallback);
     };
-    ignored.volumes += extension_number("KHR_materials_volume", "thicknessFactor", 0.0) > 0.0;
     const double strength =
         extension_number("KHR_materials_emissive_strength", "emissiveStrength", 1.0);
     if (!(strength >= 0.0) || !std::isfinite(float(strength)))
@@ -167,6 +209,7 @@ std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored) 
               gltf, src.extensions.at("KHR_materials_transmission").Get("transmissionTexture"),
               what + " KHR_materials_transmission.transmissionTexture"),
           what + " KHR_materials_transmission.transmissionTexture");
+    read_volume(gltf, src, what, m);
     if (has_member(src, "KHR_materials_specular", "specularColorFactor")) {
       const tinygltf::Value& c =
           src.extensions.at("KHR_materials_specular").Get("specularColorFactor");

@@ -40,11 +40,11 @@ constexpr int64_t kMaxSize = int64_t(1) << 53;
 // ... and indices, enums, texCoord sets and sparse counts and offsets as int.
 constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 
-// The extensions the loader (io/gltf/) reads (KHR_materials_volume only as thin-walled, with a
-// warning).
+// The extensions the loader (io/gltf/) reads.
 constexpr std::string_view kSupportedExtensions[] = {
     "EXT_mesh_gpu_instancing",    "EXT_meshopt_compression", "EXT_texture_webp",
-    "KHR_draco_mesh_compression", "KHR_lights_punctual",     "KHR_materials_emissive_strength",
+    "KHR_draco_mesh_compression", "KHR_lights_punctual",     "KHR_materials_dispersion",
+    "KHR_materials_emissive_strength",
     "KHR_materials_ior",          "KHR_materials_specular",  "KHR_materials_transmission",
     "KHR_materials_variants",     "KHR_materials_volume",    "KHR_mesh_quantization",
     "KHR_texture_transform"};
@@ -659,6 +659,9 @@ class Checker {
       texture_info(x, p, "thicknessTexture");
       number_member(x, p, "attenuationDistance", kPositive);
       numbers_member(x, p, "attenuationColor", 3, kUnit);
+    });
+    ext("KHR_materials_dispersion", [&](const json& x, const Pointer& p) {
+      number_member(x, p, "dispersion", kNonNegative);
     });
   }
 

@@ -1,0 +1,46 @@
+// Bsdf: what a shading point scatters by. For most materials it is the glTF BRDF alone
+// (materials/gltf_brdf.h), evaluated exactly as GltfBrdf does. A KHR_materials_volume material
+// (thicknessFactor > 0, transmissive) replaces the thin-walled transmission by a refractive
+// interface (materials/dielectric.h): with metallic m and transmission t (after textures),
+//   f = (1 − q) · glTF BRDF(transmission 0, metallic m / (1 − q)) + q · RoughDielectric,   q = (1 − m) t
+// which is the glTF mix of the opaque dielectric, the metal and the transmission lobe with the
+// thin-walled BTDF swapped for the rough dielectric (whose own Fresnel reflection replaces the
+// specular layer over the transmitted part). Sampling picks the dielectric with probability q
+// and the BRDF otherwise; pdf() is the mixture's, so sample, eval and pdf agree.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <optional>
+
+#include "materials/dielectric.h"
+#include "materials/gltf_brdf.h"
+
+namespace dacrt {
+
+class Bsdf {
+ public:
+  // The glTF BRDF alone (thin-walled transmission, as without KHR_materials_volume); implicit, so
+  // that a GltfBrdf is a Bsdf wherever one is asked for.
+  Bsdf(const GltfBrdf& brdf) : brdf_(brdf) {}
+  // A volume material's interface, of relative IOR eta (η of the side below over the side above,
+  // from the media the path is in: integrators/media.h).
+  static Bsdf volume(const BrdfParams& p, float eta);
+
+  glm::vec3 eval(const glm::vec3& wo, const glm::vec3& wi) const;
+  float pdf(const glm::vec3& wo, const glm::vec3& wi) const;
+  std::optional<GltfBrdf::Sample> sample(const glm::vec3& wo, float u_lobe, float u1,
+                                         float u2) const;
+
+  bool lambertian() const { return !dielectric_ && brdf_.lambertian(); }
+  // The refractive interface, if the material is a volume's.
+  const std::optional<RoughDielectric>& dielectric() const { return dielectric_; }
+
+ private:
+  Bsdf(const GltfBrdf& brdf, const RoughDielectric& dielectric, float q)
+      : brdf_(brdf), dielectric_(dielectric), q_(q) {}
+  GltfBrdf brdf_;
+  std::optional<RoughDielectric> dielectric_;
+  float q_ = 0.f;  // the dielectric's weight and sampling probability
+};
+
+}  // namespace dacrt
