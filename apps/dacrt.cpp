@@ -358,12 +358,11 @@ int info(const std::vector<std::string>& args) {
   if (!scene.tangents.empty()) attributes += ", tangents (from the file or generated)";
   std::printf("attributes %s\n", attributes.c_str());
   const Scene::Ignored& ig = scene.ignored;
-  if (ig.volumes || ig.specular_textures || ig.ktx2_textures)
+  if (ig.volumes || ig.ktx2_textures)
     std::printf(
-        "ignores    %zu volume thicknesses (rendered thin-walled), %zu specular-textured "
-        "materials (rendered by their factors), %zu KTX2 textures (rendered from their "
-        "fallback images)\n",
-        ig.volumes, ig.specular_textures, ig.ktx2_textures);
+        "ignores    %zu volume thicknesses (rendered thin-walled), %zu KTX2 textures (rendered "
+        "from their fallback images)\n",
+        ig.volumes, ig.ktx2_textures);
   if (!ig.extensions.empty())
     std::printf("not read   %s\n", one_line(ig.unread_extensions()).c_str());
   if (ig.occlusion_textures)

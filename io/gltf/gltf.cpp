@@ -138,7 +138,6 @@ Scene run(Gltf& gltf, const GltfOptions& options) {
     auto add = [&](size_t n, const char* name) {
       if (n) what += (what.empty() ? "" : ", ") + str(n) + " " + name;
     };
-    add(i.specular_textures, "KHR_materials_specular textures");
     add(i.volumes, "KHR_materials_volume thicknesses (rendered thin-walled)");
     add(i.ktx2_textures,
         "KHR_texture_basisu textures (rendered from their fallback images: no KTX2 decoder)");
