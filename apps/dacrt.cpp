@@ -428,11 +428,9 @@ int info(const std::vector<std::string>& args) {
   if (!scene.tangents.empty()) attributes += ", tangents (from the file or generated)";
   std::printf("attributes %s\n", attributes.c_str());
   const Scene::Ignored& ig = scene.ignored;
-  if (ig.specular_textures || ig.ktx2_textures)
-    std::printf(
-        "ignores    %zu specular-textured materials (rendered by their factors), %zu KTX2 "
-        "textures (rendered from their fallback images)\n",
-        ig.specular_textures, ig.ktx2_textures);
+  if (ig.ktx2_textures)
+    std::printf("ignores    %zu KTX2 textures (rendered from their fallback images)\n",
+                ig.ktx2_textures);
   if (ig.sourceless_textures || ig.unknown_lights)
     std::printf("skips      %zu textures without a source image, %zu lights of unknown types\n",
                 ig.sourceless_textures, ig.unknown_lights);

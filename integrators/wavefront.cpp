@@ -5,6 +5,7 @@
 
 #include <chrono>
 
+#include "materials/sampling.h"
 #include "tracer/ray.h"
 #include "util/error.h"
 #include "util/random.h"
@@ -262,6 +263,15 @@ Wavefront::Hit Wavefront::hit_at(const RayBatch& rays, const HitBatch& hits, uin
   // BRDF is then evaluated around the geometric normal.
   if (glm::dot(h.ns, d) >= 0.f) h.ns = h.ng;
   return h;
+}
+
+GltfBrdf Wavefront::coated_brdf_at(const Hit& h) const {
+  BrdfParams p = h.surface.brdf;
+  // On the arrival side, as hit_at turns the shading normal.
+  const glm::vec3 n = glm::dot(h.surface.coat_normal, h.ng) < 0.f ? -h.surface.coat_normal
+                                                                  : h.surface.coat_normal;
+  p.clearcoat_normal = Frame(h.ns).to_local(n);  // (GltfBrdf takes the normal where z <= 0)
+  return GltfBrdf(p);
 }
 
 FirstHit Wavefront::first_hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const {

@@ -100,8 +100,11 @@ class Wavefront : public Integrator {
   // everywhere (no textures and no vertex colours), else from h's surface.
   GltfBrdf brdf_at(const Hit& h, uint32_t tri) const {
     const std::optional<GltfBrdf>& uniform = uniform_brdf_[scene_.geometry.material[tri]];
-    return uniform ? *uniform : GltfBrdf(h.surface.brdf);
+    if (uniform) return *uniform;
+    return h.surface.brdf.clearcoat > 0.f ? coated_brdf_at(h) : GltfBrdf(h.surface.brdf);
   }
+  // With the clearcoat normal put in the shading frame, Frame(h.ns).
+  GltfBrdf coated_brdf_at(const Hit& h) const;
   // What ray i saw (depth: along the camera's view axis).
   FirstHit first_hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const;
 

@@ -6,6 +6,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "materials/sampling.h"
+#include "materials/sheen.h"
 
 namespace dacrt {
 
@@ -61,6 +62,16 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
   f0_ = glm::min(r * r * glm::max(p.specular_color, 0.f), glm::vec3(1.f)) * specular;
   f90_ = specular;
   lambertian_ = metallic_ == 0.f && transmission_ == 0.f && f90_ == 0.f && f0_ == glm::vec3(0.f);
+  // The layers (materials/gltf_layers.cpp).
+  const float coat_roughness = std::clamp(p.clearcoat_roughness, 0.f, 1.f);
+  coat_ = {std::clamp(p.clearcoat, 0.f, 1.f),
+           std::max(min_alpha, coat_roughness * coat_roughness),
+           p.clearcoat_normal.z > 0.f ? glm::normalize(p.clearcoat_normal) : glm::vec3(0, 0, 1)};
+  sheen_color_ = glm::clamp(p.sheen_color, 0.f, 1.f);
+  sheen_max_ = std::max({sheen_color_.x, sheen_color_.y, sheen_color_.z});
+  sheen_roughness_ = std::clamp(p.sheen_roughness, 0.f, 1.f);
+  sheen_alpha_ = sheen_alpha(sheen_roughness_);
+  layered_ = coat_.weight > 0.f || sheen_max_ > 0.f;
 }
 
 // wi mirrored through the surface plane.
@@ -68,7 +79,7 @@ static glm::vec3 mirrored(const glm::vec3& wi) {
   return {wi.x, wi.y, -wi.z};
 }
 
-glm::vec3 GltfBrdf::eval(const glm::vec3& wo, const glm::vec3& wi) const {
+glm::vec3 GltfBrdf::base_eval(const glm::vec3& wo, const glm::vec3& wi) const {
   if (wo.z <= 0.f) return glm::vec3(0.f);
   if (lambertian_) return wi.z > 0.f ? base_ * glm::one_over_pi<float>() : glm::vec3(0.f);
   if (wi.z < 0.f) {  // through the surface: the dielectric base's transmitted part
@@ -100,8 +111,8 @@ GltfBrdf::Lobes GltfBrdf::lobes(const glm::vec3& wo) const {
   const float base = (1.f - metallic_) * f.base * luminance(base_);
   const float diffuse = (1.f - transmission_) * base, transmission = transmission_ * base;
   const float total = specular + diffuse + transmission;
-  if (!(total > 0.f)) return {0.5f, 0.5f, 0.f};  // black: any will do
-  return {specular / total, diffuse / total, transmission / total};
+  if (!(total > 0.f)) return {0.5f, 0.5f, 0.f, 0.f};  // black: any will do
+  return {specular / total, diffuse / total, transmission / total, total};
 }
 
 float GltfBrdf::specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const {
@@ -113,7 +124,7 @@ float GltfBrdf::specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const {
   return g1 * ggx_d(h.z, alpha_) / (4.f * wo.z);
 }
 
-float GltfBrdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
+float GltfBrdf::base_pdf(const glm::vec3& wo, const glm::vec3& wi) const {
   if (wo.z <= 0.f || wi.z == 0.f) return 0.f;
   if (lambertian_) return wi.z > 0.f ? cosine_hemisphere_pdf(wi.z) : 0.f;
   const Lobes p = lobes(wo);
@@ -122,8 +133,8 @@ float GltfBrdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
   return p.specular * specular_pdf(wo, wi) + p.diffuse * cosine_hemisphere_pdf(wi.z);
 }
 
-std::optional<GltfBrdf::Sample> GltfBrdf::sample(const glm::vec3& wo, float u_lobe, float u1,
-                                                 float u2) const {
+std::optional<GltfBrdf::Sample> GltfBrdf::base_sample(const glm::vec3& wo, float u_lobe, float u1,
+                                                      float u2) const {
   if (wo.z <= 0.f) return std::nullopt;
   if (lambertian_) {
     const glm::vec3 wi = sample_cosine_hemisphere(u1, u2);
@@ -143,9 +154,9 @@ std::optional<GltfBrdf::Sample> GltfBrdf::sample(const glm::vec3& wo, float u_lo
     if (u_lobe >= p.specular) wi = mirrored(wi);  // transmission
   }
   if (wi.z == 0.f) return std::nullopt;
-  const float density = pdf(wo, wi);
+  const float density = base_pdf(wo, wi);
   if (!(density > 0.f) || !std::isfinite(density)) return std::nullopt;
-  return Sample{wi, eval(wo, wi) * (std::abs(wi.z) / density), density};
+  return Sample{wi, base_eval(wo, wi) * (std::abs(wi.z) / density), density};
 }
 
 }  // namespace dacrt

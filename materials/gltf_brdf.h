@@ -14,6 +14,13 @@
 // without bending on average and spreads with the roughness; it is sampled as the reflection,
 // mirrored.
 //
+// Layers over that base (each skipped, at no cost, where the material lacks it; a material with
+// neither is exactly the BRDF above):
+//   f = coat + (1 − clearcoat · F_c) · (sheen + (1 − max(sheenColor) · E_sheen) · f_base)
+// KHR_materials_clearcoat's coat (materials/clearcoat.h) and KHR_materials_sheen's sheen
+// (materials/sheen.h). Sampling picks the coat, the sheen or the base by their estimated albedos
+// at wo, and pdf() is again the mixture's.
+//
 // Directions are in the local shading frame (z = normal) and point away from the surface: wo
 // towards the viewer (above the surface), wi towards the light: above for reflection, below for
 // transmission (zero unless the material transmits).
@@ -21,6 +28,8 @@
 
 #include <glm/glm.hpp>
 #include <optional>
+
+#include "materials/clearcoat.h"
 
 namespace dacrt {
 
@@ -32,6 +41,13 @@ struct BrdfParams {
   float specular = 1.f;           // KHR_materials_specular: specularFactor
   glm::vec3 specular_color{1.f};  // KHR_materials_specular: specularColorFactor
   float transmission = 0.f;       // KHR_materials_transmission: transmissionFactor
+  float clearcoat = 0.f;            // KHR_materials_clearcoat: clearcoatFactor
+  float clearcoat_roughness = 0.f;  // KHR_materials_clearcoat: clearcoatRoughnessFactor
+  // The coat's normal in the local shading frame (z = the shading normal): the clearcoat normal
+  // map's, or the interpolated normal where the base is normal-mapped.
+  glm::vec3 clearcoat_normal{0.f, 0.f, 1.f};
+  glm::vec3 sheen_color{0.f};  // KHR_materials_sheen: sheenColorFactor
+  float sheen_roughness = 0.f;  // KHR_materials_sheen: sheenRoughnessFactor
 };
 
 class GltfBrdf {
@@ -58,11 +74,24 @@ class GltfBrdf {
   float alpha() const { return alpha_; }
   const glm::vec3& base() const { return base_; }  // baseColor, clamped to [0, 1]
   // True when the BRDF is exactly Lambert's, baseColor / π: not metallic, no transmission, and no
-  // dielectric reflection (F0 = F90 = 0, KHR_materials_specular's specularFactor 0). eval, pdf
-  // and sample then skip the microfacet lobe, which is zero there: the same values, less work.
-  bool lambertian() const { return lambertian_; }
+  // dielectric reflection (F0 = F90 = 0, KHR_materials_specular's specularFactor 0), no coat and
+  // no sheen. eval, pdf and sample then skip the microfacet lobe, which is zero there: the same
+  // values, less work.
+  bool lambertian() const { return lambertian_ && !layered_; }
+  // True when a coat or a sheen lies over the base.
+  bool layered() const { return layered_; }
 
  private:
+  // The base (metallic-roughness with transmission), without the layers.
+  glm::vec3 base_eval(const glm::vec3& wo, const glm::vec3& wi) const;
+  float base_pdf(const glm::vec3& wo, const glm::vec3& wi) const;
+  std::optional<Sample> base_sample(const glm::vec3& wo, float u_lobe, float u1, float u2) const;
+  // The probabilities of sampling the coat, the sheen and the base from wo (they sum to 1).
+  struct Layers {
+    float coat, sheen, base;
+  };
+  Layers layers(const glm::vec3& wo) const;
+
   // Schlick's Fresnel at cos θ (between wo and the microfacet normal): the dielectric's F, the
   // metal's, and what KHR_materials_specular's fresnel_mix leaves the diffuse base, 1 − max F_d
   // (one number: a coloured specular does not tint the diffuse).
@@ -75,6 +104,7 @@ class GltfBrdf {
   // when looking from wo (they sum to 1).
   struct Lobes {
     float specular, diffuse, transmission;
+    float albedo;  // their sum before normalising: roughly the base's albedo at wo
   };
   Lobes lobes(const glm::vec3& wo) const;
   float specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const;
@@ -83,15 +113,11 @@ class GltfBrdf {
   float metallic_, alpha_, transmission_;
   glm::vec3 f0_;  // dielectric F0
   float f90_;     // dielectric F90
-  bool lambertian_;
+  bool lambertian_;  // the base is Lambert's
+  bool layered_;     // a coat or a sheen
+  Coat coat_;
+  glm::vec3 sheen_color_;
+  float sheen_max_, sheen_roughness_, sheen_alpha_;
 };
-
-// GGX pieces, exposed for the tests.
-float ggx_d(float cos_h, float alpha);
-float ggx_lambda(float cos_theta, float alpha);  // Smith Λ
-// Height-correlated visibility G₂ / (4 cos_o cos_i).
-float ggx_visibility(float cos_o, float cos_i, float alpha);
-// A visible normal for wo (upper hemisphere), Heitz 2018.
-glm::vec3 sample_ggx_visible_normal(const glm::vec3& wo, float alpha, float u1, float u2);
 
 }  // namespace dacrt

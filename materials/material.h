@@ -31,6 +31,13 @@ struct Material {
   glm::vec3 attenuation_color{1.f};         // attenuationColor
   float attenuation_distance = INFINITY;    // attenuationDistance (∞: no absorption)
   float dispersion = 0.f;                   // KHR_materials_dispersion: 20 / Abbe number
+  float clearcoat = 0.f;            // KHR_materials_clearcoat.clearcoatFactor
+  float clearcoat_roughness = 0.f;  // KHR_materials_clearcoat.clearcoatRoughnessFactor
+  glm::vec3 sheen_color{0.f};       // KHR_materials_sheen.sheenColorFactor
+  float sheen_roughness = 0.f;      // KHR_materials_sheen.sheenRoughnessFactor
+  // KHR_materials_unlit: the surface emits its base colour (× texture × vertex colour), to every
+  // ray, and reflects nothing (`emission` holds baseColorFactor.rgb; brdf() is black).
+  bool unlit = false;
   glm::vec3 emission{0.f};        // emissiveFactor × KHR_materials_emissive_strength (radiance)
   bool double_sided = false;      // emitters emit from their back face too
   float alpha = 1.f;              // baseColorFactor.a
@@ -45,14 +52,35 @@ struct Material {
   TextureRef normal_texture;              // tangent space, scaled by normal_scale
   TextureRef emissive_texture;            // sRGB
   TextureRef transmission_texture;        // linear; transmission in .r
+  TextureRef specular_texture;            // linear; specular in .a (KHR_materials_specular)
+  TextureRef specular_color_texture;      // sRGB; specular colour in .rgb
+  TextureRef clearcoat_texture;           // linear; clearcoat in .r (KHR_materials_clearcoat)
+  TextureRef clearcoat_roughness_texture;  // linear; clearcoat roughness in .g
+  TextureRef clearcoat_normal_texture;     // tangent space, scaled by clearcoat_normal_scale
+  TextureRef sheen_color_texture;          // sRGB; sheen colour in .rgb (KHR_materials_sheen)
+  TextureRef sheen_roughness_texture;      // linear; sheen roughness in .a
   float normal_scale = 1.f;
+  float clearcoat_normal_scale = 1.f;
 
+  bool sheen() const { return sheen_color != glm::vec3(0.f); }
   // The textures shading reads (null entries for the rest): an emissive texture only when the
-  // emissive factor is not black, a transmission texture only when the factor is not 0.
-  std::array<const TextureRef*, 5> sampled_textures() const {
-    return {&base_color_texture, &metallic_roughness_texture, &normal_texture,
-            emissive() ? &emissive_texture : nullptr,
-            transmission > 0.f ? &transmission_texture : nullptr};
+  // emissive factor is not black, the transmission, specular, clearcoat and sheen ones only when
+  // their factors are not 0 (an unlit material reads its base colour only).
+  std::array<const TextureRef*, 12> sampled_textures() const {
+    auto when = [](bool used, const TextureRef& t) { return used ? &t : nullptr; };
+    const bool lit = !unlit;
+    return {&base_color_texture,
+            when(lit, metallic_roughness_texture),
+            when(lit, normal_texture),
+            when(lit && emissive(), emissive_texture),
+            when(lit && transmission > 0.f, transmission_texture),
+            when(lit && specular > 0.f, specular_texture),
+            when(lit && specular > 0.f, specular_color_texture),
+            when(lit && clearcoat > 0.f, clearcoat_texture),
+            when(lit && clearcoat > 0.f, clearcoat_roughness_texture),
+            when(lit && clearcoat > 0.f, clearcoat_normal_texture),
+            when(lit && sheen(), sheen_color_texture),
+            when(lit && sheen(), sheen_roughness_texture)};
   }
   bool textured() const {
     for (const TextureRef* t : sampled_textures())
@@ -65,7 +93,10 @@ struct Material {
   bool volume() const { return thickness > 0.f && transmission > 0.f && metallic < 1.f; }
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
   BrdfParams brdf() const {
-    return {base_color, metallic, roughness, ior, specular, specular_color, transmission};
+    if (unlit) return {glm::vec3(0.f), 0.f, 1.f, 1.5f, 0.f, glm::vec3(0.f), 0.f};  // black Lambert
+    return {base_color,   metallic,  roughness,           ior,
+            specular,     specular_color, transmission,   clearcoat,
+            clearcoat_roughness, glm::vec3(0.f, 0.f, 1.f), sheen_color, sheen_roughness};
   }
   // A Lambertian surface: no metal, no specular layer.
   static Material lambert(const glm::vec3& color) {

@@ -63,22 +63,20 @@ struct Scene {
   std::string variant;
 
   // What the file uses that this version does not render as specified (the loader warns once):
-  // materials with KHR_materials_specular textures (factors only), counted per material of the
-  // file; textures a material samples whose KHR_texture_basisu
+  // textures a material samples whose KHR_texture_basisu
   // (KTX2) image gives way to their fallback source (no KTX2 decoder), counted per texture;
   // extensions the file uses that are not read at all (by name: the kinds of element that carry
   // them and how many; none when only listed in extensionsUsed). Occlusion textures are left
   // unread on purpose (a path tracer computes occlusion): counted for `dacrt info`, not warned.
   struct Ignored {
-    size_t specular_textures = 0, ktx2_textures = 0;
+    size_t ktx2_textures = 0;
     std::map<std::string, std::map<std::string, size_t>> extensions;
     size_t occlusion_textures = 0;
     // Textures without a source image (the spec leaves them undefined: rendered without them)
     // and lights of a type KHR_lights_punctual does not define (skipped).
     size_t sourceless_textures = 0, unknown_lights = 0;
     bool any() const {
-      return specular_textures || ktx2_textures || sourceless_textures || unknown_lights ||
-             !extensions.empty();
+      return ktx2_textures || sourceless_textures || unknown_lights || !extensions.empty();
     }
     // "KHR_materials_sheen (2 materials), EXT_foo (listed in extensionsUsed)", or "".
     std::string unread_extensions() const;

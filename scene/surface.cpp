@@ -19,8 +19,8 @@ glm::vec4 lookup(const Scene& scene, const TextureRef& ref, uint32_t tri, float 
 
 // The normal map's normal around n, or n where the triangle has no tangents (no uvs to make them).
 // The bitangent is cross(n, t) · w, glTF's convention.
-glm::vec3 normal_mapped(const Scene& scene, const Material& m, uint32_t tri, float u, float v,
-                        const glm::vec3& n) {
+glm::vec3 normal_mapped(const Scene& scene, const TextureRef& map, float scale, uint32_t tri,
+                        float u, float v, const glm::vec3& n) {
   if (scene.tangents.empty()) return n;
   const glm::vec4 t = interpolate(&scene.tangents[3 * size_t(tri)], u, v);
   glm::vec3 tangent = glm::vec3(t) - n * glm::dot(n, glm::vec3(t));
@@ -28,9 +28,9 @@ glm::vec3 normal_mapped(const Scene& scene, const Material& m, uint32_t tri, flo
   if (!(len > 0.f) || !std::isfinite(len)) return n;
   tangent /= len;
   const glm::vec3 bitangent = glm::cross(n, tangent) * (t.w < 0.f ? -1.f : 1.f);
-  const glm::vec4 texel = lookup(scene, m.normal_texture, tri, u, v, false);
-  const float x = (2.f * texel.x - 1.f) * m.normal_scale;
-  const float y = (2.f * texel.y - 1.f) * m.normal_scale;
+  const glm::vec4 texel = lookup(scene, map, tri, u, v, false);
+  const float x = (2.f * texel.x - 1.f) * scale;
+  const float y = (2.f * texel.y - 1.f) * scale;
   const glm::vec3 mapped = tangent * x + bitangent * y + n * (2.f * texel.z - 1.f);
   const float mapped_len = glm::length(mapped);
   if (!(mapped_len > 0.f) || !std::isfinite(mapped_len)) return n;
@@ -41,14 +41,17 @@ glm::vec3 normal_mapped(const Scene& scene, const Material& m, uint32_t tri, flo
 
 SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, const glm::vec3& ng) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
-  SurfacePoint s{ng, m.brdf(), m.emission};
+  SurfacePoint s{ng, m.brdf(), m.emission, ng};
   if (!scene.normals.empty()) {
     const glm::vec3 n = interpolate(&scene.normals[3 * size_t(tri)], u, v);
     const float len = glm::length(n);
-    if (len > 0.f) s.normal = n / len;
+    if (len > 0.f) s.normal = s.coat_normal = n / len;
   }
-  if (!scene.colors.empty())
-    s.brdf.base_color *= glm::vec3(interpolate(&scene.colors[3 * size_t(tri)], u, v));
+  if (!scene.colors.empty()) {
+    const glm::vec3 c(interpolate(&scene.colors[3 * size_t(tri)], u, v));
+    s.brdf.base_color *= c;
+    if (m.unlit) s.emission *= c;
+  }
   if (!m.textured()) return s;
   if (m.base_color_texture)
     s.brdf.base_color *= glm::vec3(lookup(scene, m.base_color_texture, tri, u, v, true));
@@ -61,7 +64,29 @@ SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, cons
     s.brdf.transmission *= lookup(scene, m.transmission_texture, tri, u, v, false).r;
   if (m.emissive_texture && m.emissive())
     s.emission *= glm::vec3(lookup(scene, m.emissive_texture, tri, u, v, true));
-  if (m.normal_texture) s.normal = normal_mapped(scene, m, tri, u, v, s.normal);
+  if (m.unlit) return s;  // (its base colour texture is its emissive one)
+  if (m.specular > 0.f) {  // KHR_materials_specular
+    if (m.specular_texture) s.brdf.specular *= lookup(scene, m.specular_texture, tri, u, v, false).a;
+    if (m.specular_color_texture)
+      s.brdf.specular_color *= glm::vec3(lookup(scene, m.specular_color_texture, tri, u, v, true));
+  }
+  if (m.clearcoat > 0.f) {  // KHR_materials_clearcoat
+    if (m.clearcoat_texture)
+      s.brdf.clearcoat *= lookup(scene, m.clearcoat_texture, tri, u, v, false).r;
+    if (m.clearcoat_roughness_texture)
+      s.brdf.clearcoat_roughness *= lookup(scene, m.clearcoat_roughness_texture, tri, u, v, false).g;
+    if (m.clearcoat_normal_texture)
+      s.coat_normal = normal_mapped(scene, m.clearcoat_normal_texture, m.clearcoat_normal_scale,
+                                    tri, u, v, s.coat_normal);
+  }
+  if (m.sheen()) {  // KHR_materials_sheen
+    if (m.sheen_color_texture)
+      s.brdf.sheen_color *= glm::vec3(lookup(scene, m.sheen_color_texture, tri, u, v, true));
+    if (m.sheen_roughness_texture)
+      s.brdf.sheen_roughness *= lookup(scene, m.sheen_roughness_texture, tri, u, v, false).a;
+  }
+  if (m.normal_texture)
+    s.normal = normal_mapped(scene, m.normal_texture, m.normal_scale, tri, u, v, s.normal);
   return s;
 }
 
@@ -88,8 +113,11 @@ float coverage_at(const Scene& scene, uint32_t tri, float u, float v) {
 
 glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
-  if (!m.emissive_texture || !m.emissive()) return m.emission;
-  return m.emission * glm::vec3(lookup(scene, m.emissive_texture, tri, u, v, true));
+  glm::vec3 e = m.emission;
+  if (m.unlit && !scene.colors.empty())  // an unlit surface's vertex colours
+    e *= glm::vec3(interpolate(&scene.colors[3 * size_t(tri)], u, v));
+  if (!m.emissive_texture || !m.emissive()) return e;
+  return e * glm::vec3(lookup(scene, m.emissive_texture, tri, u, v, true));
 }
 
 }  // namespace dacrt

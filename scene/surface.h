@@ -16,6 +16,10 @@ struct SurfacePoint {
   glm::vec3 normal;
   BrdfParams brdf;
   glm::vec3 emission;  // radiance leaving the front (and, if double-sided, the back)
+  // KHR_materials_clearcoat's normal: the clearcoat normal map's, else the interpolated normal
+  // (not the base's normal map); on the front side, unit length. (BrdfParams::clearcoat_normal
+  // is this in the shading frame: the integrator's brdf_at puts it there.)
+  glm::vec3 coat_normal;
 };
 
 // At barycentrics (u, v) of triangle `tri` (the point (1 − u − v)·p0 + u·p1 + v·p2), whose unit

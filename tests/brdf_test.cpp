@@ -11,6 +11,7 @@
 #include <sstream>
 #include <vector>
 
+#include "brdf_check.h"
 #include "chi2.h"
 #include "materials/gltf_brdf.h"
 #include "materials/sampling.h"
@@ -22,17 +23,9 @@ using dacrt::test::direction;
 
 namespace {
 
-// The BRDF's sampling of wi for a fixed wo, against another (or the same) BRDF's pdf.
 double chi2_p_value(const GltfBrdf& sampler, const GltfBrdf& model, const glm::vec3& wo,
                     uint64_t seed, size_t samples) {
-  return dacrt::test::chi2_p_value(
-      [&](Pcg32& rng) -> std::optional<glm::vec3> {
-        const float u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-        const auto s = sampler.sample(wo, u0, u1, u2);
-        if (!s) return std::nullopt;
-        return s->wi;
-      },
-      [&](const glm::vec3& wi) { return model.pdf(wo, wi); }, seed, samples);
+  return dacrt::test::brdf_chi2_p_value(sampler, model, wo, seed, samples);
 }
 
 struct Config {
@@ -190,20 +183,7 @@ TEST_CASE("glTF BRDF is reciprocal and zero below the surface") {
 TEST_CASE("glTF BRDF never reflects more than it receives, and a white mirror reflects it all") {
   // Albedo ∫ f cos dωi by importance sampling, per channel, for white materials.
   auto albedo = [](const BrdfParams& p, float theta, uint64_t seed) {
-    const GltfBrdf brdf(p);
-    Pcg32 rng(seed);
-    const glm::vec3 wo = direction(theta, 0.f);
-    constexpr int n = 200000;
-    glm::dvec3 sum(0.0), sum2(0.0);
-    for (int k = 0; k < n; ++k) {
-      const auto s = brdf.sample(wo, rng.uniform(), rng.uniform(), rng.uniform());
-      if (!s) continue;
-      const glm::dvec3 w(s->weight);
-      sum += w, sum2 += w * w;
-    }
-    const glm::dvec3 mean = sum / double(n);
-    const glm::dvec3 error = glm::sqrt(glm::max(sum2 / double(n) - mean * mean, 0.0) / double(n));
-    return std::pair{mean, error};
+    return dacrt::test::brdf_albedo(GltfBrdf(p), direction(theta, 0.f), seed);
   };
   // The metal, the dielectric's specular layer alone (black base) and the diffuse layer alone
   // (specular 0) at every angle; the full dielectric up to 30°. Beyond that the specification's

@@ -549,6 +549,36 @@ TEST_CASE("gltf schema: every rule, one mutation each") {
        {{"transmissionFactor", true}},
        "/materials/1/extensions/KHR_materials_transmission/transmissionFactor: true is not a "
        "number in [0, 1]"},
+      {"/materials/1/extensions/KHR_materials_clearcoat",
+       {{"clearcoatFactor", 1.5}},
+       "/materials/1/extensions/KHR_materials_clearcoat/clearcoatFactor: 1.5 is not a number in "
+       "[0, 1]"},
+      {"/materials/1/extensions/KHR_materials_clearcoat",
+       {{"clearcoatRoughnessFactor", -0.1}},
+       "/materials/1/extensions/KHR_materials_clearcoat/clearcoatRoughnessFactor: -0.1 is not a "
+       "number in [0, 1]"},
+      {"/materials/1/extensions/KHR_materials_clearcoat",
+       {{"clearcoatNormalTexture", {{"index", 0}, {"scale", "2"}}}},
+       "/materials/1/extensions/KHR_materials_clearcoat/clearcoatNormalTexture/scale: \"2\" is "
+       "not a number"},
+      {"/materials/1/extensions/KHR_materials_clearcoat",
+       {{"clearcoatRoughnessTexture", {{"index", 7}}}},
+       "/materials/1/extensions/KHR_materials_clearcoat/clearcoatRoughnessTexture/index: 7 is not "
+       "an index"},
+      {"/materials/1/extensions/KHR_materials_sheen",
+       {{"sheenColorFactor", {1, 2, 0}}},
+       "/materials/1/extensions/KHR_materials_sheen/sheenColorFactor/1: 2 is not a number in [0, "
+       "1]"},
+      {"/materials/1/extensions/KHR_materials_sheen",
+       {{"sheenRoughnessFactor", 2}},
+       "/materials/1/extensions/KHR_materials_sheen/sheenRoughnessFactor: 2 is not a number in [0, "
+       "1]"},
+      {"/materials/1/extensions/KHR_materials_sheen",
+       {{"sheenColorTexture", {{"index", 0}, {"texCoord", -1}}}},
+       "/materials/1/extensions/KHR_materials_sheen/sheenColorTexture/texCoord: -1 is not an "
+       "integer >= 0"},
+      {"/materials/1/extensions/KHR_materials_unlit", 1,
+       "/materials/1/extensions/KHR_materials_unlit: 1 is not an object"},
       {"/materials/1/extensions/KHR_materials_volume",
        {{"thicknessFactor", -1}},
        "/materials/1/extensions/KHR_materials_volume/thicknessFactor: -1 is not a number >= 0"},
@@ -696,10 +726,10 @@ TEST_CASE("gltf schema: every rule, one mutation each") {
 TEST_CASE("gltf schema: extensions used but not read are named in one warning, with counts") {
   TempDir dir("schema-unread");
   GltfWriter w = rich_file();
-  w.doc["extensionsUsed"].push_back("KHR_materials_clearcoat");
+  w.doc["extensionsUsed"].push_back("KHR_materials_diffuse_transmission");
   w.doc["extensionsUsed"].push_back("EXT_listed_only");
-  w.doc["materials"][0]["extensions"]["KHR_materials_clearcoat"] = {{"clearcoatFactor", 1.0}};
-  w.doc["materials"][1]["extensions"]["KHR_materials_clearcoat"] = {{"clearcoatFactor", 0.5}};
+  w.doc["materials"][0]["extensions"]["KHR_materials_diffuse_transmission"] = {{"diffuseTransmissionFactor", 1.0}};
+  w.doc["materials"][1]["extensions"]["KHR_materials_diffuse_transmission"] = {{"diffuseTransmissionFactor", 0.5}};
   w.doc["nodes"][0]["extensions"]["EXT_vendor_thing"] = json::object();
   w.doc["materials"][0]["occlusionTexture"] = {{"index", 0}};
   const std::string path = w.write_gltf(dir / "unread.gltf");
@@ -710,8 +740,8 @@ TEST_CASE("gltf schema: extensions used but not read are named in one warning, w
   CHECK(err.find("warning: " + path +
                  ": extensions not read in this version (rendered without "
                  "them): EXT_listed_only (listed in extensionsUsed), EXT_vendor_thing (1 node), "
-                 "KHR_materials_clearcoat (2 materials)") != std::string::npos);
-  CHECK(scene.ignored.extensions.at("KHR_materials_clearcoat").at("material") == 2);
+                 "KHR_materials_diffuse_transmission (2 materials)") != std::string::npos);
+  CHECK(scene.ignored.extensions.at("KHR_materials_diffuse_transmission").at("material") == 2);
   CHECK(scene.ignored.occlusion_textures == 2);  // and the rich file's textured material
   // Extensions that are read are not named; nothing unread, no warning.
   CHECK(scene.ignored.extensions.count("KHR_texture_transform") == 0);

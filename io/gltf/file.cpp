@@ -233,18 +233,40 @@ std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
     if (!material_used[i]) continue;
     const nlohmann::json& m = doc["materials"][i];
     const nlohmann::json& pbr = member(m, "pbrMetallicRoughness");
-    const nlohmann::json& transmission =
-        member(member(m, "extensions"), "KHR_materials_transmission");
-    // The emissive and transmission textures are sampled only where their factors are not 0.
-    bool emissive = false;
-    if (const nlohmann::json& e = member(m, "emissiveFactor"); e.is_array())
-      for (const nlohmann::json& c : e) emissive |= c.is_number() && c.get<double>() > 0.0;
-    const nlohmann::json& t = member(transmission, "transmissionFactor");
-    const bool transmits = t.is_number() && t.get<double>() > 0.0;
+    const nlohmann::json& extensions = member(m, "extensions");
+    const nlohmann::json& transmission = member(extensions, "KHR_materials_transmission");
+    const nlohmann::json& specular = member(extensions, "KHR_materials_specular");
+    const nlohmann::json& clearcoat = member(extensions, "KHR_materials_clearcoat");
+    const nlohmann::json& sheen = member(extensions, "KHR_materials_sheen");
+    // The emissive, transmission, specular, clearcoat and sheen textures are sampled only where
+    // their factors are not 0 (Material::sampled_textures), an unlit material's base colour only.
+    auto positive = [](const nlohmann::json& f, double fallback) {
+      if (f.is_array()) {
+        bool any = false;
+        for (const nlohmann::json& c : f) any |= c.is_number() && c.get<double>() > 0.0;
+        return any;
+      }
+      return f.is_number() ? f.get<double>() > 0.0 : fallback > 0.0;
+    };
+    const bool lit = !extensions.is_object() || !extensions.contains("KHR_materials_unlit");
+    const bool emissive = positive(member(m, "emissiveFactor"), 0.0);
+    const bool transmits = positive(member(transmission, "transmissionFactor"), 0.0);
+    const bool speculars = positive(member(specular, "specularFactor"), 1.0);
+    const bool coated = positive(member(clearcoat, "clearcoatFactor"), 0.0);
+    const bool sheens = positive(member(sheen, "sheenColorFactor"), 0.0);
+    auto when = [&](bool used, const nlohmann::json& o, const char* key) {
+      return used && lit ? &member(o, key) : nullptr;
+    };
     for (const nlohmann::json* slot :
-         {&member(pbr, "baseColorTexture"), &member(pbr, "metallicRoughnessTexture"),
-          &member(m, "normalTexture"), emissive ? &member(m, "emissiveTexture") : nullptr,
-          transmits ? &member(transmission, "transmissionTexture") : nullptr})
+         {&member(pbr, "baseColorTexture"), when(true, pbr, "metallicRoughnessTexture"),
+          when(true, m, "normalTexture"), when(emissive, m, "emissiveTexture"),
+          when(transmits, transmission, "transmissionTexture"),
+          when(speculars, specular, "specularTexture"),
+          when(speculars, specular, "specularColorTexture"),
+          when(coated, clearcoat, "clearcoatTexture"),
+          when(coated, clearcoat, "clearcoatRoughnessTexture"),
+          when(coated, clearcoat, "clearcoatNormalTexture"),
+          when(sheens, sheen, "sheenColorTexture"), when(sheens, sheen, "sheenRoughnessTexture")})
       if (auto texture = slot ? index_at(*slot, "index", textures) : std::nullopt)
         texture_used[*texture] = true;
   }

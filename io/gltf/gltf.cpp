@@ -147,7 +147,6 @@ Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& 
     auto add = [&](size_t n, const char* name) {
       if (n) what += (what.empty() ? "" : ", ") + str(n) + " " + name;
     };
-    add(i.specular_textures, "KHR_materials_specular textures");
     add(i.ktx2_textures,
         "KHR_texture_basisu textures (rendered from their fallback images: no KTX2 decoder)");
     add(i.sourceless_textures, "textures without a source image (materials rendered without them)");

@@ -1,6 +1,8 @@
 // glTF materials: the metallic-roughness factors and textures, alpha modes, and the material
-// extensions read here (KHR_materials_emissive_strength, _ior, _specular, _transmission, _volume,
-// _dispersion) with KHR_texture_transform on every textureInfo.
+// extensions read here (KHR_materials_clearcoat, _dispersion, _emissive_strength, _ior, _sheen,
+// _specular, _transmission, _unlit, _volume) with KHR_texture_transform on every textureInfo. The
+// ranges were checked by the schema (io/gltf/schema.cpp); factors are clamped here again for
+// files loaded without it.
 #include <algorithm>
 #include <cmath>
 
@@ -153,8 +155,6 @@ std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored) 
     Material m;
     m.name = src.name;
     m.double_sided = src.doubleSided;
-    ignored.specular_textures += has_member(src, "KHR_materials_specular", "specularTexture") ||
-                                 has_member(src, "KHR_materials_specular", "specularColorTexture");
     if (src.alphaMode == "MASK")
       m.alpha_mode = Material::AlphaMode::mask;
     else if (src.alphaMode == "BLEND")
@@ -202,13 +202,57 @@ std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored) 
                       "KHR_materials_specular.specularFactor");
     m.transmission = unit(extension_number("KHR_materials_transmission", "transmissionFactor", 0.0),
                           "KHR_materials_transmission.transmissionFactor");
-    if (has_member(src, "KHR_materials_transmission", "transmissionTexture"))
-      m.transmission_texture = texture_ref(
-          gltf,
-          extension_texture(
-              gltf, src.extensions.at("KHR_materials_transmission").Get("transmissionTexture"),
-              what + " KHR_materials_transmission.transmissionTexture"),
-          what + " KHR_materials_transmission.transmissionTexture");
+    // A textureInfo member of an extension object (none when absent).
+    auto ext_texture = [&](const char* extension, const char* member) {
+      if (!has_member(src, extension, member)) return TextureRef{};
+      const std::string where = what + " " + extension + "." + member;
+      return texture_ref(
+          gltf, extension_texture(gltf, src.extensions.at(extension).Get(member), where), where);
+    };
+    // Three numbers in [0, 1] of an extension object, or `fallback`.
+    auto ext_color = [&](const char* extension, const char* member, glm::vec3 fallback) {
+      if (!has_member(src, extension, member)) return fallback;
+      const tinygltf::Value& c = src.extensions.at(extension).Get(member);
+      const std::string where = what + ": " + extension + "." + member;
+      if (!c.IsArray() || c.ArrayLen() != 3) gltf.fail(where + " is not 3 numbers");
+      glm::vec3 out;
+      for (int k = 0; k < 3; ++k) {
+        if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble()))
+          gltf.fail(where + " is not 3 finite numbers");
+        out[k] = std::clamp(float(c.Get(k).GetNumberAsDouble()), 0.f, 1.f);
+      }
+      return out;
+    };
+    m.transmission_texture = ext_texture("KHR_materials_transmission", "transmissionTexture");
+    m.specular_texture = ext_texture("KHR_materials_specular", "specularTexture");
+    m.specular_color_texture = ext_texture("KHR_materials_specular", "specularColorTexture");
+    // KHR_materials_clearcoat
+    m.clearcoat = unit(extension_number("KHR_materials_clearcoat", "clearcoatFactor", 0.0),
+                       "KHR_materials_clearcoat.clearcoatFactor");
+    m.clearcoat_roughness =
+        unit(extension_number("KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0),
+             "KHR_materials_clearcoat.clearcoatRoughnessFactor");
+    m.clearcoat_texture = ext_texture("KHR_materials_clearcoat", "clearcoatTexture");
+    m.clearcoat_roughness_texture =
+        ext_texture("KHR_materials_clearcoat", "clearcoatRoughnessTexture");
+    m.clearcoat_normal_texture = ext_texture("KHR_materials_clearcoat", "clearcoatNormalTexture");
+    if (m.clearcoat_normal_texture) {
+      const tinygltf::Value& t =
+          src.extensions.at("KHR_materials_clearcoat").Get("clearcoatNormalTexture");
+      if (t.Has("scale")) {
+        const tinygltf::Value& s = t.Get("scale");
+        if (!s.IsNumber() || !as_float(s.GetNumberAsDouble()))
+          gltf.fail(what + ": KHR_materials_clearcoat.clearcoatNormalTexture.scale is not a "
+                           "number in float's range");
+        m.clearcoat_normal_scale = float(s.GetNumberAsDouble());
+      }
+    }
+    // KHR_materials_sheen
+    m.sheen_color = ext_color("KHR_materials_sheen", "sheenColorFactor", glm::vec3(0.f));
+    m.sheen_roughness = unit(extension_number("KHR_materials_sheen", "sheenRoughnessFactor", 0.0),
+                             "KHR_materials_sheen.sheenRoughnessFactor");
+    m.sheen_color_texture = ext_texture("KHR_materials_sheen", "sheenColorTexture");
+    m.sheen_roughness_texture = ext_texture("KHR_materials_sheen", "sheenRoughnessTexture");
     read_volume(gltf, src, what, m);
     if (has_member(src, "KHR_materials_specular", "specularColorFactor")) {
       const tinygltf::Value& c =
@@ -235,6 +279,12 @@ std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored) 
       gltf.fail(what + ": normalTexture.scale " + num(src.normalTexture.scale) +
                 " is beyond float's range");
     m.normal_scale = float(src.normalTexture.scale);
+    // KHR_materials_unlit: the base colour, emitted; no reflection (see Material::unlit).
+    if (src.extensions.count("KHR_materials_unlit")) {
+      m.unlit = true;
+      m.emission = m.base_color;
+      m.emissive_texture = m.base_color_texture;
+    }
     materials.push_back(m);
   }
   return materials;

@@ -337,8 +337,11 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     colors_.start(before, glm::vec4(1.f));
   }
   // Tangents, only for normal-mapped materials: from the file, else generated below. The spec
-  // says to ignore TANGENT when NORMAL is absent (the normals are then flat).
-  const TextureRef& normal_map = mat.normal_texture;
+  // says to ignore TANGENT when NORMAL is absent (the normals are then flat). A clearcoat normal
+  // map needs them too (generated from the base normal map's TEXCOORD set when there is one).
+  const bool coat_map = mat.clearcoat > 0.f && mat.clearcoat_normal_texture;
+  const TextureRef& normal_map =
+      mat.normal_texture || !coat_map ? mat.normal_texture : mat.clearcoat_normal_texture;
   std::vector<glm::vec4> tangents;
   if (auto attribute = prim.attributes.find("TANGENT");
       normal_map && !normals.empty() && attribute != prim.attributes.end()) {

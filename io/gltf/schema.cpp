@@ -43,11 +43,11 @@ constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 // The extensions the loader (io/gltf/) reads.
 constexpr std::string_view kSupportedExtensions[] = {
     "EXT_mesh_gpu_instancing",    "EXT_meshopt_compression", "EXT_texture_webp",
-    "KHR_draco_mesh_compression", "KHR_lights_punctual",     "KHR_materials_dispersion",
-    "KHR_materials_emissive_strength",
-    "KHR_materials_ior",          "KHR_materials_specular",  "KHR_materials_transmission",
-    "KHR_materials_variants",     "KHR_materials_volume",    "KHR_mesh_quantization",
-    "KHR_texture_transform"};
+    "KHR_draco_mesh_compression", "KHR_lights_punctual",     "KHR_materials_clearcoat",
+    "KHR_materials_dispersion",   "KHR_materials_emissive_strength",
+    "KHR_materials_ior",          "KHR_materials_sheen",     "KHR_materials_specular",
+    "KHR_materials_transmission", "KHR_materials_unlit",     "KHR_materials_variants",
+    "KHR_materials_volume",       "KHR_mesh_quantization",   "KHR_texture_transform"};
 
 // The root arrays (each an array of at least one object), and what one element is called.
 struct Kind {
@@ -636,6 +636,21 @@ class Checker {
     auto ext = [&](const char* name, auto&& check) {
       if (const json* x = extension(m, at, name)) check(*x, at / "extensions" / name);
     };
+    ext("KHR_materials_clearcoat", [&](const json& x, const Pointer& p) {
+      number_member(x, p, "clearcoatFactor", kUnit);
+      texture_info(x, p, "clearcoatTexture");
+      number_member(x, p, "clearcoatRoughnessFactor", kUnit);
+      texture_info(x, p, "clearcoatRoughnessTexture");
+      if (const json* t = texture_info(x, p, "clearcoatNormalTexture"))
+        number_member(*t, p / "clearcoatNormalTexture", "scale", kAnyNumber);
+    });
+    ext("KHR_materials_sheen", [&](const json& x, const Pointer& p) {
+      numbers_member(x, p, "sheenColorFactor", 3, kUnit);
+      texture_info(x, p, "sheenColorTexture");
+      number_member(x, p, "sheenRoughnessFactor", kUnit);
+      texture_info(x, p, "sheenRoughnessTexture");
+    });
+    ext("KHR_materials_unlit", [&](const json&, const Pointer&) {});  // an object, no members
     ext("KHR_materials_emissive_strength", [&](const json& x, const Pointer& p) {
       number_member(x, p, "emissiveStrength", kNonNegative);
     });

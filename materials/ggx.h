@@ -1,0 +1,16 @@
+// The GGX (Trowbridge-Reitz) microfacet pieces the glTF BRDF and the clearcoat share (defined in
+// gltf_brdf.cpp), exposed for the tests.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace dacrt {
+
+float ggx_d(float cos_h, float alpha);
+float ggx_lambda(float cos_theta, float alpha);  // Smith Λ
+// Height-correlated visibility G₂ / (4 cos_o cos_i).
+float ggx_visibility(float cos_o, float cos_i, float alpha);
+// A visible normal for wo (upper hemisphere), Heitz 2018.
+glm::vec3 sample_ggx_visible_normal(const glm::vec3& wo, float alpha, float u1, float u2);
+
+}  // namespace dacrt
