@@ -122,7 +122,7 @@ Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& 
   if ((scene < 0 || size_t(scene) >= count) && !(count == 0 && by_default && scene == 0))
     gltf.fail(std::string(by_default ? "default " : "") + "scene " + str(scene) +
               " does not exist (" + str(count) + " scenes)");
-  out.materials = load_materials(gltf, out.ignored);
+  out.materials = load_materials(gltf);
   if (!geometry_only) check_skins(gltf);
   note_unread(gltf, out.ignored);
   if (count > 0) load_nodes(gltf, scene, meshes, out);

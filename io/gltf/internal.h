@@ -184,7 +184,7 @@ std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& p,
 Material default_material();
 // The file's materials in order; what of them this version does not render as specified is
 // counted in `ignored`.
-std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored);
+std::vector<Material> load_materials(const Gltf& gltf);
 
 // Images (images.cpp): samplers for every texture; images decoded (in parallel) for the textures
 // materials use (`texture_used`, one flag a texture). Fills the scene's textures and images.

@@ -147,7 +147,7 @@ Material default_material() {
   return m;
 }
 
-std::vector<Material> load_materials(const Gltf& gltf, Scene::Ignored& ignored) {
+std::vector<Material> load_materials(const Gltf& gltf) {
   std::vector<Material> materials;
   for (size_t i = 0; i < gltf.model.materials.size(); ++i) {
     const tinygltf::Material& src = gltf.model.materials[i];
