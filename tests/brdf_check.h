@@ -2,6 +2,8 @@
 // and the directional albedo by importance sampling (the white furnace).
 #pragma once
 
+#include <doctest/doctest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
@@ -10,6 +12,7 @@
 
 #include "chi2.h"
 #include "materials/gltf_brdf.h"
+#include "materials/sampling.h"
 #include "util/random.h"
 
 namespace dacrt::test {
@@ -27,6 +30,23 @@ inline double brdf_chi2_p_value(const GltfBrdf& sampler, const GltfBrdf& model,
         return s->wi;
       },
       [&](const glm::vec3& wi) { return model.pdf(wo, wi); }, seed, samples, sub);
+}
+
+// Reciprocity f(a, b) = f(b, a) on `pairs` cosine-distributed pairs of directions above the surface
+// (pairs with a cosine at or below `min_cos` skipped), and nothing below it: for BRDFs without
+// transmission.
+inline void check_reciprocal_reflection(const GltfBrdf& brdf, Pcg32& rng, float min_cos,
+                                        int pairs = 500) {
+  for (int k = 0; k < pairs; ++k) {
+    const glm::vec3 a = sample_cosine_hemisphere(rng.uniform(), rng.uniform());
+    const glm::vec3 b = sample_cosine_hemisphere(rng.uniform(), rng.uniform());
+    if (!(a.z > min_cos && b.z > min_cos)) continue;
+    const glm::vec3 fab = brdf.eval(a, b), fba = brdf.eval(b, a);
+    for (int ch = 0; ch < 3; ++ch) CHECK(fab[ch] == doctest::Approx(fba[ch]).epsilon(1e-4));
+    const glm::vec3 below(b.x, b.y, -b.z);
+    CHECK(brdf.eval(a, below) == glm::vec3(0.f));
+    CHECK(brdf.pdf(a, below) == 0.f);
+  }
 }
 
 // ∫ f |cos| dωi from wo by importance sampling, per channel, with its standard error.
