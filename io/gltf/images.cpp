@@ -92,11 +92,10 @@ void load_textures(const Gltf& gltf, const std::vector<bool>& texture_used, Scen
     if (ktx2 != -1 && (source == -1 || source == ktx2))
       gltf.fail(what + " has only a KHR_texture_basisu image (KTX2), and this version has no " +
                 "KTX2 decoder (the texture has no PNG, JPEG or WebP source to fall back to)");
+    // (Textures without any source are never marked used: materials.cpp's texture_ref skips them.)
     if (source < 0 || size_t(source) >= gltf.model.images.size())
-      gltf.fail(what + (source == -1
-                            ? " has no source image"
-                            : " refers to image " + str(source) + ", which does not exist (" +
-                                  str(gltf.model.images.size()) + " images)"));
+      gltf.fail(what + " refers to image " + str(source) + ", which does not exist (" +
+                str(gltf.model.images.size()) + " images)");
     falls_back[i] = ktx2 != -1;
     scene.ignored.ktx2_textures += falls_back[i];
     t.image = uint32_t(source);
