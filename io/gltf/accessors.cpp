@@ -24,9 +24,9 @@ size_t sat_add(size_t a, size_t b) {
   return a > SIZE_MAX - b ? SIZE_MAX : a + b;
 }
 
-// What a View reads where an accessor has no bufferView: zeros (the largest element is a VEC4 of
-// 4-byte components).
-constexpr unsigned char kZeros[16] = {};
+// What a View reads where an accessor has no bufferView: zeros (the largest element read is a
+// FLOAT MAT4, 64 bytes).
+constexpr unsigned char kZeros[64] = {};
 
 // Sparse patches, in all accessors of a file, at most (each is kept, 16 bytes, for the load).
 constexpr uint64_t kMaxSparseEntries = uint64_t(1) << 26;
@@ -396,7 +396,7 @@ std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::stri
 std::vector<glm::vec4> read_matrix_columns(const Gltf& gltf, int accessor,
                                           const std::string& role) {
   const View v = view(gltf, accessor, role);
-  if (v.components != 16)
+  if (v.components != 16 || v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT)
     gltf.fail("accessor " + str(accessor) + " (" + role + ") must be FLOAT MAT4");
   std::vector<glm::vec4> out(4 * v.count);
   for (size_t k = 0; k < v.count; ++k) std::memcpy(&out[4 * k], v.element(k), 64);
