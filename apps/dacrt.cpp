@@ -434,6 +434,9 @@ int info(const std::vector<std::string>& args) {
   if (ig.sourceless_textures || ig.unknown_lights)
     std::printf("skips      %zu textures without a source image, %zu lights of unknown types\n",
                 ig.sourceless_textures, ig.unknown_lights);
+  if (ig.unmorphed_primitives)
+    std::printf("unmorphed  %zu primitives' TEXCOORD or COLOR morph targets (base values kept)\n",
+                ig.unmorphed_primitives);
   if (!ig.extensions.empty())
     std::printf("not read   %s\n", one_line(ig.unread_extensions()).c_str());
   if (ig.occlusion_textures)

@@ -75,8 +75,12 @@ struct Scene {
     // Textures without a source image (the spec leaves them undefined: rendered without them)
     // and lights of a type KHR_lights_punctual does not define (skipped).
     size_t sourceless_textures = 0, unknown_lights = 0;
+    // Primitives whose morph targets move TEXCOORD_n or COLOR_n (only POSITION, NORMAL and
+    // TANGENT are morphed: those attributes keep their base values).
+    size_t unmorphed_primitives = 0;
     bool any() const {
-      return ktx2_textures || sourceless_textures || unknown_lights || !extensions.empty();
+      return ktx2_textures || sourceless_textures || unknown_lights || unmorphed_primitives ||
+             !extensions.empty();
     }
     // "KHR_materials_sheen (2 materials), EXT_foo (listed in extensionsUsed)", or "".
     std::string unread_extensions() const;

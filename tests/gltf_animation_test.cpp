@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "captured_stderr.h"
 #include "gltf_writer.h"
 #include "io/gltf.h"
 #include "io/gltf/internal.h"
@@ -203,6 +204,28 @@ TEST_CASE("morph targets: default weights apply at rest, node weights win, anima
   check_lands(animated, std::nullopt, {0.3f, 0.f});  // rest: the node's 0.5
   check_lands(animated, 0.25, {0.15f, 0.f});
   check_lands(animated, 0.75, {0.45f, 0.f});
+  CHECK(at(animated, std::nullopt).ignored.unmorphed_primitives == 0);
+}
+
+TEST_CASE("morph targets of TEXCOORD or COLOR are not read, and the loader says so") {
+  TempDir dir;
+  GltfWriter w;
+  const int position = w.add_vec3(kQuad);
+  const int delta = w.add_vec3(std::vector<glm::vec3>(6, glm::vec3(0.6f, 0, 0)), false);
+  const std::vector<float> uv(12, 0.5f);
+  const int uvs = floats(w, uv, "VEC2", 2);
+  const int mesh = w.add_mesh(GltfWriter::primitive(
+      position, {{"targets", {{{"POSITION", delta}, {"TEXCOORD_0", uvs}}}}}));
+  w.doc["meshes"][mesh]["primitives"][0]["attributes"]["TEXCOORD_0"] = uvs;
+  w.doc["meshes"][mesh]["weights"] = {1.0};
+  w.set_scene({w.add_node({{"mesh", mesh}})});
+  const std::string path = w.write_gltf(dir / "uv-morph.gltf");
+  CapturedStderr err;
+  const Scene scene = at(path, std::nullopt);
+  check_lands(path, std::nullopt, {0.6f, 0.f});  // POSITION still morphs
+  const std::string text = err.text();
+  CHECK(scene.ignored.unmorphed_primitives == 1);
+  CHECK(text.find("1 primitives whose morph targets move TEXCOORD or COLOR") != std::string::npos);
 }
 
 namespace {

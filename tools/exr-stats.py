@@ -5,6 +5,9 @@
 #   blender -b -noaudio --python tools/exr-stats.py -- A.exr [B.exr]
 #       prints `mean R G B` (of A, or of A and B averaged) and, with B, `rmse X` and
 #       `noise X` = RMSE(A, B) / sqrt 2, over every channel of every pixel (linear RGB)
+#   blender -b -noaudio --python tools/exr-stats.py -- --crop X0 Y0 X1 Y1 A.exr
+#       prints `mean R G B` over the window [X0, X1) × [Y0, Y1) of A, in fractions of its width
+#       and height from the top left (e.g. 0.35 0.35 0.65 0.65: the middle tenth)
 #   blender -b -noaudio --python tools/exr-stats.py -- --table MANIFEST
 #       MANIFEST: one line per renderer, tab-separated: label, spp, render seconds of the two
 #       seeds, whole-process seconds of the two seeds, the two EXRs. Prints a Markdown table,
@@ -89,6 +92,13 @@ def main():
         fail("Blender's Python has no numpy: apt-get install python3-numpy")
     if len(argv) == 2 and argv[0] == "--table":
         table(argv[1])
+    elif len(argv) == 6 and argv[0] == "--crop":
+        x0, y0, x1, y1 = (float(v) for v in argv[1:5])
+        a = read_rgb(argv[5])[::-1]  # Blender's rows run bottom to top
+        h, w = a.shape[0], a.shape[1]
+        window = a[int(y0 * h):max(int(y1 * h), int(y0 * h) + 1),
+                   int(x0 * w):max(int(x1 * w), int(x0 * w) + 1)]
+        print("mean %.6f %.6f %.6f" % tuple(window.reshape(-1, 3).mean(axis=0)))
     elif len(argv) in (1, 2) and not argv[0].startswith("-"):
         mean, rmse, noise = pair_stats(argv[0], argv[1] if len(argv) == 2 else None)
         print("mean %.6f %.6f %.6f" % tuple(mean))
@@ -97,7 +107,7 @@ def main():
             print("noise %.6f" % noise)
     else:
         fail("usage: blender -b -noaudio --python tools/exr-stats.py -- A.exr [B.exr] | "
-             "--table MANIFEST")
+             "--crop X0 Y0 X1 Y1 A.exr | --table MANIFEST")
     sys.stdout.flush()
 
 

@@ -77,6 +77,14 @@ void note_unread(const Gltf& gltf, Scene::Ignored& ignored) {
       ignored.extensions[name];  // at least listed
   for (const tinygltf::Material& material : m.materials)
     ignored.occlusion_textures += material.occlusionTexture.index >= 0;
+  for (const tinygltf::Mesh& mesh : m.meshes)
+    for (const tinygltf::Primitive& primitive : mesh.primitives) {
+      bool unmorphed = false;
+      for (const auto& target : primitive.targets)
+        for (const auto& [attribute, accessor] : target)
+          unmorphed |= attribute != "POSITION" && attribute != "NORMAL" && attribute != "TANGENT";
+      ignored.unmorphed_primitives += unmorphed;
+    }
 }
 
 // The file's KHR_materials_variants names (checked by the schema: an array of named objects).
@@ -151,6 +159,9 @@ Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& 
         "KHR_texture_basisu textures (rendered from their fallback images: no KTX2 decoder)");
     add(i.sourceless_textures, "textures without a source image (materials rendered without them)");
     add(i.unknown_lights, "lights of a type KHR_lights_punctual does not define (skipped)");
+    add(i.unmorphed_primitives,
+        "primitives whose morph targets move TEXCOORD or COLOR attributes (kept at their base "
+        "values)");
     if (!what.empty())
       print_message("warning: " + gltf.path +
                     ": not rendered as specified in this version: " + what);
