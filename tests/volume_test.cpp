@@ -324,6 +324,7 @@ TEST_CASE("volume: a path that ends inside a volume leaves nothing to the next o
   scene.cameras = {looking_down()};
   RenderSettings s;
   s.width = s.height = 8, s.spp = 64, s.environment = glm::vec3(1.f), s.max_depth = 1;
+  s.wavefront = 256;  // (the frame's 4096 paths through 256 slots)
   for (bool lanes : {true, false}) {
     s.lambert_lanes = lanes;
     const Result r = render(scene, s);
