@@ -50,7 +50,8 @@ constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer 
 
 Usage:
   dacrt render SCENE [options]   render a glTF 2.0 scene (.gltf or .glb) to OpenEXR
-  dacrt info SCENE [--scene N]   triangles, meshes, materials, variants, lights, cameras, bounds
+  dacrt info SCENE [--scene N]   triangles, meshes, materials, variants, lights, animations,
+                                 cameras, bounds
   dacrt views                    the display views a preview can use (`render --view`), from
                                  $OCIO when it is set
   dacrt bench SCENE [options]    every backend on the same rays of each type: build and trace
@@ -387,7 +388,8 @@ int info(const std::vector<std::string>& args) {
     options.scene = int(parse_int(args[1], args[2], 0, 1 << 20));
   else if (args.size() != 1)
     throw UsageError("info needs one SCENE, and optionally --scene INDEX");
-  Scene scene = load_gltf(args[0], options);
+  const GltfAnimation file(args[0], options);
+  Scene scene = file.load();
   const Geometry& g = scene.geometry;
   size_t emissive_triangles = 0, emissive_materials = 0;
   for (uint32_t m : g.material) emissive_triangles += scene.materials[m].emissive();
@@ -450,6 +452,10 @@ int info(const std::vector<std::string>& args) {
     std::printf("variants   %zu (render --variant NAME): %s\n", scene.variants.size(),
                 one_line(names).c_str());
   }
+  if (file.animation_count())
+    std::printf(
+        "animation  %zu animations, keyframes to %g s (render --time T, --frames A:B --fps F)\n",
+        file.animation_count(), file.end());
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {

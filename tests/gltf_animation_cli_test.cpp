@@ -56,6 +56,8 @@ TEST_CASE("cli: --time poses the scene, --frames renders numbered frames with th
       "render " + scene + " --width 20 --height 20 --spp 1 --integrator albedo ";
   REQUIRE(run(dir, common + "--quiet --time 0.75 -o " + (dir / "t.exr")).code == 0);
   CHECK(lit_x(dir / "t.exr") == doctest::Approx(0.25).epsilon(0.1));
+  const Run info = run(dir, "info " + scene);
+  CHECK(info.out.find("animation  1 animations, keyframes to 1 s") != std::string::npos);
   REQUIRE(run(dir, common + "--quiet -o " + (dir / "rest.exr")).code == 0);
   CHECK(lit_x(dir / "rest.exr") == doctest::Approx(0.0).scale(1).epsilon(0.05));  // no channel
 
