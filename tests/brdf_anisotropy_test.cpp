@@ -287,4 +287,37 @@ TEST_CASE("anisotropy: the highlight stretches along the direction, not across i
   // Along t the lobe reaches much further than the material's own (isotropic) roughness.
   const glm::vec3 far_x = direction(2.f * off, 0.f);
   CHECK(x.eval(wo, far_x).x > 10.f * iso.eval(wo, far_x).x);
+  // So does the thin-walled transmission lobe, the reflection's mirror image below.
+  BrdfParams sheet = anisotropic(0.f, 0.3f, 1.f, 0.f);
+  sheet.transmission = 1.f;
+  const GltfBrdf through(sheet);
+  const glm::vec3 below_x(-along_x.x, -along_x.y, -along_x.z), below_y(-along_y.x, -along_y.y,
+                                                                        -along_y.z);
+  CHECK(through.eval(wo, below_x).x > 10.f * through.eval(wo, below_y).x);
+}
+
+TEST_CASE("anisotropy: a white metal's lobe is D · V with α_t = mix(α, 1, strength²), α_b = α") {
+  // (A white metal's Fresnel is 1.)
+  Pcg32 rng(10);
+  for (float roughness : {0.2f, 0.6f})
+    for (float strength : {0.4f, 1.f}) {
+      BrdfParams p = anisotropic(1.f, roughness, strength, 0.7f);
+      p.base_color = glm::vec3(1.f);
+      const GltfBrdf brdf(p);
+      const float alpha = roughness * roughness;
+      Anisotropy a;
+      a.alpha_t = alpha * (1.f - strength * strength) + strength * strength;
+      a.alpha_b = alpha;
+      a.t = p.anisotropy_direction;
+      for (int k = 0; k < 100; ++k) {
+        const glm::vec3 wo = sample_cosine_hemisphere(rng.uniform(), rng.uniform());
+        const glm::vec3 wi = sample_cosine_hemisphere(rng.uniform(), rng.uniform());
+        if (!(wo.z > 1e-2f && wi.z > 1e-2f)) continue;
+        const glm::vec3 h = glm::normalize(wo + wi);
+        const float expected =
+            ggx_d_anisotropic(a.to_local(h), a.alpha_t, a.alpha_b) *
+            ggx_visibility_anisotropic(a.to_local(wo), a.to_local(wi), a.alpha_t, a.alpha_b);
+        CHECK(brdf.eval(wo, wi).x == doctest::Approx(expected).epsilon(1e-4));
+      }
+    }
 }
