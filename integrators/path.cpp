@@ -247,7 +247,7 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   const Frame frame(ns);
   const ShadingPoint x{ng,
                        frame,
-                       stack ? Bsdf::volume(surface.brdf, media_.eta(*stack, mat, front))
+                       stack ? Bsdf::volume(framed_params(h), media_.eta(*stack, mat, front))
                              : Bsdf(brdf_at(h, tri)),
                        frame.to_local(-d),
                        offset_ray_origin({p, h.p_error}, ng),

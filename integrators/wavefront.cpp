@@ -67,10 +67,14 @@ Wavefront::Wavefront(const Scene& scene, const Shot& shot, Backend& backend,
     any |= tested[t] =
         scene.materials[scene.geometry.material[t]].alpha_mode != Material::AlphaMode::opaque;
   if (any) alpha_ = std::make_unique<AlphaFilter>(std::move(tested), *this);
-  for (const Material& m : scene.materials)
-    uniform_brdf_.push_back(m.textured() || !scene.colors.empty()
+  // (An anisotropic BRDF turns with the tangent frame: made per hit. Anisotropy over a Lambert
+  // base is none, and keeps the Lambert lanes.)
+  for (const Material& m : scene.materials) {
+    const GltfBrdf brdf(m.brdf());
+    uniform_brdf_.push_back(m.textured() || !scene.colors.empty() || brdf.anisotropic()
                                 ? std::nullopt
-                                : std::optional<GltfBrdf>(GltfBrdf(m.brdf())));
+                                : std::optional<GltfBrdf>(brdf));
+  }
   for (std::string& what : scene.unused_work()) stats_.skipped.push_back(std::move(what));
 }
 
@@ -265,13 +269,22 @@ Wavefront::Hit Wavefront::hit_at(const RayBatch& rays, const HitBatch& hits, uin
   return h;
 }
 
-GltfBrdf Wavefront::coated_brdf_at(const Hit& h) const {
+BrdfParams Wavefront::framed_params(const Hit& h) const {
   BrdfParams p = h.surface.brdf;
-  // On the arrival side, as hit_at turns the shading normal.
-  const glm::vec3 n = glm::dot(h.surface.coat_normal, h.ng) < 0.f ? -h.surface.coat_normal
-                                                                  : h.surface.coat_normal;
-  p.clearcoat_normal = Frame(h.ns).to_local(n);  // (GltfBrdf takes the normal where z <= 0)
-  return GltfBrdf(p);
+  const Frame frame(h.ns);
+  if (p.clearcoat > 0.f) {
+    // On the arrival side, as hit_at turns the shading normal.
+    const glm::vec3 n = glm::dot(h.surface.coat_normal, h.ng) < 0.f ? -h.surface.coat_normal
+                                                                    : h.surface.coat_normal;
+    p.clearcoat_normal = frame.to_local(n);  // (GltfBrdf takes the normal where z <= 0)
+  }
+  if (p.anisotropy > 0.f) {
+    // Projected onto the shading normal's tangent plane (GltfBrdf normalises it, and takes
+    // (1, 0) where it is zero: a direction along the normal).
+    const glm::vec3 t = frame.to_local(h.surface.anisotropy_direction);
+    p.anisotropy_direction = {t.x, t.y};
+  }
+  return p;
 }
 
 FirstHit Wavefront::first_hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const {

@@ -101,10 +101,12 @@ class Wavefront : public Integrator {
   GltfBrdf brdf_at(const Hit& h, uint32_t tri) const {
     const std::optional<GltfBrdf>& uniform = uniform_brdf_[scene_.geometry.material[tri]];
     if (uniform) return *uniform;
-    return h.surface.brdf.clearcoat > 0.f ? coated_brdf_at(h) : GltfBrdf(h.surface.brdf);
+    const BrdfParams& p = h.surface.brdf;
+    return p.clearcoat > 0.f || p.anisotropy > 0.f ? GltfBrdf(framed_params(h)) : GltfBrdf(p);
   }
-  // With the clearcoat normal put in the shading frame, Frame(h.ns).
-  GltfBrdf coated_brdf_at(const Hit& h) const;
+  // h's BRDF parameters with the clearcoat normal and the anisotropy direction put in the
+  // shading frame, Frame(h.ns).
+  BrdfParams framed_params(const Hit& h) const;
   // What ray i saw (depth: along the camera's view axis).
   FirstHit first_hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const;
 

@@ -31,9 +31,10 @@ float ggx_visibility(float cos_o, float cos_i, float alpha) {
   return 0.5f / (cos_i * so + cos_o * si);
 }
 
-glm::vec3 sample_ggx_visible_normal(const glm::vec3& wo, float alpha, float u1, float u2) {
+glm::vec3 sample_ggx_visible_normal(const glm::vec3& wo, float alpha_x, float alpha_y, float u1,
+                                    float u2) {
   // The view direction in the frame where the distribution is the unit hemisphere.
-  const glm::vec3 v = glm::normalize(glm::vec3(alpha * wo.x, alpha * wo.y, wo.z));
+  const glm::vec3 v = glm::normalize(glm::vec3(alpha_x * wo.x, alpha_y * wo.y, wo.z));
   const float len2 = v.x * v.x + v.y * v.y;
   const glm::vec3 t1 =
       len2 > 0.f ? glm::vec3(-v.y, v.x, 0.f) / std::sqrt(len2) : glm::vec3(1.f, 0.f, 0.f);
@@ -45,7 +46,7 @@ glm::vec3 sample_ggx_visible_normal(const glm::vec3& wo, float alpha, float u1, 
   const float p2 = (1.f - s) * std::sqrt(std::max(0.f, 1.f - p1 * p1)) + s * r * std::sin(phi);
   const glm::vec3 n = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.f, 1.f - p1 * p1 - p2 * p2)) * v;
   // Back to the ellipsoid's frame.
-  return glm::normalize(glm::vec3(alpha * n.x, alpha * n.y, std::max(0.f, n.z)));
+  return glm::normalize(glm::vec3(alpha_x * n.x, alpha_y * n.y, std::max(0.f, n.z)));
 }
 
 GltfBrdf::GltfBrdf(const BrdfParams& p)
@@ -72,6 +73,26 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
   sheen_roughness_ = std::clamp(p.sheen_roughness, 0.f, 1.f);
   sheen_alpha_ = sheen_alpha(sheen_roughness_);
   layered_ = coat_.weight > 0.f || sheen_max_ > 0.f;
+  // KHR_materials_anisotropy: α_t = mix(α, 1, strength²) along the direction, α_b = α across
+  // (an isotropic material stops at the first test).
+  anisotropic_ = false;
+  if (p.anisotropy > 0.f && !lambertian_) {
+    anisotropy_.alpha_b = alpha_;
+    anisotropy_.alpha_t = anisotropic_alpha(alpha_, std::min(p.anisotropy, 1.f));
+    const float length = glm::length(p.anisotropy_direction);
+    if (length > 0.f && std::isfinite(length)) anisotropy_.t = p.anisotropy_direction / length;
+    anisotropic_ = anisotropy_.alpha_t > anisotropy_.alpha_b;
+  }
+}
+
+float GltfBrdf::microfacet(const glm::vec3& wo, const glm::vec3& wi, const glm::vec3& h) const {
+  if (anisotropic_) return anisotropic_dv(anisotropy_, wo, wi, h);
+  return ggx_d(h.z, alpha_) * ggx_visibility(wo.z, wi.z, alpha_);
+}
+
+glm::vec3 GltfBrdf::sample_microfacet_normal(const glm::vec3& wo, float u1, float u2) const {
+  if (anisotropic_) return sample_anisotropic_visible_normal(anisotropy_, wo, u1, u2);
+  return sample_ggx_visible_normal(wo, alpha_, u1, u2);
 }
 
 // wi mirrored through the surface plane.
@@ -85,12 +106,12 @@ glm::vec3 GltfBrdf::base_eval(const glm::vec3& wo, const glm::vec3& wi) const {
   if (wi.z < 0.f) {  // through the surface: the dielectric base's transmitted part
     if (!(transmission_ > 0.f)) return glm::vec3(0.f);
     const glm::vec3 m = mirrored(wi), h = glm::normalize(wo + m);
-    const float btdf = ggx_d(h.z, alpha_) * ggx_visibility(wo.z, m.z, alpha_);
+    const float btdf = microfacet(wo, m, h);
     return (1.f - metallic_) * transmission_ * fresnel(glm::dot(wo, h)).base * btdf * base_;
   }
   if (wi.z == 0.f) return glm::vec3(0.f);
   const glm::vec3 h = glm::normalize(wo + wi);
-  const float specular = ggx_d(h.z, alpha_) * ggx_visibility(wo.z, wi.z, alpha_);
+  const float specular = microfacet(wo, wi, h);
   const Fresnel f = fresnel(glm::dot(wo, h));
   const glm::vec3 dielectric =
       (1.f - transmission_) * f.base * base_ * glm::one_over_pi<float>() + f.dielectric * specular;
@@ -120,6 +141,7 @@ float GltfBrdf::specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const {
   if (glm::dot(wo, h) <= 0.f) return 0.f;
   // Visible normals: D_wo(h) = G₁(wo) max(0, wo·h) D(h) / cos θo, and the reflection's Jacobian
   // 1 / (4 wo·h).
+  if (anisotropic_) return anisotropic_reflection_pdf(anisotropy_, wo, h);
   const float g1 = 1.f / (1.f + ggx_lambda(wo.z, alpha_));
   return g1 * ggx_d(h.z, alpha_) / (4.f * wo.z);
 }
@@ -148,7 +170,7 @@ std::optional<GltfBrdf::Sample> GltfBrdf::base_sample(const glm::vec3& wo, float
   if (u_lobe >= p.specular && (u_lobe < p.specular + p.diffuse || !(p.transmission > 0.f))) {
     wi = sample_cosine_hemisphere(u1, u2);
   } else {
-    const glm::vec3 h = sample_ggx_visible_normal(wo, alpha_, u1, u2);
+    const glm::vec3 h = sample_microfacet_normal(wo, u1, u2);
     wi = 2.f * glm::dot(wo, h) * h - wo;
     if (wi.z <= 0.f) return std::nullopt;
     if (u_lobe >= p.specular) wi = mirrored(wi);  // transmission

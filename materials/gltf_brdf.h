@@ -14,6 +14,10 @@
 // without bending on average and spreads with the roughness; it is sampled as the reflection,
 // mirrored.
 //
+// KHR_materials_anisotropy stretches D and V of the specular lobe (reflection and transmission)
+// along a direction of the tangent plane (materials/anisotropy.h); an isotropic material takes
+// none of it (one branch per lobe evaluation).
+//
 // Layers over that base (each skipped, at no cost, where the material lacks it; a material with
 // neither is exactly the BRDF above):
 //   f = coat + (1 − clearcoat · F_c) · (sheen + (1 − max(sheenColor) · E_sheen) · f_base)
@@ -29,6 +33,7 @@
 #include <glm/glm.hpp>
 #include <optional>
 
+#include "materials/anisotropy.h"
 #include "materials/clearcoat.h"
 
 namespace dacrt {
@@ -48,6 +53,11 @@ struct BrdfParams {
   glm::vec3 clearcoat_normal{0.f, 0.f, 1.f};
   glm::vec3 sheen_color{0.f};  // KHR_materials_sheen: sheenColorFactor
   float sheen_roughness = 0.f;  // KHR_materials_sheen: sheenRoughnessFactor
+  // KHR_materials_anisotropy: anisotropyStrength (× texture .b), and the direction of increased
+  // roughness in the local shading frame's tangent plane (x, y; normalised here, (1, 0) where it
+  // is zero or not finite).
+  float anisotropy = 0.f;
+  glm::vec2 anisotropy_direction{1.f, 0.f};
 };
 
 class GltfBrdf {
@@ -80,6 +90,8 @@ class GltfBrdf {
   bool lambertian() const { return lambertian_ && !layered_; }
   // True when a coat or a sheen lies over the base.
   bool layered() const { return layered_; }
+  // True when the specular lobe is anisotropic (strength > 0, α < 1, and not Lambert's).
+  bool anisotropic() const { return anisotropic_; }
 
  private:
   // The base (metallic-roughness with transmission), without the layers.
@@ -108,6 +120,9 @@ class GltfBrdf {
   };
   Lobes lobes(const glm::vec3& wo) const;
   float specular_pdf(const glm::vec3& wo, const glm::vec3& wi) const;
+  // The specular lobe's D(h) · V(wo, wi), and a visible normal for wo: isotropic or anisotropic.
+  float microfacet(const glm::vec3& wo, const glm::vec3& wi, const glm::vec3& h) const;
+  glm::vec3 sample_microfacet_normal(const glm::vec3& wo, float u1, float u2) const;
 
   glm::vec3 base_;
   float metallic_, alpha_, transmission_;
@@ -118,6 +133,8 @@ class GltfBrdf {
   Coat coat_;
   glm::vec3 sheen_color_;
   float sheen_max_, sheen_roughness_, sheen_alpha_;
+  bool anisotropic_;
+  Anisotropy anisotropy_;  // (used only when anisotropic_)
 };
 
 }  // namespace dacrt

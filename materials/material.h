@@ -14,7 +14,8 @@
 namespace dacrt {
 
 // The glTF material, as far as this version renders it: the metallic-roughness BRDF (with
-// KHR_materials_ior and KHR_materials_specular), its textures, and an emitter. Defaults are
+// KHR_materials_ior and KHR_materials_specular, and the layers and lobes of the other material
+// extensions read), its textures, and an emitter. Defaults are
 // glTF's. Textures multiply their factors (see scene/surface.h).
 struct Material {
   std::string name;
@@ -35,6 +36,10 @@ struct Material {
   float clearcoat_roughness = 0.f;  // KHR_materials_clearcoat.clearcoatRoughnessFactor
   glm::vec3 sheen_color{0.f};       // KHR_materials_sheen.sheenColorFactor
   float sheen_roughness = 0.f;      // KHR_materials_sheen.sheenRoughnessFactor
+  // KHR_materials_anisotropy: anisotropyStrength, and anisotropyRotation as (cos, sin): the
+  // direction of increased roughness in the (tangent, bitangent) frame (scene/surface.cpp).
+  float anisotropy = 0.f;
+  glm::vec2 anisotropy_rotation{1.f, 0.f};
   // KHR_materials_unlit: the surface emits its base colour (× texture × vertex colour), to every
   // ray, and reflects nothing (`emission` holds baseColorFactor.rgb; brdf() is black).
   bool unlit = false;
@@ -59,14 +64,18 @@ struct Material {
   TextureRef clearcoat_normal_texture;     // tangent space, scaled by clearcoat_normal_scale
   TextureRef sheen_color_texture;          // sRGB; sheen colour in .rgb (KHR_materials_sheen)
   TextureRef sheen_roughness_texture;      // linear; sheen roughness in .a
+  // linear; direction in .rg (× 2 − 1, then rotated), strength in .b (KHR_materials_anisotropy)
+  TextureRef anisotropy_texture;
   float normal_scale = 1.f;
   float clearcoat_normal_scale = 1.f;
 
   bool sheen() const { return sheen_color != glm::vec3(0.f); }
+  // An anisotropic specular lobe (which needs a tangent frame: scene/surface.cpp).
+  bool anisotropic() const { return anisotropy > 0.f && !unlit; }
   // The textures shading reads (null entries for the rest): an emissive texture only when the
-  // emissive factor is not black, the transmission, specular, clearcoat and sheen ones only when
-  // their factors are not 0 (an unlit material reads its base colour only).
-  std::array<const TextureRef*, 12> sampled_textures() const {
+  // emissive factor is not black, the transmission, specular, clearcoat, sheen and anisotropy
+  // ones only when their factors are not 0 (an unlit material reads its base colour only).
+  std::array<const TextureRef*, 13> sampled_textures() const {
     auto when = [](bool used, const TextureRef& t) { return used ? &t : nullptr; };
     const bool lit = !unlit;
     return {&base_color_texture,
@@ -80,7 +89,8 @@ struct Material {
             when(lit && clearcoat > 0.f, clearcoat_roughness_texture),
             when(lit && clearcoat > 0.f, clearcoat_normal_texture),
             when(lit && sheen(), sheen_color_texture),
-            when(lit && sheen(), sheen_roughness_texture)};
+            when(lit && sheen(), sheen_roughness_texture),
+            when(anisotropic(), anisotropy_texture)};
   }
   bool textured() const {
     for (const TextureRef* t : sampled_textures())
@@ -96,7 +106,8 @@ struct Material {
     if (unlit) return {glm::vec3(0.f), 0.f, 1.f, 1.5f, 0.f, glm::vec3(0.f), 0.f};  // black Lambert
     return {base_color,   metallic,  roughness,           ior,
             specular,     specular_color, transmission,   clearcoat,
-            clearcoat_roughness, glm::vec3(0.f, 0.f, 1.f), sheen_color, sheen_roughness};
+            clearcoat_roughness, glm::vec3(0.f, 0.f, 1.f), sheen_color, sheen_roughness,
+            anisotropy};  // (the direction in the shading frame: scene/surface.cpp)
   }
   // A Lambertian surface: no metal, no specular layer.
   static Material lambert(const glm::vec3& color) {

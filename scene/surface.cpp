@@ -1,6 +1,9 @@
 #include "scene/surface.h"
 
 #include <cmath>
+#include <optional>
+
+#include "materials/sampling.h"
 
 namespace dacrt {
 namespace {
@@ -17,24 +20,59 @@ glm::vec4 lookup(const Scene& scene, const TextureRef& ref, uint32_t tri, float 
                 srgb);
 }
 
-// The normal map's normal around n, or n where the triangle has no tangents (no uvs to make them).
-// The bitangent is cross(n, t) · w, glTF's convention.
-glm::vec3 normal_mapped(const Scene& scene, const TextureRef& map, float scale, uint32_t tri,
-                        float u, float v, const glm::vec3& n) {
-  if (scene.tangents.empty()) return n;
+// The tangent and bitangent at (u, v) around the unit normal n, or nothing where the triangle
+// has no tangents (no uvs to make them). The bitangent is cross(n, t) · w, glTF's convention.
+struct TangentFrame {
+  glm::vec3 tangent, bitangent;
+};
+std::optional<TangentFrame> tangent_frame(const Scene& scene, uint32_t tri, float u, float v,
+                                          const glm::vec3& n) {
+  if (scene.tangents.empty()) return std::nullopt;
   const glm::vec4 t = interpolate(&scene.tangents[3 * size_t(tri)], u, v);
   glm::vec3 tangent = glm::vec3(t) - n * glm::dot(n, glm::vec3(t));
   const float len = glm::length(tangent);
-  if (!(len > 0.f) || !std::isfinite(len)) return n;
+  if (!(len > 0.f) || !std::isfinite(len)) return std::nullopt;
   tangent /= len;
-  const glm::vec3 bitangent = glm::cross(n, tangent) * (t.w < 0.f ? -1.f : 1.f);
+  return TangentFrame{tangent, glm::cross(n, tangent) * (t.w < 0.f ? -1.f : 1.f)};
+}
+
+// The normal map's normal around n, or n where the triangle has no tangents.
+glm::vec3 normal_mapped(const Scene& scene, const TextureRef& map, float scale, uint32_t tri,
+                        float u, float v, const glm::vec3& n) {
+  const std::optional<TangentFrame> frame = tangent_frame(scene, tri, u, v, n);
+  if (!frame) return n;
   const glm::vec4 texel = lookup(scene, map, tri, u, v, false);
   const float x = (2.f * texel.x - 1.f) * scale;
   const float y = (2.f * texel.y - 1.f) * scale;
-  const glm::vec3 mapped = tangent * x + bitangent * y + n * (2.f * texel.z - 1.f);
+  const glm::vec3 mapped =
+      frame->tangent * x + frame->bitangent * y + n * (2.f * texel.z - 1.f);
   const float mapped_len = glm::length(mapped);
   if (!(mapped_len > 0.f) || !std::isfinite(mapped_len)) return n;
   return mapped / mapped_len;
+}
+
+// KHR_materials_anisotropy at the point: the strength (× texture .b) into s.brdf, and the
+// direction (the texture's .rg × 2 − 1, normalised, else the tangent; rotated by
+// anisotropyRotation) in the tangent frame around the interpolated normal s.normal, or in an
+// arbitrary frame around it where the triangle has no tangents.
+void anisotropy_at(const Scene& scene, const Material& m, uint32_t tri, float u, float v,
+                   SurfacePoint& s) {
+  const glm::vec2 r = m.anisotropy_rotation;
+  glm::vec2 d = r;  // (1, 0) rotated
+  if (m.anisotropy_texture) {
+    const glm::vec4 texel = lookup(scene, m.anisotropy_texture, tri, u, v, false);
+    s.brdf.anisotropy *= texel.z;
+    const glm::vec2 x = 2.f * glm::vec2(texel) - 1.f;
+    const float len = glm::length(x);
+    if (len > 0.f) d = glm::vec2(r.x * x.x - r.y * x.y, r.y * x.x + r.x * x.y) / len;
+  }
+  const std::optional<TangentFrame> frame = tangent_frame(scene, tri, u, v, s.normal);
+  if (frame) {
+    s.anisotropy_direction = frame->tangent * d.x + frame->bitangent * d.y;
+  } else {
+    const Frame arbitrary(s.normal);
+    s.anisotropy_direction = arbitrary.s * d.x + arbitrary.t * d.y;
+  }
 }
 
 }  // namespace
@@ -52,6 +90,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, cons
     s.brdf.base_color *= c;
     if (m.unlit) s.emission *= c;
   }
+  if (m.anisotropic()) anisotropy_at(scene, m, tri, u, v, s);
   if (!m.textured()) return s;
   if (m.base_color_texture)
     s.brdf.base_color *= glm::vec3(lookup(scene, m.base_color_texture, tri, u, v, true));

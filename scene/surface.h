@@ -20,6 +20,12 @@ struct SurfacePoint {
   // (not the base's normal map); on the front side, unit length. (BrdfParams::clearcoat_normal
   // is this in the shading frame: the integrator's brdf_at puts it there.)
   glm::vec3 coat_normal;
+  // KHR_materials_anisotropy's direction of increased roughness (brdf.anisotropy > 0 only): the
+  // tangent frame's (tangent, bitangent) · the rotated direction, world space, unit, in the plane
+  // of the interpolated normal. Where the triangle has no tangents, the frame is an arbitrary one
+  // around the interpolated normal (the loader warns). The integrator's brdf_at puts it in the
+  // shading frame as BrdfParams::anisotropy_direction.
+  glm::vec3 anisotropy_direction{0.f};
 };
 
 // At barycentrics (u, v) of triangle `tri` (the point (1 − u − v)·p0 + u·p1 + v·p2), whose unit

@@ -592,6 +592,18 @@ TEST_CASE("gltf schema: every rule, one mutation each") {
        {{"attenuationColor", {1, 1.5, 1}}},
        "/materials/1/extensions/KHR_materials_volume/attenuationColor/1: 1.5 is not a number in "
        "[0, 1]"},
+      {"/materials/1/extensions/KHR_materials_anisotropy",
+       {{"anisotropyStrength", 1.5}},
+       "/materials/1/extensions/KHR_materials_anisotropy/anisotropyStrength: 1.5 is not a number "
+       "in [0, 1]"},
+      {"/materials/1/extensions/KHR_materials_anisotropy",
+       {{"anisotropyRotation", nullptr}},
+       "/materials/1/extensions/KHR_materials_anisotropy/anisotropyRotation: null is not a "
+       "number"},
+      {"/materials/1/extensions/KHR_materials_anisotropy",
+       {{"anisotropyTexture", {{"index", 7}}}},
+       "/materials/1/extensions/KHR_materials_anisotropy/anisotropyTexture/index: 7 is not an "
+       "index"},
       {"/materials/1/extensions/KHR_materials_dispersion",
        {{"dispersion", -0.1}},
        "/materials/1/extensions/KHR_materials_dispersion/dispersion: -0.1 is not a number >= 0"},

@@ -238,6 +238,8 @@ class MeshLoader {
   const std::vector<bool>& texture_used() const { return texture_used_; }
   size_t skipped_modes() const { return skipped_modes_; }
   size_t skipped_unpositioned() const { return skipped_unpositioned_; }
+  // Primitives of an anisotropic material with no tangents (no TANGENT, and no uvs to make them).
+  size_t untangented_anisotropic() const { return untangented_anisotropic_; }
 
  private:
   struct Transform;
@@ -258,7 +260,7 @@ class MeshLoader {
   std::vector<bool> texture_used_;  // by a material some primitive uses
   int default_material_ = -1;
   std::vector<bool> mesh_seen_;
-  size_t skipped_modes_ = 0, skipped_unpositioned_ = 0;
+  size_t skipped_modes_ = 0, skipped_unpositioned_ = 0, untangented_anisotropic_ = 0;
   uint64_t work_ = 0;  // triangles asked for, every instance and primitive counted
 };
 

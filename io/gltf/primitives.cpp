@@ -296,7 +296,20 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     if (!keep_normals_) start_normals();
   }
   const size_t before = scene_.geometry.size();
-  // Texture coordinates, only for the sets some material samples.
+  // Tangents, for normal-mapped and anisotropic materials: from the file, else generated from a
+  // uv set (below). The spec says to ignore TANGENT when NORMAL is absent (the normals are then
+  // flat). A clearcoat normal map needs them too. They are generated from the base normal map's
+  // TEXCOORD set, else the clearcoat normal map's, else the anisotropy texture's, else TEXCOORD_0.
+  const bool coat_map = mat.clearcoat > 0.f && mat.clearcoat_normal_texture;
+  const TextureRef& normal_map =
+      mat.normal_texture || !coat_map ? mat.normal_texture : mat.clearcoat_normal_texture;
+  const bool anisotropic = mat.anisotropic();
+  const bool wants_tangents = normal_map || anisotropic;
+  const int tangent_set = normal_map                ? normal_map.texcoord
+                          : mat.anisotropy_texture ? mat.anisotropy_texture.texcoord
+                                                    : 0;
+  // Texture coordinates, only for the sets some material samples (and, for an anisotropic
+  // material without TANGENT, the set its tangents come from, if the primitive has it).
   std::vector<glm::vec2> uv[2];
   for (const TextureRef* ref : mat.sampled_textures())
     if (ref && *ref && ref->texcoord > 1)
@@ -309,7 +322,10 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     bool needed = false;  // does this primitive's material sample set `set`?
     for (const TextureRef* ref : mat.sampled_textures())
       needed |= ref && *ref && ref->texcoord == set;
-    if (!needed) continue;
+    const bool for_tangents = anisotropic && set == tangent_set &&
+                              attribute != prim.attributes.end() &&
+                              !(prim.attributes.count("TANGENT") && prim.attributes.count("NORMAL"));
+    if (!needed && !for_tangents) continue;
     if (attribute == prim.attributes.end())
       gltf_.fail(where + ": its material samples " + name + ", which the primitive does not have");
     const std::string role = name + " of " + where;
@@ -318,7 +334,7 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
         read_floats(gltf_, attribute->second, role, 2, 2, texcoord_types, 0.f, which);
     uv[set].resize(values.size());
     for (size_t i = 0; i < values.size(); ++i) uv[set][i] = glm::vec2(values[i]);
-    texcoords_[set].start(before, glm::vec2(0.f));
+    if (needed) texcoords_[set].start(before, glm::vec2(0.f));
   }
   std::vector<glm::vec4> colors;
   if (auto attribute = prim.attributes.find("COLOR_0"); attribute != prim.attributes.end()) {
@@ -336,15 +352,9 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     }
     colors_.start(before, glm::vec4(1.f));
   }
-  // Tangents, only for normal-mapped materials: from the file, else generated below. The spec
-  // says to ignore TANGENT when NORMAL is absent (the normals are then flat). A clearcoat normal
-  // map needs them too (generated from the base normal map's TEXCOORD set when there is one).
-  const bool coat_map = mat.clearcoat > 0.f && mat.clearcoat_normal_texture;
-  const TextureRef& normal_map =
-      mat.normal_texture || !coat_map ? mat.normal_texture : mat.clearcoat_normal_texture;
   std::vector<glm::vec4> tangents;
   if (auto attribute = prim.attributes.find("TANGENT");
-      normal_map && !normals.empty() && attribute != prim.attributes.end()) {
+      wants_tangents && !normals.empty() && attribute != prim.attributes.end()) {
     const std::string role = "TANGENT of " + where;
     same_count(attribute->second, role);
     tangents = read_floats(gltf_, attribute->second, role, 4, 4, direction_types, 0.f, which);
@@ -361,7 +371,8 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
 
   // Shading normals per corner, as stored: computed once, when they are kept or tangents are
   // generated from them.
-  const bool generate = tangents.empty() && normal_map && !uv[normal_map.texcoord].empty();
+  const bool generate = tangents.empty() && wants_tangents && tangent_set < 2 &&
+                        !uv[tangent_set].empty();
   std::vector<glm::vec3> corner_normals;  // 3 per triangle of `corners`
   if (keep_normals_ || generate) {
     corner_normals.reserve(3 * corners.size());
@@ -376,9 +387,11 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     for (const auto& c : corners)
       for (uint32_t i : c) corner_tangents.push_back(tangents[i]);
   } else if (generate) {
-    corner_tangents = generate_tangents(points, uv[normal_map.texcoord], corners, corner_normals);
+    corner_tangents = generate_tangents(points, uv[tangent_set], corners, corner_normals);
   }
-  if (normal_map) tangents_.start(before, glm::vec4(0.f));
+  if (wants_tangents) tangents_.start(before, glm::vec4(0.f));
+  // (Without either, anisotropy follows an arbitrary frame: scene/surface.cpp.)
+  untangented_anisotropic_ += anisotropic && corner_tangents.empty() && !corners.empty();
 
   Geometry& geometry = scene_.geometry;
   for (size_t t = 0; t < corners.size(); ++t) {

@@ -43,7 +43,8 @@ constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 // The extensions the loader (io/gltf/) reads.
 constexpr std::string_view kSupportedExtensions[] = {
     "EXT_mesh_gpu_instancing",    "EXT_meshopt_compression", "EXT_texture_webp",
-    "KHR_draco_mesh_compression", "KHR_lights_punctual",     "KHR_materials_clearcoat",
+    "KHR_draco_mesh_compression", "KHR_lights_punctual",     "KHR_materials_anisotropy",
+    "KHR_materials_clearcoat",
     "KHR_materials_dispersion",   "KHR_materials_emissive_strength",
     "KHR_materials_ior",          "KHR_materials_sheen",     "KHR_materials_specular",
     "KHR_materials_transmission", "KHR_materials_unlit",     "KHR_materials_variants",
@@ -649,6 +650,11 @@ class Checker {
       texture_info(x, p, "sheenColorTexture");
       number_member(x, p, "sheenRoughnessFactor", kUnit);
       texture_info(x, p, "sheenRoughnessTexture");
+    });
+    ext("KHR_materials_anisotropy", [&](const json& x, const Pointer& p) {
+      number_member(x, p, "anisotropyStrength", kUnit);
+      number_member(x, p, "anisotropyRotation", kAnyNumber);
+      texture_info(x, p, "anisotropyTexture");
     });
     ext("KHR_materials_unlit", [&](const json&, const Pointer&) {});  // an object, no members
     ext("KHR_materials_emissive_strength", [&](const json& x, const Pointer& p) {
