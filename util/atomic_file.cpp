@@ -51,11 +51,11 @@ extern "C" void remove_pending_and_pass_on(int sig) {
   std::raise(sig);
 }
 
+// The handlers are installed first; arm() then names the file the moment it exists, so that a
+// signal arriving right after its creation (a second Ctrl-C, as soon as the file appears) finds
+// it named: the window is a copy of its name, not the system calls of the set-up.
 struct PendingFile {
-  bool active = false;
-  explicit PendingFile(const std::string& path) {
-    if (path.size() >= sizeof pending) return;
-    std::memcpy(pending, path.c_str(), path.size() + 1);
+  PendingFile() {
     struct sigaction action {};
     action.sa_handler = remove_pending_and_pass_on;
     sigemptyset(&action.sa_mask);
@@ -63,14 +63,18 @@ struct PendingFile {
       sigaction(handled[k], nullptr, &previous[k]);
       if (previous[k].sa_handler != SIG_IGN) sigaction(handled[k], &action, nullptr);
     }
-    active = true;
+  }
+  void arm(const std::string& path) {
+    if (path.size() >= sizeof pending) return;
+    std::memcpy(pending, path.c_str(), path.size() + 1);
     pending_active = 1;
   }
   ~PendingFile() {
-    if (!active) return;
     pending_active = 0;
     for (size_t k = 0; k < std::size(handled); ++k) sigaction(handled[k], &previous[k], nullptr);
   }
+  PendingFile(const PendingFile&) = delete;
+  PendingFile& operator=(const PendingFile&) = delete;
 };
 
 std::string system_message(int err) {
@@ -95,11 +99,13 @@ mode_t current_umask() {
 }
 
 // A new file "<target>.tmp-XXXXXX" that did not exist (O_CREAT | O_EXCL: never a planted file or
-// link), with the mode a new file would have. Returns its descriptor and sets `name`.
-int create_temporary(const fs::path& target, std::string& name) {
+// link), named to `pending` as soon as it exists, then given the mode a new file would have.
+// Returns its descriptor and sets `name`.
+int create_temporary(const fs::path& target, PendingFile& pending, std::string& name) {
   std::string pattern = target.string() + ".tmp-XXXXXX";
   const int fd = ::mkostemp(pattern.data(), O_CLOEXEC);
   if (fd < 0) return -1;
+  pending.arm(pattern);
   name = pattern;
   ::fchmod(fd, 0666 & ~current_umask());
   return fd;
@@ -156,12 +162,12 @@ void write_atomically(const std::string& path, const std::string& what,
   }
 
   std::string tmp;
+  PendingFile pending_file;
   errno = 0;
-  const int fd = create_temporary(target, tmp);
+  const int fd = create_temporary(target, pending_file, tmp);
   if (fd < 0)
     throw Error(prefix + "cannot create a temporary file in '" + dir.string() + "' (" +
                 system_message(errno) + ")");
-  const PendingFile pending_file(tmp);
   auto fail = [&](const std::string& reason) {
     ::unlink(tmp.c_str());
     return Error(prefix + one_line(reason));
@@ -225,8 +231,9 @@ void check_writable(const std::string& path) {
   // Whether a file can be made there is known only by making one: permissions, a read-only file
   // system, /proc and /sys, quotas.
   std::string probe;
+  PendingFile pending;
   errno = 0;
-  const int fd = create_temporary(target, probe);
+  const int fd = create_temporary(target, pending, probe);
   if (fd < 0)
     throw refuse("no file can be created in " + dir.string() + " (" + system_message(errno) + ")");
   ::close(fd);
