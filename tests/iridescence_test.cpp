@@ -338,6 +338,6 @@ TEST_CASE("an iridescence or a film thickness of 0 leaves the BRDF exactly as wi
   lambert.iridescence = 0.2f;
   CHECK_FALSE(GltfBrdf(lambert).lambertian());
   const glm::vec3 wo = direction(glm::radians(30.f), 0.f);
-  CHECK(GltfBrdf(lambert).eval(wo, glm::vec3(-wo.x, -wo.y, wo.z)).x >
-        lambert.base_color.x / glm::pi<float>());
+  const glm::vec3 mirrored = GltfBrdf(lambert).eval(wo, glm::vec3(-wo.x, -wo.y, wo.z));
+  CHECK(mirrored.x + mirrored.y + mirrored.z > 10.f * lambert.base_color.x / glm::pi<float>());
 }
