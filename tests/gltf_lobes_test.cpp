@@ -162,13 +162,14 @@ TEST_CASE("gltf: KHR_materials_iridescence factors and textures") {
            {"iridescenceIor", 1.8},
            {"iridescenceThicknessMinimum", 150},
            {"iridescenceThicknessMaximum", 450},
-           {"iridescenceThicknessTexture", {{"index", 0}}}}}}}});
+           {"iridescenceThicknessTexture", {{"index", 1}}}}}}}});
   w.doc["materials"].push_back({{"extensions", {{"KHR_materials_iridescence", json::object()}}}});
   w.doc["materials"].push_back(
       {{"extensions",
         {{"KHR_materials_iridescence",
           {{"iridescenceFactor", 1}, {"iridescenceThicknessMaximum", 250}}}}}});
   add_texture(w, png8(2, 2, 4, kTexels), kNearest);
+  add_texture(w, png8(2, 2, 4, kTexels), kNearest);  // (its own image: both are decoded)
   const Scene scene = load_gltf(w.write_gltf(dir / "iridescence.gltf"));
   CHECK(!scene.ignored.any());  // read, so not warned about
   const Material& m = scene.materials[0];
@@ -177,7 +178,7 @@ TEST_CASE("gltf: KHR_materials_iridescence factors and textures") {
   CHECK(m.iridescence_thickness_min == 150.f);
   CHECK(m.iridescence_thickness_max == 450.f);
   CHECK(m.iridescence_texture.texture == 0);
-  CHECK(m.iridescence_thickness_texture.texture == 0);
+  CHECK(m.iridescence_thickness_texture.texture == 1);
   // The defaults: no film (factor 0), IOR 1.3, 100 to 400 nm, and their textures not sampled.
   const Material& defaults = scene.materials[1];
   CHECK(defaults.iridescence == 0.f);

@@ -270,7 +270,7 @@ TEST_CASE("iridescent BRDF: the white furnace") {
   // is in [0, 1]. Over a white diffuse base the spec's rgb_mix weights the base by 1 − max F_film
   // at each direction's own V·H, and a film's F is not monotonic in angle (it can fall where
   // plain Fresnel rises), so, like fresnel_mix beyond 30° (brdf_test.cpp), it returns more than
-  // it receives: up to about 1.03 at 30° here, as specified. That case is held to 1.04.
+  // it receives: up to 1.023 at 30° here (a film of IOR 2), as specified. It is held to 1.04.
   struct Case {
     glm::vec3 base;
     float metallic, specular, max_theta, bound;
