@@ -42,7 +42,8 @@ glm::dvec3 cie_1931(double nm) {
     const double t = (nm - mu) / (nm < mu ? below : above);
     return std::exp(-0.5 * t * t);
   };
-  return {1.056 * g(599.8, 37.9, 31.0) + 0.362 * g(442.0, 16.0, 26.7) - 0.065 * g(501.1, 20.4, 26.2),
+  return {1.056 * g(599.8, 37.9, 31.0) + 0.362 * g(442.0, 16.0, 26.7) -
+              0.065 * g(501.1, 20.4, 26.2),
           0.821 * g(568.8, 46.9, 40.5) + 0.286 * g(530.9, 16.3, 31.1),
           1.217 * g(437.0, 11.8, 36.0) + 0.681 * g(459.0, 26.0, 13.8)};
 }
@@ -231,7 +232,8 @@ TEST_CASE("iridescent BRDF is reciprocal and zero below the surface without tran
 }
 
 TEST_CASE("iridescent BRDF: the specular lobes' Fresnel is mix(F, F_film, iridescence)") {
-  const glm::vec3 wo = direction(glm::radians(50.f), 0.2f), wi = direction(glm::radians(20.f), 2.5f);
+  const glm::vec3 wo = direction(glm::radians(50.f), 0.2f);
+  const glm::vec3 wi = direction(glm::radians(20.f), 2.5f);
   const glm::vec3 h = glm::normalize(wo + wi);
   const float cos_h = glm::dot(wo, h);
   const float alpha = 0.4f * 0.4f;
@@ -244,7 +246,8 @@ TEST_CASE("iridescent BRDF: the specular lobes' Fresnel is mix(F, F_film, irides
   const glm::vec3 f_metal = glm::mix(base + (1.f - base) * w,
                                      thin_film_fresnel(cos_h, 1.f, 1.7f, 420.f, base), 0.75f);
   const glm::vec3 got = GltfBrdf(metal).eval(wo, wi);
-  for (int ch = 0; ch < 3; ++ch) CHECK(got[ch] == doctest::Approx(f_metal[ch] * lobe).epsilon(1e-5));
+  for (int ch = 0; ch < 3; ++ch)
+    CHECK(got[ch] == doctest::Approx(f_metal[ch] * lobe).epsilon(1e-5));
   // A dielectric with a black base (the specular lobe alone): F0 = 0.04 · specular.
   BrdfParams glass = film(0.f, 0.4f, 260.f, 1.2f);
   glass.base_color = glm::vec3(0.f), glass.specular = 0.5f;

@@ -1,8 +1,8 @@
 // glTF materials: the metallic-roughness factors and textures, alpha modes, and the material
 // extensions read here (KHR_materials_clearcoat, _dispersion, _emissive_strength, _ior,
-// _iridescence, _sheen, _specular, _transmission, _unlit, _volume) with KHR_texture_transform on every textureInfo. The
-// ranges were checked by the schema (io/gltf/schema.cpp); factors are clamped here again for
-// files loaded without it.
+// _iridescence, _sheen, _specular, _transmission, _unlit, _volume) with KHR_texture_transform on
+// every textureInfo. The ranges were checked by the schema (io/gltf/schema.cpp); factors are
+// clamped here again for files loaded without it.
 #include <algorithm>
 #include <cmath>
 
