@@ -5,6 +5,7 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
+#include "materials/iridescence.h"
 #include "materials/sampling.h"
 #include "materials/sheen.h"
 
@@ -62,7 +63,13 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
   const float specular = std::clamp(p.specular, 0.f, 1.f);
   f0_ = glm::min(r * r * glm::max(p.specular_color, 0.f), glm::vec3(1.f)) * specular;
   f90_ = specular;
-  lambertian_ = metallic_ == 0.f && transmission_ == 0.f && f90_ == 0.f && f0_ == glm::vec3(0.f);
+  // KHR_materials_iridescence (NaN counts as 0; a film of thickness 0 is no film).
+  iridescence_ = p.iridescence_thickness > 0.f ? std::clamp(p.iridescence, 0.f, 1.f) : 0.f;
+  if (!(iridescence_ > 0.f)) iridescence_ = 0.f;
+  film_ior_ = p.iridescence_ior;
+  film_thickness_ = p.iridescence_thickness;
+  lambertian_ = metallic_ == 0.f && transmission_ == 0.f && f90_ == 0.f && f0_ == glm::vec3(0.f) &&
+                iridescence_ == 0.f;
   // The layers (materials/gltf_layers.cpp).
   const float coat_roughness = std::clamp(p.clearcoat_roughness, 0.f, 1.f);
   coat_ = {std::clamp(p.clearcoat, 0.f, 1.f),
@@ -120,8 +127,20 @@ glm::vec3 GltfBrdf::base_eval(const glm::vec3& wo, const glm::vec3& wi) const {
 
 GltfBrdf::Fresnel GltfBrdf::fresnel(float cos_theta) const {
   const float m = 1.f - std::clamp(cos_theta, 0.f, 1.f), m2 = m * m, w = m2 * m2 * m;
-  const glm::vec3 fd = f0_ + (f90_ - f0_) * w;
-  return {fd, base_ + (1.f - base_) * w, 1.f - std::max({fd.x, fd.y, fd.z})};
+  glm::vec3 fd = f0_ + (f90_ - f0_) * w, fm = base_ + (1.f - base_) * w;
+  if (iridescence_ > 0.f) add_film(cos_theta, fd, fm);
+  return {fd, fm, 1.f - std::max({fd.x, fd.y, fd.z})};
+}
+
+void GltfBrdf::add_film(float cos_theta, glm::vec3& dielectric, glm::vec3& metal) const {
+  // (Each only where its lobe is there; outside the film is air: the spec ignores a clearcoat.)
+  if (metallic_ < 1.f)
+    dielectric = glm::mix(dielectric,
+                          thin_film_fresnel(cos_theta, 1.f, film_ior_, film_thickness_, f0_),
+                          iridescence_);
+  if (metallic_ > 0.f)
+    metal = glm::mix(metal, thin_film_fresnel(cos_theta, 1.f, film_ior_, film_thickness_, base_),
+                     iridescence_);
 }
 
 GltfBrdf::Lobes GltfBrdf::lobes(const glm::vec3& wo) const {

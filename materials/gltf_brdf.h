@@ -18,6 +18,11 @@
 // along a direction of the tangent plane (materials/anisotropy.h); an isotropic material takes
 // none of it (one branch per lobe evaluation).
 //
+// KHR_materials_iridescence (materials/iridescence.h) puts a thin film on the base: the Fresnel
+// terms of both specular lobes become mix(F, F_film, iridescence), with F_film the film's over a
+// base of the lobe's F0 (the dielectric's F0, or baseColor) at the same cos θ (wo·h); 1 − max F_d,
+// and the lobes' sampling weights, follow. A film of thickness 0 is no film.
+//
 // Layers over that base (each skipped, at no cost, where the material lacks it; a material with
 // neither is exactly the BRDF above):
 //   f = coat + (1 − clearcoat · F_c) · (sheen + (1 − max(sheenColor) · E_sheen) · f_base)
@@ -58,6 +63,9 @@ struct BrdfParams {
   // is zero or not finite).
   float anisotropy = 0.f;
   glm::vec2 anisotropy_direction{1.f, 0.f};
+  float iridescence = 0.f;            // KHR_materials_iridescence: iridescenceFactor
+  float iridescence_ior = 1.3f;       // KHR_materials_iridescence: iridescenceIor
+  float iridescence_thickness = 400.f;  // the film's thickness in nm (0: no film)
 };
 
 class GltfBrdf {
@@ -84,9 +92,9 @@ class GltfBrdf {
   float alpha() const { return alpha_; }
   const glm::vec3& base() const { return base_; }  // baseColor, clamped to [0, 1]
   // True when the BRDF is exactly Lambert's, baseColor / π: not metallic, no transmission, and no
-  // dielectric reflection (F0 = F90 = 0, KHR_materials_specular's specularFactor 0), no coat and
-  // no sheen. eval, pdf and sample then skip the microfacet lobe, which is zero there: the same
-  // values, less work.
+  // dielectric reflection (F0 = F90 = 0, KHR_materials_specular's specularFactor 0, no
+  // iridescence), no coat and no sheen. eval, pdf and sample then skip the microfacet lobe, which
+  // is zero there: the same values, less work.
   bool lambertian() const { return lambertian_ && !layered_; }
   // True when a coat or a sheen lies over the base.
   bool layered() const { return layered_; }
@@ -112,6 +120,8 @@ class GltfBrdf {
     float base;
   };
   Fresnel fresnel(float cos_theta) const;
+  // KHR_materials_iridescence: the thin film's Fresnel mixed into the dielectric's and the metal's.
+  void add_film(float cos_theta, glm::vec3& dielectric, glm::vec3& metal) const;
   // Probabilities of sampling the specular reflection, the diffuse and the transmission lobes
   // when looking from wo (they sum to 1).
   struct Lobes {
@@ -128,6 +138,7 @@ class GltfBrdf {
   float metallic_, alpha_, transmission_;
   glm::vec3 f0_;  // dielectric F0
   float f90_;     // dielectric F90
+  float iridescence_, film_ior_, film_thickness_;  // the thin film (iridescence_ 0: none)
   bool lambertian_;  // the base is Lambert's
   bool layered_;     // a coat or a sheen
   Coat coat_;

@@ -40,6 +40,10 @@ struct Material {
   // direction of increased roughness in the (tangent, bitangent) frame (scene/surface.cpp).
   float anisotropy = 0.f;
   glm::vec2 anisotropy_rotation{1.f, 0.f};
+  float iridescence = 0.f;                     // KHR_materials_iridescence.iridescenceFactor
+  float iridescence_ior = 1.3f;                // iridescenceIor
+  float iridescence_thickness_min = 100.f;     // iridescenceThicknessMinimum (nm)
+  float iridescence_thickness_max = 400.f;     // iridescenceThicknessMaximum (nm)
   // KHR_materials_unlit: the surface emits its base colour (× texture × vertex colour), to every
   // ray, and reflects nothing (`emission` holds baseColorFactor.rgb; brdf() is black).
   bool unlit = false;
@@ -66,6 +70,9 @@ struct Material {
   TextureRef sheen_roughness_texture;      // linear; sheen roughness in .a
   // linear; direction in .rg (× 2 − 1, then rotated), strength in .b (KHR_materials_anisotropy)
   TextureRef anisotropy_texture;
+  TextureRef iridescence_texture;          // linear; iridescence in .r (KHR_materials_iridescence)
+  // linear; .g mixes the film's thickness from minimum to maximum (maximum without it)
+  TextureRef iridescence_thickness_texture;
   float normal_scale = 1.f;
   float clearcoat_normal_scale = 1.f;
 
@@ -73,9 +80,10 @@ struct Material {
   // An anisotropic specular lobe (which needs a tangent frame: scene/surface.cpp).
   bool anisotropic() const { return anisotropy > 0.f && !unlit; }
   // The textures shading reads (null entries for the rest): an emissive texture only when the
-  // emissive factor is not black, the transmission, specular, clearcoat, sheen and anisotropy
-  // ones only when their factors are not 0 (an unlit material reads its base colour only).
-  std::array<const TextureRef*, 13> sampled_textures() const {
+  // emissive factor is not black, the transmission, specular, clearcoat, sheen, anisotropy and
+  // iridescence ones only when their factors are not 0 (an unlit material reads its base colour
+  // only).
+  std::array<const TextureRef*, 15> sampled_textures() const {
     auto when = [](bool used, const TextureRef& t) { return used ? &t : nullptr; };
     const bool lit = !unlit;
     return {&base_color_texture,
@@ -90,7 +98,9 @@ struct Material {
             when(lit && clearcoat > 0.f, clearcoat_normal_texture),
             when(lit && sheen(), sheen_color_texture),
             when(lit && sheen(), sheen_roughness_texture),
-            when(anisotropic(), anisotropy_texture)};
+            when(anisotropic(), anisotropy_texture),
+            when(lit && iridescence > 0.f, iridescence_texture),
+            when(lit && iridescence > 0.f, iridescence_thickness_texture)};
   }
   bool textured() const {
     for (const TextureRef* t : sampled_textures())
@@ -104,10 +114,14 @@ struct Material {
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
   BrdfParams brdf() const {
     if (unlit) return {glm::vec3(0.f), 0.f, 1.f, 1.5f, 0.f, glm::vec3(0.f), 0.f};  // black Lambert
-    return {base_color,   metallic,  roughness,           ior,
-            specular,     specular_color, transmission,   clearcoat,
-            clearcoat_roughness, glm::vec3(0.f, 0.f, 1.f), sheen_color, sheen_roughness,
-            anisotropy};  // (the direction in the shading frame: scene/surface.cpp)
+    BrdfParams p{base_color,   metallic,  roughness,           ior,
+                 specular,     specular_color, transmission,   clearcoat,
+                 clearcoat_roughness, glm::vec3(0.f, 0.f, 1.f), sheen_color, sheen_roughness,
+                 anisotropy};  // (the direction in the shading frame: scene/surface.cpp)
+    p.iridescence = iridescence;
+    p.iridescence_ior = iridescence_ior;
+    p.iridescence_thickness = iridescence_thickness_max;  // (surface_at applies the texture)
+    return p;
   }
   // A Lambertian surface: no metal, no specular layer.
   static Material lambert(const glm::vec3& color) {

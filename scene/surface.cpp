@@ -124,6 +124,15 @@ SurfacePoint surface_at(const Scene& scene, uint32_t tri, float u, float v, cons
     if (m.sheen_roughness_texture)
       s.brdf.sheen_roughness *= lookup(scene, m.sheen_roughness_texture, tri, u, v, false).a;
   }
+  if (m.iridescence > 0.f) {  // KHR_materials_iridescence
+    if (m.iridescence_texture)
+      s.brdf.iridescence *= lookup(scene, m.iridescence_texture, tri, u, v, false).r;
+    if (m.iridescence_thickness_texture) {
+      const float g = lookup(scene, m.iridescence_thickness_texture, tri, u, v, false).g;
+      s.brdf.iridescence_thickness =
+          glm::mix(m.iridescence_thickness_min, m.iridescence_thickness_max, g);
+    }
+  }
   if (m.normal_texture)
     s.normal = normal_mapped(scene, m.normal_texture, m.normal_scale, tri, u, v, s.normal);
   return s;

@@ -1,5 +1,6 @@
 // The material extensions of the BSDF's layers as loaded and shaded: KHR_materials_clearcoat,
-// KHR_materials_sheen, KHR_materials_specular's textures and KHR_materials_unlit reach the
+// KHR_materials_sheen, KHR_materials_iridescence, KHR_materials_specular's textures and
+// KHR_materials_unlit reach the
 // Material (factors, textures with KHR_texture_transform) and surface_at (texture channels, sRGB
 // for colours), and out-of-range values are refused naming the element.
 #include <doctest/doctest.h>
@@ -148,5 +149,81 @@ TEST_CASE("gltf: out-of-range clearcoat and sheen values are refused, naming the
     GltfWriter w = quad_file({{"extensions", b.extensions}});
     add_texture(w, png8(2, 2, 4, kTexels), kNearest);
     check_error(w.write_gltf(dir / "bad.gltf"), {b.pointer});
+  }
+}
+
+TEST_CASE("gltf: KHR_materials_iridescence factors and textures") {
+  TempDir dir("iridescence");
+  GltfWriter w = quad_file(
+      {{"extensions",
+        {{"KHR_materials_iridescence",
+          {{"iridescenceFactor", 0.5},
+           {"iridescenceTexture", {{"index", 0}}},
+           {"iridescenceIor", 1.8},
+           {"iridescenceThicknessMinimum", 150},
+           {"iridescenceThicknessMaximum", 450},
+           {"iridescenceThicknessTexture", {{"index", 1}}}}}}}});
+  w.doc["materials"].push_back({{"extensions", {{"KHR_materials_iridescence", json::object()}}}});
+  w.doc["materials"].push_back(
+      {{"extensions",
+        {{"KHR_materials_iridescence",
+          {{"iridescenceFactor", 1}, {"iridescenceThicknessMaximum", 250}}}}}});
+  add_texture(w, png8(2, 2, 4, kTexels), kNearest);
+  add_texture(w, png8(2, 2, 4, kTexels), kNearest);  // (its own image: both are decoded)
+  const Scene scene = load_gltf(w.write_gltf(dir / "iridescence.gltf"));
+  CHECK(!scene.ignored.any());  // read, so not warned about
+  const Material& m = scene.materials[0];
+  CHECK(m.iridescence == 0.5f);
+  CHECK(m.iridescence_ior == doctest::Approx(1.8f));
+  CHECK(m.iridescence_thickness_min == 150.f);
+  CHECK(m.iridescence_thickness_max == 450.f);
+  CHECK(m.iridescence_texture.texture == 0);
+  CHECK(m.iridescence_thickness_texture.texture == 1);
+  // The defaults: no film (factor 0), IOR 1.3, 100 to 400 nm, and their textures not sampled.
+  const Material& defaults = scene.materials[1];
+  CHECK(defaults.iridescence == 0.f);
+  CHECK(defaults.iridescence_ior == doctest::Approx(1.3f));
+  CHECK(defaults.iridescence_thickness_min == 100.f);
+  CHECK(defaults.iridescence_thickness_max == 400.f);
+  // Without a thickness texture the film is the maximum thick.
+  const BrdfParams untextured = scene.materials[2].brdf();
+  CHECK(untextured.iridescence == 1.f);
+  CHECK(untextured.iridescence_thickness == 250.f);
+  CHECK(untextured.iridescence_ior == doctest::Approx(1.3f));
+
+  // Red (255, 0, 0, 255) at the top left: factor × .r = 0.5, thickness at .g = 0: the minimum.
+  const SurfacePoint red = quad_surface(scene, 0.25f, 0.75f);
+  CHECK(red.brdf.iridescence == doctest::Approx(0.5f));
+  CHECK(red.brdf.iridescence_thickness == doctest::Approx(150.f));
+  CHECK(red.brdf.iridescence_ior == doctest::Approx(1.8f));
+  // Green (0, 255, 0, 128) at the top right: no iridescence, the maximum thickness.
+  const SurfacePoint green = quad_surface(scene, 0.75f, 0.75f);
+  CHECK(green.brdf.iridescence == 0.f);
+  CHECK(green.brdf.iridescence_thickness == doctest::Approx(450.f));
+}
+
+TEST_CASE("gltf: malformed KHR_materials_iridescence values are refused, naming the element") {
+  TempDir dir("iridescence-bad");
+  const char* base = "/materials/0/extensions/KHR_materials_iridescence/";
+  struct Bad {
+    json film;
+    std::string member;
+  };
+  const Bad bad[] = {
+      {{{"iridescenceFactor", 1.5}}, "iridescenceFactor"},
+      {{{"iridescenceFactor", -0.1}}, "iridescenceFactor"},
+      {{{"iridescenceFactor", "1"}}, "iridescenceFactor"},
+      {{{"iridescenceIor", 0.9}}, "iridescenceIor"},
+      {{{"iridescenceThicknessMinimum", -1}}, "iridescenceThicknessMinimum"},
+      {{{"iridescenceThicknessMaximum", -400}}, "iridescenceThicknessMaximum"},
+      {{{"iridescenceTexture", {{"index", 3}}}}, "iridescenceTexture/index"},
+      {{{"iridescenceThicknessTexture", {{"index", -1}}}}, "iridescenceThicknessTexture/index"},
+  };
+  for (const Bad& b : bad) {
+    const std::string pointer = base + b.member;
+    INFO(pointer);
+    GltfWriter w = quad_file({{"extensions", {{"KHR_materials_iridescence", b.film}}}});
+    add_texture(w, png8(2, 2, 4, kTexels), kNearest);
+    check_error(w.write_gltf(dir / "bad.gltf"), {pointer});
   }
 }

@@ -577,6 +577,22 @@ TEST_CASE("gltf schema: every rule, one mutation each") {
        {{"sheenColorTexture", {{"index", 0}, {"texCoord", -1}}}},
        "/materials/1/extensions/KHR_materials_sheen/sheenColorTexture/texCoord: -1 is not an "
        "integer >= 0"},
+      {"/materials/1/extensions/KHR_materials_iridescence",
+       {{"iridescenceFactor", 1.2}},
+       "/materials/1/extensions/KHR_materials_iridescence/iridescenceFactor: 1.2 is not a number "
+       "in [0, 1]"},
+      {"/materials/1/extensions/KHR_materials_iridescence",
+       {{"iridescenceIor", 0.5}},
+       "/materials/1/extensions/KHR_materials_iridescence/iridescenceIor: 0.5 is not a number >= "
+       "1"},
+      {"/materials/1/extensions/KHR_materials_iridescence",
+       {{"iridescenceThicknessMinimum", -10}},
+       "/materials/1/extensions/KHR_materials_iridescence/iridescenceThicknessMinimum: -10 is not "
+       "a number >= 0"},
+      {"/materials/1/extensions/KHR_materials_iridescence",
+       {{"iridescenceThicknessTexture", {{"index", 9}}}},
+       "/materials/1/extensions/KHR_materials_iridescence/iridescenceThicknessTexture/index: 9 is "
+       "not an index"},
       {"/materials/1/extensions/KHR_materials_unlit", 1,
        "/materials/1/extensions/KHR_materials_unlit: 1 is not an object"},
       {"/materials/1/extensions/KHR_materials_volume",

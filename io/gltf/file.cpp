@@ -239,9 +239,10 @@ std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
     const nlohmann::json& clearcoat = member(extensions, "KHR_materials_clearcoat");
     const nlohmann::json& sheen = member(extensions, "KHR_materials_sheen");
     const nlohmann::json& anisotropy = member(extensions, "KHR_materials_anisotropy");
-    // The emissive, transmission, specular, clearcoat, sheen and anisotropy textures are sampled
-    // only where their factors are not 0 (Material::sampled_textures), an unlit material's base
-    // colour only.
+    const nlohmann::json& film = member(extensions, "KHR_materials_iridescence");
+    // The emissive, transmission, specular, clearcoat, sheen, anisotropy and iridescence textures
+    // are sampled only where their factors are not 0 (Material::sampled_textures), an unlit
+    // material's base colour only.
     auto positive = [](const nlohmann::json& f, double fallback) {
       if (f.is_array()) {
         bool any = false;
@@ -257,6 +258,7 @@ std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
     const bool coated = positive(member(clearcoat, "clearcoatFactor"), 0.0);
     const bool sheens = positive(member(sheen, "sheenColorFactor"), 0.0);
     const bool anisotropic = positive(member(anisotropy, "anisotropyStrength"), 0.0);
+    const bool iridescent = positive(member(film, "iridescenceFactor"), 0.0);
     auto when = [&](bool used, const nlohmann::json& o, const char* key) {
       return used && lit ? &member(o, key) : nullptr;
     };
@@ -270,7 +272,9 @@ std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
           when(coated, clearcoat, "clearcoatRoughnessTexture"),
           when(coated, clearcoat, "clearcoatNormalTexture"),
           when(sheens, sheen, "sheenColorTexture"), when(sheens, sheen, "sheenRoughnessTexture"),
-          when(anisotropic, anisotropy, "anisotropyTexture")})
+          when(anisotropic, anisotropy, "anisotropyTexture"),
+          when(iridescent, film, "iridescenceTexture"),
+          when(iridescent, film, "iridescenceThicknessTexture")})
       if (auto texture = slot ? index_at(*slot, "index", textures) : std::nullopt)
         texture_used[*texture] = true;
   }

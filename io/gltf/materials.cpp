@@ -1,9 +1,8 @@
 // glTF materials: the metallic-roughness factors and textures, alpha modes, and the material
 // extensions read here (KHR_materials_anisotropy, _clearcoat, _dispersion, _emissive_strength,
-// _ior, _sheen, _specular, _transmission, _unlit, _volume) with KHR_texture_transform on every
-// textureInfo. The
-// ranges were checked by the schema (io/gltf/schema.cpp); factors are clamped here again for
-// files loaded without it.
+// _ior, _iridescence, _sheen, _specular, _transmission, _unlit, _volume) with KHR_texture_transform
+// on every textureInfo. The ranges were checked by the schema (io/gltf/schema.cpp); factors are
+// clamped here again for files loaded without it.
 #include <algorithm>
 #include <cmath>
 
@@ -140,6 +139,31 @@ void read_volume(const Gltf& gltf, const tinygltf::Material& src, const std::str
   m.dispersion = float(std::min(dispersion, 1e6));
 }
 
+// KHR_materials_iridescence: the film's strength, IOR and thickness range (materials/iridescence.h
+// renders it).
+void read_iridescence(const Gltf& gltf, const tinygltf::Material& src, const std::string& what,
+                      Material& m) {
+  const char* film = "KHR_materials_iridescence";
+  const std::string where = what + ": " + film;
+  auto number = [&](const char* member, double fallback) {
+    return member_number(gltf, src, what, film, member, fallback);
+  };
+  const double factor = number("iridescenceFactor", 0.0);
+  if (!(factor >= 0.0 && factor <= 1.0))
+    gltf.fail(where + ".iridescenceFactor is not a number in [0, 1]");
+  m.iridescence = float(factor);
+  const double ior = number("iridescenceIor", 1.3);
+  if (!(ior >= 1.0)) gltf.fail(where + ".iridescenceIor is not a number >= 1");
+  m.iridescence_ior = float(std::min(ior, 1e6));
+  // (Beyond 10⁵ nm, 100 µm, a film is as good as infinitely thick: its colours average out.)
+  const double thinnest = number("iridescenceThicknessMinimum", 100.0);
+  const double thickest = number("iridescenceThicknessMaximum", 400.0);
+  if (!(thinnest >= 0.0)) gltf.fail(where + ".iridescenceThicknessMinimum is not a number >= 0");
+  if (!(thickest >= 0.0)) gltf.fail(where + ".iridescenceThicknessMaximum is not a number >= 0");
+  m.iridescence_thickness_min = float(std::min(thinnest, 1e5));
+  m.iridescence_thickness_max = float(std::min(thickest, 1e5));
+}
+
 }  // namespace
 
 Material default_material() {
@@ -267,6 +291,10 @@ std::vector<Material> load_materials(const Gltf& gltf) {
                        "(as float)");
     m.anisotropy_rotation = {float(std::cos(rotation)), float(std::sin(rotation))};
     m.anisotropy_texture = ext_texture(anisotropy, "anisotropyTexture");
+    read_iridescence(gltf, src, what, m);
+    m.iridescence_texture = ext_texture("KHR_materials_iridescence", "iridescenceTexture");
+    m.iridescence_thickness_texture =
+        ext_texture("KHR_materials_iridescence", "iridescenceThicknessTexture");
     if (has_member(src, "KHR_materials_specular", "specularColorFactor")) {
       const tinygltf::Value& c =
           src.extensions.at("KHR_materials_specular").Get("specularColorFactor");

@@ -46,7 +46,8 @@ constexpr std::string_view kSupportedExtensions[] = {
     "KHR_draco_mesh_compression", "KHR_lights_punctual",     "KHR_materials_anisotropy",
     "KHR_materials_clearcoat",
     "KHR_materials_dispersion",   "KHR_materials_emissive_strength",
-    "KHR_materials_ior",          "KHR_materials_sheen",     "KHR_materials_specular",
+    "KHR_materials_ior",          "KHR_materials_iridescence",
+    "KHR_materials_sheen",        "KHR_materials_specular",
     "KHR_materials_transmission", "KHR_materials_unlit",     "KHR_materials_variants",
     "KHR_materials_volume",       "KHR_mesh_quantization",   "KHR_texture_transform"};
 
@@ -655,6 +656,16 @@ class Checker {
       number_member(x, p, "anisotropyStrength", kUnit);
       number_member(x, p, "anisotropyRotation", kAnyNumber);
       texture_info(x, p, "anisotropyTexture");
+    });
+    ext("KHR_materials_iridescence", [&](const json& x, const Pointer& p) {
+      number_member(x, p, "iridescenceFactor", kUnit);
+      texture_info(x, p, "iridescenceTexture");
+      if (const json* v = has(x, p, "iridescenceIor"))
+        if (const double ior = number(*v, p / "iridescenceIor", kAnyNumber); !(ior >= 1.0))
+          fail(p / "iridescenceIor", describe(*v) + " is not a number >= 1");
+      number_member(x, p, "iridescenceThicknessMinimum", kNonNegative);
+      number_member(x, p, "iridescenceThicknessMaximum", kNonNegative);
+      texture_info(x, p, "iridescenceThicknessTexture");
     });
     ext("KHR_materials_unlit", [&](const json&, const Pointer&) {});  // an object, no members
     ext("KHR_materials_emissive_strength", [&](const json& x, const Pointer& p) {
