@@ -112,14 +112,20 @@ struct Material {
   // KHR_materials_volume says: no light enters it).
   bool volume() const { return thickness > 0.f && transmission > 0.f && metallic < 1.f; }
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
+  // (One object returned on every path, so that it is built in place: this runs at every hit.)
   BrdfParams brdf() const {
-    if (unlit) return {glm::vec3(0.f), 0.f, 1.f, 1.5f, 0.f, glm::vec3(0.f), 0.f};  // black Lambert
-    BrdfParams p{base_color,   metallic,  roughness,           ior,
-                 specular,     specular_color, transmission,   clearcoat,
-                 clearcoat_roughness, glm::vec3(0.f, 0.f, 1.f), sheen_color, sheen_roughness,
-                 anisotropy};  // (the direction in the shading frame: scene/surface.cpp)
-    p.iridescence = iridescence;
-    p.iridescence_ior = iridescence_ior;
+    BrdfParams p;
+    if (unlit) {  // black Lambert
+      p.base_color = glm::vec3(0.f), p.metallic = 0.f, p.specular = 0.f;
+      p.specular_color = glm::vec3(0.f);
+      return p;
+    }
+    p.base_color = base_color, p.metallic = metallic, p.roughness = roughness, p.ior = ior;
+    p.specular = specular, p.specular_color = specular_color, p.transmission = transmission;
+    p.clearcoat = clearcoat, p.clearcoat_roughness = clearcoat_roughness;
+    p.sheen_color = sheen_color, p.sheen_roughness = sheen_roughness;
+    p.anisotropy = anisotropy;  // (the direction in the shading frame: scene/surface.cpp)
+    p.iridescence = iridescence, p.iridescence_ior = iridescence_ior;
     p.iridescence_thickness = iridescence_thickness_max;  // (surface_at applies the texture)
     return p;
   }
