@@ -255,8 +255,10 @@ int render(const std::vector<std::string>& args) {
   auto frame_time = [&](int frame) { return double(frame) / r.fps; };
   if (r.frames) r.gltf.time = frame_time(frames.front());
   auto t_load = std::chrono::steady_clock::now();
-  const GltfAnimation file(r.scene, r.gltf);
-  Scene scene = file.load();
+  std::optional<GltfAnimation> file(std::in_place, r.scene, r.gltf);
+  Scene scene = file->load();
+  // One frame is never posed again: the file's buffers (as large as the scene's) go now.
+  if (frames.size() == 1) file.reset();
   double load_seconds = seconds_since(t_load);
   for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
   check_outputs(outputs, inputs);
@@ -274,7 +276,7 @@ int render(const std::vector<std::string>& args) {
     double geometry_seconds = load_seconds;
     if (frame != frames.front()) {
       const auto t0 = std::chrono::steady_clock::now();
-      file.pose(frame_time(frame), scene);
+      file->pose(frame_time(frame), scene);
       geometry_seconds = seconds_since(t0);
     }
     const Shot shot = make_shot(scene, s);

@@ -42,7 +42,8 @@ struct Config {
     s << "metallic " << params.metallic << ", roughness " << params.roughness << ", anisotropy "
       << params.anisotropy << " towards (" << params.anisotropy_direction.x << ", "
       << params.anisotropy_direction.y << "), transmission " << params.transmission
-      << ", clearcoat " << params.clearcoat << ", sheen " << params.sheen_color.x << ", θo "
+      << ", clearcoat " << params.clearcoat << ", sheen " << params.sheen_color.x
+      << ", iridescence " << params.iridescence << ", θo "
       << glm::degrees(theta_o) << "°";
     return s.str();
   }
@@ -66,6 +67,11 @@ std::vector<Config> configs() {
   BrdfParams sheen = anisotropic(0.f, 0.5f, 1.f, 0.f);
   sheen.sheen_color = glm::vec3(0.5f), sheen.sheen_roughness = 0.4f;
   c.push_back({sheen, glm::radians(50.f)});
+  // With a thin film too (KHR_materials_iridescence changes the Fresnel terms, and with them
+  // the lobes' sampling weights), over a half-metal.
+  BrdfParams film = anisotropic(0.5f, 0.35f, 0.9f, 1.2f);
+  film.iridescence = 1.f, film.iridescence_ior = 1.8f, film.iridescence_thickness = 300.f;
+  c.push_back({film, glm::radians(35.f)});
   return c;
 }
 
