@@ -40,10 +40,11 @@ SPHERE=(--crop 0.4 0.4 0.6 0.6)
 printf '| scene | dacrt mean R G B | Cycles mean R G B | dacrt / Cycles | sphere: dacrt | sphere: Cycles | sphere: dacrt / Cycles |\n|---|---|---|---|---|---|---|\n'
 for name in "${names[@]}"; do
   scene=$OUT/scenes/$name.gltf
-  "$BIN" render "$scene" --spp "$SPP" --width "$SIZE" --height "$SIZE" --quiet \
+  # Both under a sky of 1, also where the sphere emits (unlit): the default would be black there.
+  "$BIN" render "$scene" --spp "$SPP" --width "$SIZE" --height "$SIZE" --environment 1,1,1 --quiet \
     -o "$OUT/$name.dacrt.exr" 2>"$OUT/$name.dacrt.log"
   "$BLENDER" -b -noaudio --factory-startup --python "$ROOT/tools/cycles-render.py" -- "$scene" \
-    "$OUT/$name.cycles.exr" --spp "$SPP" --width "$SIZE" --height "$SIZE" \
+    "$OUT/$name.cycles.exr" --spp "$SPP" --width "$SIZE" --height "$SIZE" --environment 1,1,1 \
     >"$OUT/$name.cycles.log" 2>&1
   d=$(mean "$OUT/$name.dacrt.exr"); c=$(mean "$OUT/$name.cycles.exr")
   ds=$(mean "${SPHERE[@]}" "$OUT/$name.dacrt.exr"); cs=$(mean "${SPHERE[@]}" "$OUT/$name.cycles.exr")
