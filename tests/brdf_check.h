@@ -32,6 +32,23 @@ inline double brdf_chi2_p_value(const GltfBrdf& sampler, const GltfBrdf& model,
       [&](const glm::vec3& wi) { return model.pdf(wo, wi); }, seed, samples, sub);
 }
 
+// `n` samples from wo: each one's pdf is pdf(wo, wi) and its weight eval · |cos θi| / pdf.
+// Returns how many went below the surface (transmission).
+inline size_t check_sample_weights(const GltfBrdf& brdf, const glm::vec3& wo, Pcg32& rng,
+                                   int n = 2000) {
+  size_t below = 0;
+  for (int k = 0; k < n; ++k) {
+    const auto s = brdf.sample(wo, rng.uniform(), rng.uniform(), rng.uniform());
+    if (!s) continue;
+    below += s->wi.z < 0.f;
+    CHECK(s->pdf == doctest::Approx(brdf.pdf(wo, s->wi)).epsilon(1e-5));
+    const glm::vec3 expected = brdf.eval(wo, s->wi) * std::abs(s->wi.z) / s->pdf;
+    for (int ch = 0; ch < 3; ++ch)
+      CHECK(s->weight[ch] == doctest::Approx(expected[ch]).epsilon(1e-5));
+  }
+  return below;
+}
+
 // Reciprocity f(a, b) = f(b, a) on `pairs` cosine-distributed pairs of directions above the surface
 // (pairs with a cosine at or below `min_cos` skipped), and nothing below it: for BRDFs without
 // transmission.

@@ -211,14 +211,7 @@ TEST_CASE("iridescent BRDF sampling follows its pdf (χ²), weights are eval · 
     CHECK_FALSE(brdf.lambertian());
     const glm::vec3 wo = direction(c.theta_o, 0.3f);
     CHECK(dacrt::test::brdf_chi2_p_value(brdf, brdf, wo, 5000 + k, 400000) > level);
-    for (int n = 0; n < 2000; ++n) {
-      const auto s = brdf.sample(wo, rng.uniform(), rng.uniform(), rng.uniform());
-      if (!s) continue;
-      CHECK(s->pdf == doctest::Approx(brdf.pdf(wo, s->wi)).epsilon(1e-5));
-      const glm::vec3 expected = brdf.eval(wo, s->wi) * std::abs(s->wi.z) / s->pdf;
-      for (int ch = 0; ch < 3; ++ch)
-        CHECK(s->weight[ch] == doctest::Approx(expected[ch]).epsilon(1e-5));
-    }
+    dacrt::test::check_sample_weights(brdf, wo, rng);
   }
 }
 
