@@ -240,7 +240,9 @@ TEST_CASE("render cli: a second SIGINT while the outputs are written ends the pr
     MESSAGE("the stopped render was written before a second signal could be sent");
     CHECK((WIFEXITED(status) && WEXITSTATUS(status) == 130));
   }
-  CHECK(temporaries(dir).empty());
+  const std::vector<std::string> left = temporaries(dir);
+  INFO("writing: " << writing << ", left behind: " << (left.empty() ? "-" : left.front()));
+  CHECK(left.empty());
   if (fs::exists(out)) read_if_whole(out);
 }
 

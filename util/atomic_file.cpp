@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -67,6 +68,7 @@ struct PendingFile {
   void arm(const std::string& path) {
     if (path.size() >= sizeof pending) return;
     std::memcpy(pending, path.c_str(), path.size() + 1);
+    std::atomic_signal_fence(std::memory_order_release);  // the name before the flag
     pending_active = 1;
   }
   ~PendingFile() {
