@@ -438,6 +438,9 @@ int info(const std::vector<std::string>& args) {
   if (ig.sourceless_textures || ig.unknown_lights)
     std::printf("skips      %zu textures without a source image, %zu lights of unknown types\n",
                 ig.sourceless_textures, ig.unknown_lights);
+  if (ig.untangented_anisotropic)
+    std::printf("arbitrary  %zu anisotropic primitives without tangents (no TANGENT, no uvs)\n",
+                ig.untangented_anisotropic);
   if (ig.unmorphed_primitives)
     std::printf("unmorphed  %zu primitives' TEXCOORD or COLOR morph targets (base values kept)\n",
                 ig.unmorphed_primitives);

@@ -78,9 +78,12 @@ struct Scene {
     // Primitives whose morph targets move TEXCOORD_n or COLOR_n (only POSITION, NORMAL and
     // TANGENT are morphed: those attributes keep their base values).
     size_t unmorphed_primitives = 0;
+    // Primitives of an anisotropic material with no tangents (no TANGENT, and no uvs to make
+    // them): their anisotropy follows an arbitrary direction.
+    size_t untangented_anisotropic = 0;
     bool any() const {
       return ktx2_textures || sourceless_textures || unknown_lights || unmorphed_primitives ||
-             !extensions.empty();
+             untangented_anisotropic || !extensions.empty();
     }
     // "KHR_materials_sheen (2 materials), EXT_foo (listed in extensionsUsed)", or "".
     std::string unread_extensions() const;

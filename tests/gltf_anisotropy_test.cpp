@@ -104,6 +104,7 @@ TEST_CASE("gltf: an anisotropic primitive without TANGENT or uvs is warned about
   const std::string text = err.text();
   CHECK(text.find("1 primitives of anisotropic materials have no TANGENT and no TEXCOORD") !=
         std::string::npos);
+  CHECK(scene.ignored.untangented_anisotropic == 1);  // and `dacrt info` lists it
   // An arbitrary direction, but one in the tangent plane.
   const SurfacePoint s = quad_surface(scene, 0.3f, 0.6f);
   CHECK(std::abs(glm::length(s.anisotropy_direction) - 1.f) < 1e-5f);

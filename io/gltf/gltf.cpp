@@ -147,7 +147,8 @@ Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& 
   };
   warn(meshes.skipped_modes(), "point and line primitives");
   warn(meshes.skipped_unpositioned(), "primitives without POSITION");
-  if (const size_t n = meshes.untangented_anisotropic())
+  out.ignored.untangented_anisotropic = meshes.untangented_anisotropic();
+  if (const size_t n = out.ignored.untangented_anisotropic)
     print_message("warning: " + gltf.path + ": " + str(n) +
                   " primitives of anisotropic materials have no TANGENT and no TEXCOORD to make "
                   "tangents from: their anisotropy follows an arbitrary direction");

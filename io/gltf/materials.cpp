@@ -139,6 +139,22 @@ void read_volume(const Gltf& gltf, const tinygltf::Material& src, const std::str
   m.dispersion = float(std::min(dispersion, 1e6));
 }
 
+// KHR_materials_anisotropy: the strength and the rotation (as cos, sin), refused outside the
+// spec's ranges rather than clamped.
+void read_anisotropy(const Gltf& gltf, const tinygltf::Material& src, const std::string& what,
+                     Material& m) {
+  const char* anisotropy = "KHR_materials_anisotropy";
+  const std::string where = what + ": " + anisotropy;
+  const double strength = member_number(gltf, src, what, anisotropy, "anisotropyStrength", 0.0);
+  if (!(strength >= 0.0 && strength <= 1.0))
+    gltf.fail(where + ".anisotropyStrength is not a number in [0, 1]");
+  m.anisotropy = float(strength);
+  const double rotation = member_number(gltf, src, what, anisotropy, "anisotropyRotation", 0.0);
+  if (!as_float(rotation))
+    gltf.fail(where + ".anisotropyRotation is not a finite number (as float)");
+  m.anisotropy_rotation = {float(std::cos(rotation)), float(std::sin(rotation))};
+}
+
 // KHR_materials_iridescence: the film's strength, IOR and thickness range (materials/iridescence.h
 // renders it).
 void read_iridescence(const Gltf& gltf, const tinygltf::Material& src, const std::string& what,
@@ -279,18 +295,8 @@ std::vector<Material> load_materials(const Gltf& gltf) {
     m.sheen_color_texture = ext_texture("KHR_materials_sheen", "sheenColorTexture");
     m.sheen_roughness_texture = ext_texture("KHR_materials_sheen", "sheenRoughnessTexture");
     read_volume(gltf, src, what, m);
-    // KHR_materials_anisotropy: refused outside the spec's ranges rather than clamped.
-    const char* anisotropy = "KHR_materials_anisotropy";
-    const double strength_a = extension_number(anisotropy, "anisotropyStrength", 0.0);
-    if (!(strength_a >= 0.0 && strength_a <= 1.0))
-      gltf.fail(what + ": KHR_materials_anisotropy.anisotropyStrength is not a number in [0, 1]");
-    m.anisotropy = float(strength_a);
-    const double rotation = extension_number(anisotropy, "anisotropyRotation", 0.0);
-    if (!as_float(rotation))
-      gltf.fail(what + ": KHR_materials_anisotropy.anisotropyRotation is not a finite number "
-                       "(as float)");
-    m.anisotropy_rotation = {float(std::cos(rotation)), float(std::sin(rotation))};
-    m.anisotropy_texture = ext_texture(anisotropy, "anisotropyTexture");
+    read_anisotropy(gltf, src, what, m);
+    m.anisotropy_texture = ext_texture("KHR_materials_anisotropy", "anisotropyTexture");
     read_iridescence(gltf, src, what, m);
     m.iridescence_texture = ext_texture("KHR_materials_iridescence", "iridescenceTexture");
     m.iridescence_thickness_texture =
