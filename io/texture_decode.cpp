@@ -242,11 +242,12 @@ class PngDecoder {
     image.height = int(header_.height);
     const size_t samples = 4 * size_t(header_.width) * header_.height;
     unsigned char* out;
+    // Zeroed (Array's resize would not): rows a decoder might leave are black, never stale memory.
     if (header_.wide) {
-      image.rgba16.resize(samples);
+      image.rgba16.assign(samples, 0);
       out = reinterpret_cast<unsigned char*>(image.rgba16.data());
     } else {
-      image.rgba8.resize(samples);
+      image.rgba8.assign(samples, 0);
       out = image.rgba8.data();
     }
     if (!png_finish(r_, out, 4 * size_t(header_.width) * (header_.wide ? 2 : 1))) failed();
@@ -370,7 +371,7 @@ class JpegDecoder {
     TextureImage image;
     image.width = int(header_.width);
     image.height = int(header_.height);
-    image.rgba8.resize(4 * size_t(header_.width) * header_.height);
+    image.rgba8.assign(4 * size_t(header_.width) * header_.height, 0);
     if (!jpeg_finish(r_, image.rgba8.data())) failed();
     if (r_.cinfo.out_color_space == JCS_CMYK) cmyk_to_rgba(image.rgba8, r_.cinfo.saw_Adobe_marker);
     return image;
@@ -379,7 +380,7 @@ class JpegDecoder {
  private:
   // Without a colour profile: R = (1 − C)(1 − K) and so on. Adobe's files store 1 − C (255 is no
   // ink), others C.
-  static void cmyk_to_rgba(std::vector<uint8_t>& texels, bool inverted) {
+  static void cmyk_to_rgba(Array<uint8_t>& texels, bool inverted) {
     for (size_t i = 0; i < texels.size(); i += 4) {
       const unsigned k = inverted ? texels[i + 3] : 255u - texels[i + 3];
       for (size_t c = 0; c < 3; ++c) {
@@ -448,7 +449,7 @@ class WebpDecoder {
     TextureImage image;
     image.width = int(header_.width);
     image.height = int(header_.height);
-    image.rgba8.resize(4 * size_t(header_.width) * header_.height);
+    image.rgba8.assign(4 * size_t(header_.width) * header_.height, 0);
     WebPDecBuffer& out = config_.output;
     out.colorspace = MODE_RGBA;  // not premultiplied (MODE_rgbA)
     out.is_external_memory = 1;

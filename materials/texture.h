@@ -9,13 +9,17 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "util/large_array.h"
+
 namespace dacrt {
 
 // A decoded image: RGBA, row-major from the top-left texel (glTF's uv (0, 0)).
 struct TextureImage {
   int width = 0, height = 0;
-  std::vector<uint8_t> rgba8;    // 8-bit images
-  std::vector<uint16_t> rgba16;  // 16-bit images (PNG); exactly one of the two is filled
+  // Exactly one of the two is filled, on huge pages: lookups land at random points of images of
+  // up to 2^27 texels, which on 4 KiB pages missed the TLB on most texels.
+  Array<uint8_t> rgba8;    // 8-bit images
+  Array<uint16_t> rgba16;  // 16-bit images (PNG)
 
   // Texel (x, y) in [0, 1], sRGB-decoded to linear when `srgb` (alpha never is).
   glm::vec4 texel(int x, int y, bool srgb) const;

@@ -140,7 +140,7 @@ TEST_CASE("render job: the albedo layer is the base colour, times the sRGB-decod
                                        188, 188, 188, 255, 20, 200, 90,  255};
   TextureImage image;
   image.width = image.height = 2;
-  image.rgba8 = texels;
+  image.rgba8.assign(texels.begin(), texels.end());
   scene.images = {image};
   Texture texture;
   texture.nearest = true;

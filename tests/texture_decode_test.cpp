@@ -23,7 +23,8 @@ TEST_CASE("texture images: 8- and 16-bit PNGs and JPEGs decode to RGBA; bad data
                                         png8(2, 1, 3, {10, 20, 30, 40, 50, 60}).size(), "x");
   CHECK(rgb.width == 2);
   CHECK(rgb.height == 1);
-  CHECK(rgb.rgba8 == std::vector<uint8_t>{10, 20, 30, 255, 40, 50, 60, 255});
+  CHECK(std::vector<uint8_t>(rgb.rgba8.begin(), rgb.rgba8.end()) ==
+        std::vector<uint8_t>{10, 20, 30, 255, 40, 50, 60, 255});
 
   const std::vector<unsigned char> wide = png16_rgb(1, 2, {0, 32768, 65535, 1, 2, 3});
   const TextureImage deep = decode_image(wide.data(), wide.size(), "x");

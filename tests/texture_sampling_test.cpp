@@ -16,7 +16,7 @@ namespace {
 TextureImage image2x2() {
   TextureImage image;
   image.width = image.height = 2;
-  image.rgba8 = kTexels;
+  image.rgba8.assign(kTexels.begin(), kTexels.end());
   return image;
 }
 

@@ -4,6 +4,7 @@
 #
 #   blender -b -noaudio --python tools/cycles-render.py -- SCENE.gltf OUT.exr [--spp N]
 #       [--width W --height H] [--seed S] [--max-depth D] [--threads T] [--camera INDEX]
+#       [--look-from X,Y,Z --look-at X,Y,Z --up X,Y,Z --fov DEGREES]
 #       [--environment R,G,B] [--principled]
 #
 # Needs Debian 12's `blender` (3.4) and `python3-numpy` (Blender's glTF importer imports numpy).
@@ -33,7 +34,9 @@
 #   the default scene's nodes), its world transform with scale removed as dacrt removes it,
 #   yfov with a vertical sensor fit (the image's aspect decides the horizontal field, [as dacrt]),
 #   clip start = znear. Size: W x H, or from the camera's aspectRatio with 512 on the longer side
-#   [as dacrt's image_size]. A file without a camera is an error here (dacrt frames the scene).
+#   [as dacrt's image_size]. A file without a camera is an error here (dacrt frames the scene),
+#   unless the camera is given whole as a LookAt: --look-from, --look-at, --up and --fov (vertical,
+#   degrees) together, as `dacrt info` prints them [dacrt's options of the same names, glm::lookAt].
 # - Integrator: CPU, `--spp` samples, PMJ (progressive multi-jitter), seed S, no adaptive
 #   sampling, no denoising, no clamping (direct and indirect 0), light threshold 0, no glossy
 #   filter, caustics on. Bounces: every kind (total, diffuse, glossy, transmission, volume,
@@ -81,18 +84,34 @@ def parse_args():
     p.add_argument("--max-depth", type=int, default=64)
     p.add_argument("--threads", type=int, default=0, help="0: all cores")
     p.add_argument("--camera", type=int, default=0)
+    p.add_argument("--look-from", default=None, help="X,Y,Z (with --look-at, --up and --fov)")
+    p.add_argument("--look-at", default=None, help="X,Y,Z")
+    p.add_argument("--up", default=None, help="X,Y,Z")
+    p.add_argument("--fov", type=float, default=None, help="vertical field of view, degrees")
     p.add_argument("--environment", default=None, help="R,G,B (default: 0 with emitters, else 1)")
     p.add_argument("--principled", action="store_true",
                    help="keep the Principled BSDF for Lambert materials too")
     a = p.parse_args(argv)
     if a.spp < 1 or a.max_depth < 1 or a.threads < 0 or a.width < 0 or a.height < 0:
         p.error("--spp and --max-depth must be >= 1; sizes and --threads >= 0")
-    if a.environment is not None:
+    def triple(name, text):
         try:
-            a.environment = [float(v) for v in a.environment.split(",")]
-            assert len(a.environment) == 3
+            v = [float(c) for c in text.split(",")]
+            assert len(v) == 3 and all(math.isfinite(c) for c in v)
+            return v
         except (ValueError, AssertionError):
-            p.error("--environment wants R,G,B")
+            p.error("--%s wants three finite numbers X,Y,Z" % name)
+    if a.environment is not None:
+        a.environment = triple("environment", a.environment)
+    look = (a.look_from, a.look_at, a.up, a.fov)
+    if any(v is not None for v in look):
+        if any(v is None for v in look):
+            p.error("--look-from, --look-at, --up and --fov go together (as `dacrt info` prints them)")
+        a.look_from = triple("look-from", a.look_from)
+        a.look_at = triple("look-at", a.look_at)
+        a.up = triple("up", a.up)
+        if not 0 < a.fov < 180:
+            p.error("--fov wants degrees in (0, 180)")
     return a
 
 
@@ -155,13 +174,33 @@ def normalize(v):
     return [c / n for c in v] if n > 0 else None
 
 
-def setup_camera(scene, doc, index, width, height):
-    cams = gltf_cameras(doc)
-    if not cams:
-        fail("the scene has no camera (dacrt would frame the scene; give the file a camera)")
-    if not 0 <= index < len(cams):
-        fail("camera %d does not exist (the scene has %d)" % (index, len(cams)))
-    src, world = cams[index]
+def look_at_camera(a):
+    """A perspective glTF camera and its world matrix from the LookAt options (glm::lookAt's frame:
+    the camera looks along -Z, X = up x Z)."""
+    z = normalize([f - t for f, t in zip(a.look_from, a.look_at)])
+    if z is None:
+        fail("--look-at must differ from --look-from")
+    up = a.up
+    x = normalize([up[1] * z[2] - up[2] * z[1], up[2] * z[0] - up[0] * z[2], up[0] * z[1] - up[1] * z[0]])
+    if x is None:
+        fail("--up is parallel to the viewing direction")
+    y = [z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]]
+    world = [[x[i], y[i], z[i], a.look_from[i]] for i in range(3)] + [[0, 0, 0, 1]]
+    return {"type": "perspective", "perspective": {"yfov": math.radians(a.fov), "znear": 1e-6}}, world
+
+
+def setup_camera(scene, doc, a, width, height):
+    index = a.camera
+    if a.look_from is not None:
+        src, world = look_at_camera(a)
+    else:
+        cams = gltf_cameras(doc)
+        if not cams:
+            fail("the scene has no camera (dacrt would frame the scene; give the file a camera, "
+                 "or --look-from, --look-at, --up and --fov from `dacrt info`)")
+        if not 0 <= index < len(cams):
+            fail("camera %d does not exist (the scene has %d)" % (index, len(cams)))
+        src, world = cams[index]
     # Scale and shear removed as dacrt does: keep the viewing axis (Z), then Y.
     z = normalize([world[i][2] for i in range(3)])
     y0 = [world[i][1] for i in range(3)]
@@ -331,7 +370,7 @@ def main():
     for obj in list(scene.objects):  # the file's own cameras: ours replaces them
         if obj.type == "CAMERA":
             obj.hide_render = True
-    width, height = setup_camera(scene, doc, a.camera, a.width, a.height)
+    width, height = setup_camera(scene, doc, a, a.width, a.height)
 
     emitters = False
     used = {slot.material for obj in scene.objects if obj.type == "MESH"
@@ -403,9 +442,11 @@ def main():
     s.color_depth = "32"
     s.exr_codec = "ZIP"
 
-    print("cycles-render: %s, camera %d, %dx%d, %d spp, seed %d, max depth %d (%d bounces), "
+    camera = ("look-from %s" % ",".join("%g" % v for v in a.look_from)) if a.look_from else \
+        "camera %d" % a.camera
+    print("cycles-render: %s, %s, %dx%d, %d spp, seed %d, max depth %d (%d bounces), "
           "%s threads, environment %s, %s" %
-          (a.scene, a.camera, width, height, a.spp, a.seed, a.max_depth, bounces,
+          (a.scene, camera, width, height, a.spp, a.seed, a.max_depth, bounces,
            a.threads or "all", ",".join("%g" % v for v in env),
            "Principled BSDF" if a.principled else "Lambert materials as Diffuse BSDF"),
           file=sys.stderr)

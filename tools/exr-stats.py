@@ -70,20 +70,24 @@ def table(manifest):
                 rows.append((label, spp, (float(ra) + float(rb)) / 2, (float(wa) + float(wb)) / 2,
                              noise, mean))
     first = rows[0]
+    # The figure's reference: Cycles' row when there is one (the peer), else the first.
+    ref = next((r for r in rows if r[0].startswith("Cycles")), first)
     print("| renderer | spp | render s | whole process s | noise | mean R | mean G | mean B "
-          "| mean / %s's (R, G, B, all) | noise² × s / %s's |" % (first[0], first[0]))
+          "| mean / %s's (R, G, B, all) | noise² × s / %s's |" % (first[0], ref[0]))
     print("|---|---|---|---|---|---|---|---|---|---|")
     for label, spp, render_s, whole_s, noise, mean in rows:
         ratio = mean / first[5]
         all_ratio = mean.sum() / first[5].sum()
-        cost = noise * noise * render_s / (first[4] * first[4] * first[2])
+        cost = noise * noise * render_s / (ref[4] * ref[4] * ref[2])
         print("| %s | %s | %.2f | %.2f | %.5f | %.5f | %.5f | %.5f | %.4f, %.4f, %.4f, %.4f | %.2f |"
               % (label, spp, render_s, whole_s, noise, *mean, *ratio, all_ratio, cost))
     print()
     print("render s: the render alone (dacrt: seconds_with_build, the backend's build included; "
-          "Cycles: bpy.ops.render.render, sync and BVH included), the mean of the two seeds. "
+          "Cycles: bpy.ops.render.render, sync and BVH included), the mean of the two seeds "
+          "(each seed's median over the rounds). "
           "noise: RMSE between the two seeds / sqrt 2, linear RGB. noise² × s: the cost of a "
-          "given noise level if noise² falls as 1/time (lower is better).")
+          "given noise level if noise² falls as 1/time (lower is better); over Cycles': the "
+          "fraction of Cycles' time a renderer needs for Cycles' noise.")
 
 
 def main():

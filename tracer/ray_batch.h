@@ -4,52 +4,12 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
-#include <memory>
-#include <new>
 #include <string_view>
-#include <utility>
 #include <vector>
 
-namespace dacrt {
+#include "util/large_array.h"
 
-// An allocator for the large arrays of batches, queues and kernel records:
-// - the elements resize() adds are default-initialised (uninitialised, for the plain types of a
-//   batch) instead of zeroed: batches are written right after they grow, and the path tracer's
-//   queues grow every iteration, where zeroing them first was a memset per ray;
-// - the whole 2 MiB pages inside a block are advised to be backed by huge pages
-//   (madvise(MADV_HUGEPAGE), honoured where transparent huge pages are set to `madvise` or
-//   `always`): first touching a wavefront's state in 4 KiB pages was a quarter of a render here.
-// ::operator new(bytes), with that advice.
-void* allocate_large(size_t bytes);
-template <class T>
-struct UninitializedAllocator : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  UninitializedAllocator() = default;
-  template <class U>
-  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
-  // allocate_large is ::operator new (its alignment) plus the advice, which it gives only where
-  // a whole 2 MiB page lies inside the block.
-  static_assert(alignof(T) <= __STDCPP_DEFAULT_NEW_ALIGNMENT__);
-  T* allocate(size_t n) { return static_cast<T*>(allocate_large(n * sizeof(T))); }
-  void deallocate(T* p, size_t) { ::operator delete(static_cast<void*>(p)); }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    if constexpr (sizeof...(Args) == 0)
-      ::new (static_cast<void*>(p)) U;
-    else
-      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-template <class T, class U>
-bool operator==(const UninitializedAllocator<T>&, const UninitializedAllocator<U>&) {
-  return true;
-}
-// The arrays of batches and queues: a std::vector whose resize() does not zero.
-template <class T>
-using Array = std::vector<T, UninitializedAllocator<T>>;
+namespace dacrt {
 
 enum class RayType : uint8_t { primary, shadow, bounce };
 inline constexpr int ray_type_count = 3;

@@ -1,5 +1,5 @@
-// Large batch arrays on huge pages (see UninitializedAllocator in ray_batch.h).
-#include "tracer/ray_batch.h"
+// Large arrays on huge pages (see UninitializedAllocator in large_array.h).
+#include "util/large_array.h"
 
 #include <sys/mman.h>
 
