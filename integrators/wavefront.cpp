@@ -70,6 +70,7 @@ Wavefront::Wavefront(const Scene& scene, const Shot& shot, Backend& backend,
   // (An anisotropic BRDF turns with the tangent frame: made per hit. Anisotropy over a Lambert
   // base is none, and keeps the Lambert lanes.)
   for (const Material& m : scene.materials) {
+    textured_ |= m.textured();
     const GltfBrdf brdf(m.brdf());
     uniform_brdf_.push_back(m.textured() || !scene.colors.empty() || brdf.anisotropic()
                                 ? std::nullopt
@@ -249,6 +250,12 @@ void Wavefront::draw(const RayBatch& rays, size_t first, size_t lanes,
     pixel[k] = paths_.pixel[path], sample[k] = paths_.sample[path], depth[k] = paths_.depth[path];
   }
   sampler_.numbers(pixel, sample, depth, lanes, dims, out);
+}
+
+void Wavefront::prefetch_textures(const HitBatch& hits, size_t first, size_t end) const {
+  if (!textured_) return;
+  for (size_t i = first; i < std::min(end, hits.size()); ++i)
+    if (hits.hit(i)) prefetch_surface(scene_, hits.prim[i], hits.u[i], hits.v[i]);
 }
 
 Wavefront::Hit Wavefront::hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const {

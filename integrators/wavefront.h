@@ -68,6 +68,10 @@ class Wavefront : public Integrator {
   // first) at its path's current depth. drawn(dims) is their mask, for VertexDraw.
   void draw(const RayBatch& rays, size_t first, size_t lanes, std::span<const Dimension> dims,
             VertexNumbers* out) const;
+  // Asks the cache for the texels that shading the hits among rays [first, end) will read
+  // (scene/surface.h: prefetch_surface): a batch's hits are shaded in ray order, a group of
+  // sampler_lanes while the texels of a group further on arrive. Nothing in untextured scenes.
+  void prefetch_textures(const HitBatch& hits, size_t first, size_t end) const;
   static uint32_t drawn(std::span<const Dimension> dims) {
     uint32_t mask = 0;
     for (const Dimension d : dims) mask |= (dimension_slots[d].pair ? 3u : 1u) << d;
@@ -128,6 +132,7 @@ class Wavefront : public Integrator {
   RenderStats stats_;
   bool first_hits_;  // capture first-hit values: the film or the integrator needs them
   std::vector<std::optional<GltfBrdf>> uniform_brdf_;  // by material (brdf_at)
+  bool textured_ = false;                               // some material reads a texture
 
   Paths paths_;
   Array<uint8_t> ended_;  // by slot: the path ended in this iteration

@@ -72,23 +72,55 @@ glm::vec4 TextureImage::texel(int x, int y, bool srgb) const {
   return c;
 }
 
-glm::vec4 sample(const TextureImage& image, const Texture& texture, glm::vec2 uv, bool srgb) {
+namespace {
+
+// The texels sample() reads at uv: columns xa, xb of rows ya, yb, weighed by (tx, ty); one texel
+// (xa, ya) for a NEAREST texture.
+struct Footprint {
+  int xa, xb, ya, yb;
+  float tx, ty;
+};
+Footprint footprint(const TextureImage& image, const Texture& texture, glm::vec2 uv) {
   const int w = image.width, h = image.height;
   const float x = reduce(uv.x, texture.wrap_s) * float(w);
   const float y = reduce(uv.y, texture.wrap_t) * float(h);
-  if (texture.nearest)
-    return image.texel(wrap_index(int(std::floor(x)), w, texture.wrap_s),
-                       wrap_index(int(std::floor(y)), h, texture.wrap_t), srgb);
+  if (texture.nearest) {
+    const int xa = wrap_index(int(std::floor(x)), w, texture.wrap_s);
+    const int ya = wrap_index(int(std::floor(y)), h, texture.wrap_t);
+    return {xa, xa, ya, ya, 0.f, 0.f};
+  }
   // Bilinear between the four texel centres around (x, y); texel i's centre is at i + 0.5.
   const float fx = x - 0.5f, fy = y - 0.5f;
   const float x0 = std::floor(fx), y0 = std::floor(fy);
-  const float tx = fx - x0, ty = fy - y0;
   const int ix = int(x0), iy = int(y0);
-  const int xa = wrap_index(ix, w, texture.wrap_s), xb = wrap_index(ix + 1, w, texture.wrap_s);
-  const int ya = wrap_index(iy, h, texture.wrap_t), yb = wrap_index(iy + 1, h, texture.wrap_t);
-  const glm::vec4 top = glm::mix(image.texel(xa, ya, srgb), image.texel(xb, ya, srgb), tx);
-  const glm::vec4 bottom = glm::mix(image.texel(xa, yb, srgb), image.texel(xb, yb, srgb), tx);
-  return glm::mix(top, bottom, ty);
+  return {wrap_index(ix, w, texture.wrap_s), wrap_index(ix + 1, w, texture.wrap_s),
+          wrap_index(iy, h, texture.wrap_t), wrap_index(iy + 1, h, texture.wrap_t), fx - x0,
+          fy - y0};
+}
+
+}  // namespace
+
+glm::vec4 sample(const TextureImage& image, const Texture& texture, glm::vec2 uv, bool srgb) {
+  const Footprint f = footprint(image, texture, uv);
+  if (texture.nearest) return image.texel(f.xa, f.ya, srgb);
+  const glm::vec4 top = glm::mix(image.texel(f.xa, f.ya, srgb), image.texel(f.xb, f.ya, srgb), f.tx);
+  const glm::vec4 bottom =
+      glm::mix(image.texel(f.xa, f.yb, srgb), image.texel(f.xb, f.yb, srgb), f.tx);
+  return glm::mix(top, bottom, f.ty);
+}
+
+void prefetch(const TextureImage& image, const Texture& texture, glm::vec2 uv) {
+  const Footprint f = footprint(image, texture, uv);
+  const size_t w = size_t(image.width);
+  const size_t a = 4 * (size_t(f.ya) * w + size_t(f.xa)), b = 4 * (size_t(f.yb) * w + size_t(f.xa));
+  // Each row's first texel: its neighbour is on the same cache line but where the row crosses one.
+  if (!image.rgba8.empty()) {
+    __builtin_prefetch(&image.rgba8[a]);
+    __builtin_prefetch(&image.rgba8[b]);
+  } else {
+    __builtin_prefetch(&image.rgba16[a]);
+    __builtin_prefetch(&image.rgba16[b]);
+  }
 }
 
 }  // namespace dacrt

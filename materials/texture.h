@@ -49,6 +49,10 @@ struct TextureRef {
 // The filtered value at uv (glTF convention: u right, v down, (0, 0) the image's top-left corner).
 glm::vec4 sample(const TextureImage& image, const Texture& texture, glm::vec2 uv, bool srgb);
 
+// Asks the cache for the texels sample() would read at uv, without waiting for them: shading
+// calls it for the hits it shades next (textures of tens of MiB miss the cache at every lookup).
+void prefetch(const TextureImage& image, const Texture& texture, glm::vec2 uv);
+
 // sRGB transfer function, decoding (IEC 61966-2-1).
 float srgb_to_linear(float c);
 

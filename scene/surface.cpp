@@ -159,6 +159,15 @@ float coverage_at(const Scene& scene, uint32_t tri, float u, float v) {
   return 1.f;
 }
 
+void prefetch_surface(const Scene& scene, uint32_t tri, float u, float v) {
+  const Material& m = scene.materials[scene.geometry.material[tri]];
+  for (const TextureRef* ref : m.sampled_textures()) {
+    if (!ref || !*ref) continue;
+    const Texture& t = scene.textures[size_t(ref->texture)];
+    prefetch(scene.images[t.image], t, ref->apply(texcoord(scene, tri, ref->texcoord, u, v)));
+  }
+}
+
 glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
   glm::vec3 e = m.emission;

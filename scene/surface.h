@@ -40,6 +40,9 @@ float alpha_at(const Scene& scene, uint32_t tri, float u, float v);
 // next-event estimation weighs an emitter's light by it.
 float coverage_at(const Scene& scene, uint32_t tri, float u, float v);
 
+// Asks the cache for the texels surface_at would read there (materials/texture.h: prefetch).
+void prefetch_surface(const Scene& scene, uint32_t tri, float u, float v);
+
 // Just the emitted radiance there (what next-event estimation needs of a light sample).
 glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v);
 
