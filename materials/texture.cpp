@@ -17,6 +17,7 @@ const std::array<float, 256>& srgb_table() {
 
 // Reduces a texture coordinate (in texels, already wrapped into a small range) to a texel index.
 int wrap_index(int i, int n, Wrap mode) {
+  if (unsigned(i) < unsigned(n)) return i;  // inside: every mode keeps it (no division)
   switch (mode) {
     case Wrap::clamp:
       return i < 0 ? 0 : (i >= n ? n - 1 : i);

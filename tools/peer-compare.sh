@@ -51,7 +51,7 @@ if [ "$1" = --view ]; then
   set -- ${views[$VIEW]} "$@"
 fi
 SCENE=$1; shift
-SPP=64; DEPTH=64; THREADS=2; ROUNDS=1; size=(); camera=(); env=()
+SPP=64; DEPTH=64; THREADS=2; ROUNDS=1; size=(); camera=(); cycles_camera=(); env=()
 while [ $# -gt 0 ]; do
   [ $# -ge 2 ] || usage
   case $1 in
@@ -60,7 +60,7 @@ while [ $# -gt 0 ]; do
     --max-depth) DEPTH=$2 ;;
     --threads) THREADS=$2 ;;
     --rounds) ROUNDS=$2 ;;
-    --look-from|--look-at|--up|--fov) camera+=("$1" "$2") ;;
+    --look-from|--look-at|--up|--fov) camera+=("$1" "$2"); cycles_camera+=("$1=$2") ;;  # (argparse: -0.1 is a value)
     --environment) env=("$1" "$2") ;;
     *) usage ;;
   esac
@@ -89,7 +89,7 @@ blender_py() {  # SCRIPT ARGS...: Blender in the background, its Python's output
 }
 declare -A render_s whole_s
 sizes=${size[*]:-}; [ -n "$sizes" ] || sizes="the camera's size"
-echo "peer-compare: $SCENE, $SPP spp, $sizes, ${camera[*]:-the file's camera}, ${env[*]:-default sky}," \
+echo "peer-compare: $SCENE, $SPP spp, $sizes, ${camera[*]:-the camera in the file}, ${env[*]:-default sky}," \
      "depth $DEPTH, $THREADS threads, $ROUNDS round(s); in $OUT" >&2
 echo "dacrt: $BIN ($(git -C "$ROOT" describe --always --dirty 2>/dev/null || echo '?'))${BEFORE:+; before: $BEFORE}"
 echo "load before: $(uptime)"
@@ -102,7 +102,7 @@ for round in $(seq "$ROUNDS"); do
       echo "peer-compare: round $round, $r, seed $seed" >&2
       t0=$(now)
       if [ "$r" = cycles ]; then
-        blender_py cycles-render.py "$SCENE" "$exr" --spp "$SPP" "${size[@]}" "${camera[@]}" "${env[@]}" \
+        blender_py cycles-render.py "$SCENE" "$exr" --spp "$SPP" "${size[@]}" "${cycles_camera[@]}" "${env[@]}" \
           --seed "$seed" --max-depth "$DEPTH" --threads "$THREADS" > "$OUT/$r.$seed.log" 2>&1 ||
           { echo "peer-compare: Cycles failed, see $OUT/$r.$seed.log:" >&2; tail -5 "$OUT/$r.$seed.log" >&2; exit 1; }
         t1=$(now)
