@@ -114,6 +114,8 @@ Light transport
   --environment R,G,B        uniform environment radiance (default 0, or 1 when the scene has no emitters)
   --environment FILE.exr     an equirectangular environment map (+Y up, image centre towards -Z),
                              importance-sampled
+  --sample-environment MODE  next-event estimation of a uniform environment, with MIS: auto
+                             (default: where a pilot finds a quarter of bounce rays escaping), on, off
   --seed S                   random seed (default 0)
   --sampler NAME             sobol (default: Owen-scrambled Sobol, stratified in each pair of
                              dimensions), independent (a hash per number: white noise)
@@ -487,7 +489,8 @@ int info(const std::vector<std::string>& args) {
     if (yes) skips += (skips.empty() ? "" : "; ") + std::string(what);
   };
   skip(!emissive_triangles && scene.lights.empty(),
-       "shadow rays (no emitters and no lights; an --environment FILE.exr map brings them back)");
+       "shadow rays (no emitters and no lights; an environment brings them back where it is "
+       "sampled: --environment FILE.exr, or a uniform one in an open scene)");
   for (const std::string& what : scene.unused_work()) skip(true, what.c_str());
   std::printf("skips      %s\n", skips.empty() ? "nothing" : skips.c_str());
   return 0;

@@ -170,6 +170,17 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
       r.settings.environment_file = v, r.settings.environment.reset();
     else
       r.settings.environment = parse_rgb(a, v), r.settings.environment_file.clear();
+  } else if (a == "--sample-environment") {
+    using Mode = RenderSettings::EnvironmentSampling;
+    const std::string v = value();
+    if (v == "auto")
+      r.settings.sample_environment = Mode::automatic;
+    else if (v == "on")
+      r.settings.sample_environment = Mode::on;
+    else if (v == "off")
+      r.settings.sample_environment = Mode::off;
+    else
+      throw UsageError("--sample-environment wants auto, on or off, not '" + v + "'");
   } else if (a == "--point-light") {
     const std::string v = value();
     const size_t eq = v.find('=');

@@ -41,6 +41,11 @@ struct RenderSettings {
   std::string environment_file;          // an equirectangular .exr map instead
   std::shared_ptr<const EnvironmentMap> environment_map;  // or a map made already (the library)
   std::vector<PunctualLight> lights;     // added to the scene's (--point-light)
+  // Next-event estimation of a uniform environment (the path tracer): as a constant map, with
+  // MIS against BSDF sampling. automatic: where the scene is open to the sky (a deterministic
+  // pilot of bounce rays from the camera's first hits, integrators/path.cpp).
+  enum class EnvironmentSampling : uint8_t { automatic, on, off };
+  EnvironmentSampling sample_environment = EnvironmentSampling::automatic;
   // The samples.
   int spp = 64;
   int max_depth = 64;      // scattering events per path; Russian roulette ends most earlier

@@ -14,18 +14,95 @@
 #include <tbb/parallel_for.h>
 
 #include <bit>
+#include <cmath>
+#include <memory>
+#include <string>
 
 #include "materials/sampling.h"
 #include "scene/surface.h"
 #include "tracer/ray.h"
 
 namespace dacrt {
+namespace {
+
+// The share of bounce rays from the camera's first hits that escape to the environment: a pilot
+// of 32 × 32 camera rays through pixel centres and one cosine-weighted bounce from each hit
+// (a Fibonacci lattice of numbers, so the same every render). Next-event estimation of a uniform sky pays
+// where much of it is seen from the surfaces: on the DamagedHelmet under a sky of 1 (384², 32
+// spp) it cut noise² by 0.73x for 1.16x the time, while inside the Sponza atrium, lit through its
+// roof, the shadow rays were mostly blocked (noise² 0.78x for 1.7x the time).
+double escaping_share(const Geometry& g, const Shot& shot, Backend& backend) {
+  constexpr int grid = 32;
+  RayBatch rays;
+  rays.type = RayType::primary;
+  for (int j = 0; j < grid; ++j)
+    for (int i = 0; i < grid; ++i) {
+      glm::vec3 o, d;
+      const float x = (float(i) + 0.5f) * float(shot.width) / grid;
+      const float y = (float(j) + 0.5f) * float(shot.height) / grid;
+      const float tmin = camera_ray(shot.camera, shot.width, shot.height, x, y, o, d);
+      rays.push(o, d, tmin, INFINITY, uint32_t(rays.size()));
+    }
+  HitBatch hits;
+  hits.resize(rays.size());
+  backend.intersect(rays, hits);
+  RayBatch bounces;
+  bounces.type = RayType::bounce;
+  for (size_t k = 0; k < rays.size(); ++k) {
+    if (!hits.hit(k)) continue;
+    const uint32_t tri = hits.prim[k];
+    const SpawnPoint at = spawn_point(g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2),
+                                      hits.u[k], hits.v[k]);
+    glm::vec3 n = g.unit_normal(tri);
+    if (glm::dot(n, rays.direction(k)) > 0.f) n = -n;
+    const float u1 = (float(bounces.size()) + 0.5f) / float(rays.size());
+    const float u2 = float(std::fmod(double(bounces.size()) * 0.6180339887498949, 1.0));
+    const glm::vec3 d = Frame(n).to_world(sample_cosine_hemisphere(u1, u2));
+    bounces.push(offset_ray_origin(at, n), d, 0.f, INFINITY, uint32_t(k));
+  }
+  if (bounces.size() == 0) return 1.0;  // nothing is hit: the sky is all there is
+  hits.resize(bounces.size());
+  backend.intersect(bounces, hits);
+  size_t escaped = 0;
+  for (size_t k = 0; k < bounces.size(); ++k) escaped += !hits.hit(k);
+  return double(escaped) / double(bounces.size());
+}
+
+// The constant map that samples a uniform environment as a light, or null where it is not
+// sampled (black, a map given already, or `automatic` and the pilot finds the scene closed).
+std::unique_ptr<const EnvironmentMap> uniform_environment(const Scene& scene, const Shot& shot,
+                                                          Backend& backend,
+                                                          const RenderSettings& s,
+                                                          RenderStats& stats) {
+  using Mode = RenderSettings::EnvironmentSampling;
+  const glm::vec3 e = shot.environment;
+  if (shot.environment_map || s.sample_environment == Mode::off || !(e.x + e.y + e.z > 0.f))
+    return nullptr;
+  if (s.sample_environment == Mode::automatic) {
+    constexpr double open = 0.25;
+    const double share = escaping_share(scene.geometry, shot, backend);
+    if (share < open) {
+      stats.skipped.push_back("environment light samples (" +
+                              std::to_string(int(std::lround(100 * share))) +
+                              " % of pilot bounce rays escape; --sample-environment on)");
+      return nullptr;
+    }
+  }
+  // 16 × 8 pixels: rows weighed by their solid angle, so directions are uniform on the sphere.
+  Image image(16, 8);
+  for (size_t k = 0; k < image.rgb.size(); k += 3)
+    image.rgb[k] = e.x, image.rgb[k + 1] = e.y, image.rgb[k + 2] = e.z;
+  return std::make_unique<const EnvironmentMap>(std::move(image), "the uniform environment");
+}
+
+}  // namespace
 
 PathTracer::PathTracer(const Scene& scene, const Shot& shot, Backend& backend,
                        const RenderSettings& settings)
     : Wavefront(scene, shot, backend, settings),
+      uniform_map_(uniform_environment(scene, shot_, backend, settings, stats_)),
       map_(shot_.environment_map && !shot_.environment_map->black() ? shot_.environment_map.get()
-                                                                    : nullptr),
+                                                                    : uniform_map_.get()),
       lights_(scene, shot_.lights, map_),
       media_(scene.materials) {
   if (lights_.empty())
@@ -174,9 +251,9 @@ void PathTracer::attenuate(const RayBatch& rays, const HitBatch& hits, uint32_t 
 void PathTracer::escaped(const RayBatch& rays, uint32_t i) {
   const uint32_t path = rays.path[i];
   ended_[path] = 1;
-  if (!shot_.environment_map) {
-    paths_.radiance[path] += paths_.throughput[path] * shot_.environment;
-  } else if (map_) {
+  if (!map_) {
+    paths_.radiance[path] += paths_.throughput[path] * shot_.environment;  // (0 under a black map)
+  } else {
     // Also reachable by next-event estimation, after the first bounce: MIS.
     const glm::vec3 d = rays.direction(i);
     const float weight =

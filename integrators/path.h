@@ -26,6 +26,9 @@ class PathTracer final : public Wavefront {
   // Russian roulette keeps a path with probability min(1, max(β) / roulette_floor) (survives).
   static constexpr float roulette_floor = 0.5f;
 
+  // A uniform environment sampled as a light (RenderSettings::sample_environment): a constant
+  // map standing for it, made before map_ (null: not sampled).
+  const std::unique_ptr<const EnvironmentMap> uniform_map_;
   const EnvironmentMap* map_;  // null: uniform (or black) environment, reached by BSDF sampling
   const LightSampling lights_;
   bool emitters_ = false;  // any emissive material: the emitted stage runs

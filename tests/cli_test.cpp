@@ -183,13 +183,26 @@ TEST_CASE("cli: a white sphere under --environment 1,1,1 renders 1 everywhere") 
   w.add_triangles(positions, {{"material", 0}});
   w.write_glb(dir / "sphere.glb");
   Run r = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "sphere.exr") +
-                       " --environment 1,1,1 --width 16 --height 16 --spp 4 --quiet");
+                       " --environment 1,1,1 --sample-environment off --width 16 --height 16"
+                       " --spp 4 --quiet");
   INFO(r.err);
   REQUIRE(r.code == 0);
   Image img = read_exr(dir / "sphere.exr");
   size_t off = 0;
   for (float v : img.rgb) off += std::abs(v - 1.f) > 1e-5f;
-  CHECK(off == 0);
+  CHECK(off == 0);  // BSDF sampling alone: every sample is 1
+  // Sampled as a light (the default here, an open scene), 1 on average only.
+  Run nee = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "nee.exr") +
+                         " --environment 1,1,1 --width 16 --height 16 --spp 4 --quiet");
+  REQUIRE(nee.code == 0);
+  off = 0;
+  for (float v : read_exr(dir / "nee.exr").rgb) off += std::abs(v - 1.f) > 1e-5f;
+  CHECK(off > 0);
+  Run bad = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "bad.exr") +
+                         " --sample-environment sometimes --quiet");
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("--sample-environment wants auto, on or off, not 'sometimes'") !=
+        std::string::npos);
   // The same furnace with --environment FILE.exr holding 1 everywhere: sampled, so 1 on average.
   Image sky(16, 8);
   std::fill(sky.rgb.begin(), sky.rgb.end(), 1.f);
