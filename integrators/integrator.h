@@ -17,6 +17,7 @@
 
 #include "film/film.h"
 #include "integrators/sampler.h"
+#include "integrators/sample_order.h"
 #include "scene/camera.h"
 #include "scene/shot.h"
 #include "scene/scene.h"
@@ -114,10 +115,13 @@ class Integrator {
   // starts; the paths in flight finish, so every sample begun reaches the film. Progress counts
   // the samples finished over all calls.
   // Returns the samples taken: (last − first) × pixels unless stopped, else the first that many
-  // in pixel order within each sample index (sample first for every pixel, then first + 1…).
+  // in the call's sample_order().
   virtual uint64_t render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
                           Progress& progress) = 0;
   virtual const RenderStats& stats() const = 0;
+  // The order of render(first, last)'s samples (integrators/sample_order.h), from which RenderJob
+  // knows the samples every pixel has after a stop.
+  virtual SampleOrder sample_order(uint32_t first, uint32_t last) const = 0;
 
   using Factory = std::function<std::unique_ptr<Integrator>(const Scene&, const Shot&, Backend&,
                                                              const RenderSettings&)>;

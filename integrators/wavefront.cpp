@@ -4,6 +4,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <chrono>
+#include <numeric>
 
 #include "materials/sampling.h"
 #include "tracer/ray.h"
@@ -77,6 +78,18 @@ Wavefront::Wavefront(const Scene& scene, const Shot& shot, Backend& backend,
                                 : std::optional<GltfBrdf>(brdf));
   }
   for (std::string& what : scene.unused_work()) stats_.skipped.push_back(std::move(what));
+  if (textured_) {
+    order_pixels_ = SampleOrder::tiled(uint32_t(shot.width), uint32_t(shot.height));
+  } else {
+    order_pixels_.resize(shot.pixels());
+    std::iota(order_pixels_.begin(), order_pixels_.end(), 0u);
+  }
+}
+
+SampleOrder Wavefront::sample_order(uint32_t first, uint32_t last) const {
+  const uint64_t pixels = shot_.pixels();
+  return {pixels, first, std::max(first, last) - first,
+          textured_ ? SampleOrder::tiled_group : std::max<uint64_t>(pixels, 1)};
 }
 
 Wavefront::~Wavefront() = default;
@@ -89,6 +102,8 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std:
     throw Error("the film has " + std::to_string(film.pixels()) + " pixels, the render " +
                 std::to_string(pixels));
   const uint64_t begin = uint64_t(first) * pixels, end = uint64_t(std::max(first, last)) * pixels;
+  order_ = sample_order(first, last);
+  begin_id_ = begin;
   const size_t slots = resolve_wavefront(s_, end - begin);
   stats_.wavefront = std::max<uint64_t>(stats_.wavefront, slots);
   paths_.resize(slots, first_hits_);
@@ -124,10 +139,9 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std:
   return next_id - begin;
 }
 
-// Stage 1: new camera samples, in sample order, take the free slots. Returns how many.
+// Stage 1: new camera samples, in the call's SampleOrder, take the free slots. Returns how many.
 size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
   const size_t n = size_t(std::min<uint64_t>(free_.size(), end_id - first_id));
-  const uint64_t pixels = shot_.pixels();
   const Camera& camera = shot_.camera;
   const uint32_t width = uint32_t(shot_.width);
   camera_.type = RayType::primary;
@@ -137,11 +151,12 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](auto range) {
     uint32_t pixel[sampler_lanes], sample[sampler_lanes], depth[sampler_lanes] = {};
     VertexNumbers numbers[sampler_lanes];
+    SampleOrder::Cursor at(order_, first_id + range.begin() - begin_id_);
     for (size_t first = range.begin(); first < range.end(); first += sampler_lanes) {
       const size_t lanes = std::min(sampler_lanes, range.end() - first);
-      for (size_t k = 0; k < lanes; ++k) {
-        const uint64_t id = first_id + first + k;
-        pixel[k] = uint32_t(id % pixels), sample[k] = uint32_t(id / pixels);
+      for (size_t k = 0; k < lanes; ++k, ++at) {
+        const auto [index, s] = *at;
+        pixel[k] = order_pixels_[index], sample[k] = s;
       }
       sampler_.numbers(pixel, sample, depth, lanes, jitter, numbers);
       for (size_t k = 0; k < lanes; ++k) {

@@ -35,6 +35,7 @@ class Wavefront : public Integrator {
   ~Wavefront() override;
 
   const RenderStats& stats() const override { return stats_; }
+  SampleOrder sample_order(uint32_t first, uint32_t last) const override;
   uint64_t render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
                   Progress& progress) override;
 
@@ -146,6 +147,9 @@ class Wavefront : public Integrator {
   class AlphaFilter;
 
   size_t camera_rays(uint64_t first_id, uint64_t end_id);
+  std::vector<uint32_t> order_pixels_;  // the image's pixels in sample_order()'s order
+  SampleOrder order_;            // the render call's
+  uint64_t begin_id_ = 0;        // its first sample id
   void intersect_and_shade();
   void append(RayBatch& to, const RayBatch& from);
   void trace(const RayBatch& rays, HitBatch& hits, size_t camera);

@@ -105,16 +105,15 @@ RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress
                              const PassOptions& options, const Checkpoint& checkpoint) {
   const auto start = Clock::now();
   auto last_checkpoint = start;
-  const uint64_t pixels = shot_.pixels();
   const uint32_t pass = pass_size(options);
   RenderOutcome out;
   out.first = out.complete = out.most = first;
   while (out.complete < last) {
     const uint32_t end = uint32_t(std::min<uint64_t>(uint64_t(out.complete) + pass, last));
     const uint64_t taken = integrator_->render(film, out.complete, end, options.stop, progress);
-    const uint32_t whole = uint32_t(taken / pixels);
-    out.most = out.complete + whole + (taken % pixels ? 1 : 0);
-    out.complete += whole;
+    const auto [fewest, most] = integrator_->sample_order(out.complete, end).counts(taken);
+    out.most = out.complete + most;
+    out.complete += fewest;
     out.seconds = seconds_since(start);
     if (out.complete < end) {  // the stop token cut the pass short
       out.stopped = true;

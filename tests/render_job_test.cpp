@@ -12,6 +12,7 @@
 #include <limits>
 #include <map>
 
+#include "integrators/sample_order.h"
 #include "test_geometry.h"
 
 using namespace dacrt;
@@ -479,7 +480,8 @@ TEST_CASE("render job: passes end at a time limit, a stop token, or a stop from 
     CHECK(out.complete < 6u);
     CHECK(film.min_count() >= out.complete - out.first);
     CHECK(film.max_count() <= out.most - out.first);
-    // The first pixels have one sample more than the rest, and every sample begun is there.
+    // An untextured scene's samples go sample by sample (integrators/sample_order.h): the
+    // first pixels have one sample more than the rest, and every sample begun is there.
     uint64_t total = 0;
     for (size_t p = 0; p < film.pixels(); ++p) {
       total += film.count(p);
@@ -487,6 +489,43 @@ TEST_CASE("render job: passes end at a time limit, a stop token, or a stop from 
     }
     CHECK(total == job.stats().paths);
     CHECK(total > uint64_t(out.complete - out.first) * film.pixels());
+  }
+}
+
+TEST_CASE("sample order: every sample of the call once, pixels by tiles, and the counts a stop leaves") {
+  // Images whose pixels fill whole groups of 64 or not, one tile or many.
+  for (const auto& [w, h] : {std::pair{8u, 8u}, {16u, 16u}, {13u, 7u}, {40u, 3u}, {1u, 1u}}) {
+    const std::vector<uint32_t> tiled = SampleOrder::tiled(w, h);
+    REQUIRE(tiled.size() == size_t(w) * h);
+    std::vector<uint32_t> seen(tiled.size(), 0);
+    for (uint32_t p : tiled) ++seen[p];
+    CHECK(std::count(seen.begin(), seen.end(), 1u) == long(seen.size()));  // a permutation
+    // The first tile's first row, then its second: (0, 0), (1, 0)… (0, 1).
+    if (w >= 8 && h >= 2) CHECK(tiled[8] == w);
+    for (uint32_t samples : {1u, 3u, 5u}) {
+      INFO(w << " x " << h << ", " << samples << " samples");
+      const SampleOrder order{tiled.size(), 7, samples};
+      std::vector<uint32_t> count(tiled.size(), 0), next(tiled.size(), 7);
+      bool in_order = true;
+      SampleOrder::Cursor cursor(order, 0);
+      for (uint64_t k = 0; k < tiled.size() * samples; ++k, ++cursor) {
+        const auto [index, sample] = order.at(k);
+        CHECK(*cursor == order.at(k));
+        CHECK(*SampleOrder::Cursor(order, k) == order.at(k));
+        REQUIRE(index < tiled.size());
+        in_order &= sample == next[index]++;  // each pixel's samples in turn, from first on
+        ++count[index];
+        // After k + 1 samples, the fewest and most any pixel has, as counts() says.
+        const auto [fewest, most] = order.counts(k + 1);
+        CHECK(fewest == *std::min_element(count.begin(), count.end()));
+        CHECK(most == *std::max_element(count.begin(), count.end()));
+        // A pixel's samples come together: at most one group of pixels is part-way through.
+        CHECK(index / order.group == k / (order.group * samples));
+      }
+      CHECK(in_order);
+      CHECK(std::count(count.begin(), count.end(), samples) == long(count.size()));
+      CHECK(order.counts(0) == std::pair{0u, 0u});
+    }
   }
 }
 
