@@ -23,9 +23,11 @@ struct DacrtParams {
   int leaf_triangles = 16;  // a node with at most this many triangles is a leaf
   // A node with at most leaf_rays rays is a leaf if its leaf_rays × triangles tests stay under
   // leaf_work: with few rays and many triangles, splitting (O(triangles)) is far cheaper than a
-  // leaf (O(rays × triangles)).
-  int leaf_rays = 16;
-  int leaf_work = 256;
+  // leaf (O(rays × triangles)). Below the kept top (nodes of under top_triangles) a split costs
+  // its binning, partition and filters whatever its rays: with 32 rays and up to 32 triangles a
+  // leaf is cheaper (the dragon, 384², 16 spp: 0.92× the render time of 16 and 256).
+  int leaf_rays = 32;
+  int leaf_work = 1024;
   // The cost C compares a split with its children as leaves; when rays start inside a node (a
   // camera in a room), α is 1 on both sides and no split looks cheaper than a leaf. Nodes with
   // more triangles than this split anyway, by the cheapest candidate.
