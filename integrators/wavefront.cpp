@@ -80,13 +80,15 @@ Wavefront::Wavefront(const Scene& scene, const Shot& shot, Backend& backend,
 
 Wavefront::~Wavefront() = default;
 
-uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
+uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last,
+                           std::span<const uint32_t> only, const std::atomic<bool>* stop,
                            Progress& progress) {
   const auto start_time = Clock::now();
-  const uint64_t pixels = shot_.pixels();
-  if (film.pixels() != pixels)
+  if (film.pixels() != shot_.pixels())
     throw Error("the film has " + std::to_string(film.pixels()) + " pixels, the render " +
-                std::to_string(pixels));
+                std::to_string(shot_.pixels()));
+  only_ = only;
+  const uint64_t pixels = only.empty() ? shot_.pixels() : only.size();
   const uint64_t begin = uint64_t(first) * pixels, end = uint64_t(std::max(first, last)) * pixels;
   const size_t slots = resolve_wavefront(s_, end - begin);
   stats_.wavefront = std::max<uint64_t>(stats_.wavefront, slots);
@@ -117,6 +119,7 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std:
                       [&](size_t i) { ++paths_.depth[bounce_.path[i]]; });
     progress.update(stats_.paths + finished, stats_.total_rays());
   }
+  only_ = {};
   stats_.paths += finished;
   stats_.dropped_samples = film.dropped();
   stats_.seconds += std::chrono::duration<double>(Clock::now() - start_time).count();
@@ -126,7 +129,8 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std:
 // Stage 1: new camera samples, in sample order, take the free slots. Returns how many.
 size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
   const size_t n = size_t(std::min<uint64_t>(free_.size(), end_id - first_id));
-  const uint64_t pixels = shot_.pixels();
+  // Sample ids run over the pixels sampled, those of only_ when it lists them.
+  const uint64_t pixels = only_.empty() ? shot_.pixels() : only_.size();
   const Camera& camera = shot_.camera;
   const uint32_t width = uint32_t(shot_.width);
   camera_.type = RayType::primary;
@@ -141,6 +145,7 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
       for (size_t k = 0; k < lanes; ++k) {
         const uint64_t id = first_id + first + k;
         pixel[k] = uint32_t(id % pixels), sample[k] = uint32_t(id / pixels);
+        if (!only_.empty()) pixel[k] = only_[pixel[k]];
       }
       sampler_.numbers(pixel, sample, depth, lanes, jitter, numbers);
       for (size_t k = 0; k < lanes; ++k) {

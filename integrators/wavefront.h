@@ -35,8 +35,8 @@ class Wavefront : public Integrator {
   ~Wavefront() override;
 
   const RenderStats& stats() const override { return stats_; }
-  uint64_t render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
-                  Progress& progress) override;
+  uint64_t render(Film& film, uint32_t first, uint32_t last, std::span<const uint32_t> only,
+                  const std::atomic<bool>* stop, Progress& progress) override;
 
  protected:
   // The shading stage on one traced batch. It flags the paths that end in ended_ (their
@@ -149,6 +149,7 @@ class Wavefront : public Integrator {
   uint64_t to_film(Film& film);
 
   std::unique_ptr<AlphaFilter> alpha_;  // null when every material is opaque
+  std::span<const uint32_t> only_;      // the pixels render() samples (empty: all)
   Array<uint32_t> free_;                // slots without a path
   RayBatch camera_, bounce_;
   HitBatch hits_;
