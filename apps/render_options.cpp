@@ -232,11 +232,14 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
     throw UsageError(r.display_flag + " needs --preview (it changes only the PNG preview)");
   if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
   if (r.fps_given && !r.frames) throw UsageError("--fps needs --frames");
-  if (r.settings.adaptive_min > 0 && r.settings.adaptive == 0.0)
-    throw UsageError("--adaptive-min needs --adaptive");
+  check_adaptive(r.settings);
   if (r.frames && r.gltf.time)
     throw UsageError("--time and --frames both give the time: use one (a frame's is frame / fps)");
   return r;
+}
+
+void check_adaptive(const RenderSettings& s) {
+  if (s.adaptive_min > 0 && s.adaptive == 0.0) throw UsageError("--adaptive-min needs --adaptive");
 }
 
 void check_integrator(const std::string& name) {
