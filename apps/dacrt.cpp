@@ -188,8 +188,7 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
     std::snprintf(target, sizeof target, "%g", s.adaptive);
     const std::string min = std::to_string(adaptive_min_spp(s));
     meta.extra.push_back({"adaptiveSampling", "on: relative error " + std::string(target) +
-                                                  ", at least " +
-                                                  min + " spp, at most " +
+                                                  ", at least " + min + " spp, at most " +
                                                   std::to_string(s.spp)});
     meta.extra.push_back({"adaptiveTarget", target});
     meta.extra.push_back({"adaptiveMinSpp", min});

@@ -11,6 +11,23 @@ namespace dacrt {
 namespace {
 // The floor of the error's denominator, as a share of the image's mean (see adaptive.h).
 constexpr double dark_floor = 0.1;
+
+// Each pixel's relative error, before the 3×3 window (see adaptive.h).
+std::vector<float> relative_errors(const Film& film) {
+  const size_t n = film.pixels();
+  std::vector<glm::dvec2> stats(n);
+  tbb::parallel_for(size_t(0), n, [&](size_t p) { stats[p] = film.mean_and_error(p); });
+  // Summed in pixel order: the floor, and so every decision, is the same for any thread count.
+  double sum = 0.0;
+  for (const glm::dvec2& m : stats) sum += m.x;
+  const double floor = std::max(dark_floor * sum / double(std::max<size_t>(n, 1)), 1e-30);
+  std::vector<float> error(n);
+  // A pixel with fewer than two samples (the rest were NaN or inf) has no estimate yet.
+  tbb::parallel_for(size_t(0), n, [&](size_t p) {
+    error[p] = film.count(p) < 2 ? INFINITY : float(stats[p].y / std::max(stats[p].x, floor));
+  });
+  return error;
+}
 }  // namespace
 
 uint32_t adaptive_min_spp(const RenderSettings& s) {
@@ -38,22 +55,6 @@ uint32_t AdaptiveSampling::pass_end(uint32_t from, uint32_t last, uint32_t pass)
   return uint32_t(std::min<uint64_t>(end, last));
 }
 
-std::vector<float> AdaptiveSampling::relative_errors(const Film& film) {
-  const size_t n = film.pixels();
-  std::vector<glm::dvec2> stats(n);
-  tbb::parallel_for(size_t(0), n, [&](size_t p) { stats[p] = film.mean_and_error(p); });
-  // Summed in pixel order: the floor, and so every decision, is the same for any thread count.
-  double sum = 0.0;
-  for (const glm::dvec2& m : stats) sum += m.x;
-  const double floor = std::max(dark_floor * sum / double(std::max<size_t>(n, 1)), 1e-30);
-  std::vector<float> error(n);
-  // A pixel with fewer than two samples (the rest were NaN or inf) has no estimate yet.
-  tbb::parallel_for(size_t(0), n, [&](size_t p) {
-    error[p] = film.count(p) < 2 ? INFINITY : float(stats[p].y / std::max(stats[p].x, floor));
-  });
-  return error;
-}
-
 void AdaptiveSampling::update(const Film& film, uint32_t end) {
   if (end < min_spp_ || active_.empty()) return;
   const std::vector<float> error = relative_errors(film);
@@ -62,9 +63,9 @@ void AdaptiveSampling::update(const Film& film, uint32_t end) {
   tbb::parallel_for(size_t(0), active_.size(), [&](size_t k) {
     const int x = int(active_[k] % uint32_t(w)), y = int(active_[k] / uint32_t(w));
     float worst = 0.f;
-    for (int dy = std::max(y - 1, 0); dy <= std::min(y + 1, h - 1); ++dy)
-      for (int dx = std::max(x - 1, 0); dx <= std::min(x + 1, w - 1); ++dx)
-        worst = std::max(worst, error[size_t(dy) * size_t(w) + size_t(dx)]);
+    for (int v = std::max(y - 1, 0); v <= std::min(y + 1, h - 1); ++v)
+      for (int u = std::max(x - 1, 0); u <= std::min(x + 1, w - 1); ++u)
+        worst = std::max(worst, error[size_t(v) * size_t(w) + size_t(u)]);
     stop[k] = worst < target_;
   });
   size_t kept = 0;

@@ -54,9 +54,6 @@ class AdaptiveSampling {
   // the minimum).
   void update(const Film& film, uint32_t end);
 
-  // A pixel's relative error (its own, before the 3×3 window), as update sees it.
-  static std::vector<float> relative_errors(const Film& film);
-
  private:
   double target_;
   uint32_t min_spp_;

@@ -112,9 +112,9 @@ RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress
   out.first = out.complete = out.most = first;
   if (adaptive_ && first == 0) adaptive_->reset();
   while (out.complete < last) {
-    const uint32_t end =
-        adaptive_ ? adaptive_->pass_end(out.complete, last, pass)
-                  : uint32_t(std::min<uint64_t>(uint64_t(out.complete) + pass, last));
+    const uint32_t end = adaptive_
+                             ? adaptive_->pass_end(out.complete, last, pass)
+                             : uint32_t(std::min<uint64_t>(uint64_t(out.complete) + pass, last));
     // Adaptive sampling lists the pixels still sampling; before the minimum, all of them.
     std::span<const uint32_t> only;
     if (adaptive_ && out.complete >= adaptive_->min_spp()) {
