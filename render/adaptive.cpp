@@ -49,9 +49,18 @@ void AdaptiveSampling::reset() {
   std::iota(active_.begin(), active_.end(), 0u);
 }
 
-uint32_t AdaptiveSampling::pass_end(uint32_t from, uint32_t last, uint32_t pass) const {
-  const uint64_t end = from < min_spp_ ? std::min<uint64_t>(uint64_t(from) + pass, min_spp_)
-                                       : uint64_t(from) + std::max<uint32_t>(1, from / 4);
+uint32_t AdaptiveSampling::pass_end(uint32_t from, uint32_t last, uint32_t pass,
+                                    uint64_t wavefront) const {
+  uint64_t end;
+  if (from < min_spp_) {
+    end = std::min<uint64_t>(uint64_t(from) + pass, min_spp_);
+  } else {
+    // Every pass ends with the wavefront draining (its last paths alone in their batches): a
+    // pass of two wavefronts' samples at least keeps that cost down once few pixels remain.
+    const uint64_t full =
+        (2 * wavefront + active_.size() - 1) / std::max<size_t>(active_.size(), 1);
+    end = uint64_t(from) + std::clamp<uint64_t>(full, std::max(1u, from / 4), std::max(1u, from));
+  }
   return uint32_t(std::min<uint64_t>(end, last));
 }
 

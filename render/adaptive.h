@@ -45,10 +45,12 @@ class AdaptiveSampling {
   std::span<const uint32_t> active() const { return active_; }
 
   // Where a pass that starts at sample `from` ends, at most `last`: up to the minimum in passes of
-  // `pass`, then a quarter more samples a pass, so that pixels stop soon after they converge.
+  // `pass`, then a quarter more samples a pass, so that pixels stop soon after they converge; as
+  // few pixels remain, up to twice as many, so that a pass is two `wavefront`s of samples.
   // Where the passes after the minimum end decides when pixels may stop: it depends on the
-  // settings alone (not on --pass-spp), so that they decide the image.
-  uint32_t pass_end(uint32_t from, uint32_t last, uint32_t pass) const;
+  // settings and the pixels still sampling alone (not on --pass-spp), so that they decide the
+  // image.
+  uint32_t pass_end(uint32_t from, uint32_t last, uint32_t pass, uint64_t wavefront) const;
 
   // After a pass that ended at sample `end`: stops the active pixels that converged (none before
   // the minimum).

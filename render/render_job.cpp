@@ -108,12 +108,13 @@ RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress
   const auto start = Clock::now();
   auto last_checkpoint = start;
   const uint32_t pass = pass_size(options);
+  const uint64_t wavefront = resolve_wavefront(settings_, UINT64_MAX);
   RenderOutcome out;
   out.first = out.complete = out.most = first;
   if (adaptive_ && first == 0) adaptive_->reset();
   while (out.complete < last) {
     const uint32_t end = adaptive_
-                             ? adaptive_->pass_end(out.complete, last, pass)
+                             ? adaptive_->pass_end(out.complete, last, pass, wavefront)
                              : uint32_t(std::min<uint64_t>(uint64_t(out.complete) + pass, last));
     // Adaptive sampling lists the pixels still sampling; before the minimum, all of them.
     std::span<const uint32_t> only;

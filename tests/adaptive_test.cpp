@@ -41,10 +41,11 @@ std::map<std::string, std::vector<float>> layers(const Film& film) {
 }
 
 // The Cornell box, small, with a target some pixels reach before the samples asked and some do
-// not.
+// not; a wavefront as small for the image as the default is at 384² (passes of a quarter more
+// samples, not twice as many).
 RenderSettings cornell_settings() {
   RenderSettings s;
-  s.width = 32, s.height = 32, s.spp = 64, s.seed = 3;
+  s.width = 32, s.height = 32, s.spp = 64, s.seed = 3, s.wavefront = 2048;
   s.adaptive = 0.08;
   s.aovs = AovSet::parse("variance,samples");
   return s;
@@ -164,13 +165,16 @@ TEST_CASE("adaptive: the minimum is max(16, spp / 16) or adaptive_min, at most s
   CHECK(adaptive_min_spp(s) == 8u);
   s.spp = 64, s.adaptive_min = 4;
   CHECK(adaptive_min_spp(s) == 4u);
-  // Passes: up to the minimum in the job's passes, then a quarter more at a time.
+  // Passes: up to the minimum in the job's passes, then a quarter more at a time, or up to
+  // twice as many when that is less than two wavefronts of samples (16 pixels here).
   s.adaptive_min = 0;
   const AdaptiveSampling a(s, 4, 4);
-  CHECK(a.pass_end(0, 64, 10) == 10u);
-  CHECK(a.pass_end(10, 64, 10) == 16u);
-  CHECK(a.pass_end(16, 64, 10) == 20u);
-  CHECK(a.pass_end(20, 64, 3) == 25u);
-  CHECK(a.pass_end(60, 64, 10) == 64u);
-  CHECK(a.pass_end(0, 8, 10) == 8u);
+  CHECK(a.pass_end(0, 64, 10, 8) == 10u);
+  CHECK(a.pass_end(10, 64, 10, 8) == 16u);
+  CHECK(a.pass_end(16, 64, 10, 8) == 20u);
+  CHECK(a.pass_end(20, 64, 3, 8) == 25u);
+  CHECK(a.pass_end(60, 64, 10, 8) == 64u);
+  CHECK(a.pass_end(0, 8, 10, 8) == 8u);
+  CHECK(a.pass_end(16, 64, 10, 96) == 28u);
+  CHECK(a.pass_end(16, 64, 10, 1000) == 32u);
 }
