@@ -53,7 +53,8 @@ Configurations
   --config "KEY=VALUE ..."   one configuration: render options that override the shared ones,
                              KEY a render option's name without its dashes (backend=embree,
                              sampler=independent, integrator=direct, max-depth=8, seed=3,
-                             backend-option=dacrt.bins=8, threads=1, wavefront=65536, ...);
+                             adaptive=0.02, backend-option=dacrt.bins=8, threads=1,
+                             wavefront=65536, ...);
                              its label is the text itself ("" is "default"; no line breaks or
                              other control characters). Every configuration is checked (its
                              backend built on no geometry) before anything is rendered, and the
@@ -265,6 +266,11 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
   if (backends.size() != 1)
     throw UsageError(where + "a configuration renders with one backend (give one --config each)");
   check_integrator(c.args.settings.integrator);
+  try {
+    check_adaptive(c.args.settings);
+  } catch (const UsageError& e) {
+    throw UsageError(where + e.what());
+  }
   check_runs(where, c.args.backend_options, c.args.threads, backends[0]);
   return c;
 }
@@ -443,6 +449,8 @@ int converge_main(const std::vector<std::string>& args) {
   const std::atomic<bool>* stop = &signals.token();
   if (render_reference) {
     Config shared{"reference", a.shared};
+    shared.args.settings.adaptive = 0.0;  // the reference samples every pixel alike
+    shared.args.settings.adaptive_min = 0;
     shared.args.backend =
         split_list(a.shared.backend).empty() ? "dacrt" : split_list(a.shared.backend)[0];
     const uint64_t seed = base.seed + (uint64_t(1) << 32);

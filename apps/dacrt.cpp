@@ -86,6 +86,12 @@ Progress
 Image
   --width W, --height H      resolution (default 512 × 512, or the camera's aspect ratio)
   --spp N                    samples per pixel (default 64)
+  --adaptive REL             adaptive sampling (default off): after the minimum, a pixel stops
+                             taking samples once the relative error of its mean, and of its 3×3
+                             neighbours' means, is below REL (in (0, 1), e.g. 0.01); the others go
+                             on to --spp. The samples channel and the header say what each got
+  --adaptive-min N           with --adaptive: the samples every pixel takes first (default
+                             max(16, spp / 16))
   --camera INDEX             which of the scene's cameras (default 0; without one, the scene is framed)
   --look-from X,Y,Z          the camera's position (overrides the chosen camera; without --look-at
                              it looks at the scene's centre); `dacrt info` prints each camera so
@@ -179,6 +185,16 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
                                               std::to_string(most) + " (the samples channel)"},
       {"software", std::string("dacrt ") + version()},
       {"dacrtVersion", version()}};
+  if (s.adaptive > 0) {
+    char target[32];
+    std::snprintf(target, sizeof target, "%g", s.adaptive);
+    const std::string min = std::to_string(adaptive_min_spp(s));
+    meta.extra.push_back({"adaptiveSampling", "on: relative error " + std::string(target) +
+                                                  ", at least " + min + " spp, at most " +
+                                                  std::to_string(s.spp)});
+    meta.extra.push_back({"adaptiveTarget", target});
+    meta.extra.push_back({"adaptiveMinSpp", min});
+  }
   if (!run.stopped.empty()) meta.extra.push_back({"stoppedBy", run.stopped});
   write_exr(run.output, shot.width, shot.height, channels, meta);
   if (!run.preview.empty()) write_preview_png(run.preview, film.resolve(), r.display);
@@ -307,6 +323,8 @@ int render(const std::vector<std::string>& args) {
       run.backend_stats = backend->stats();
       run.seconds = seconds_since(t0);
       run.spp = outcome.spp();
+      run.least_spp = film.min_count(), run.most_spp = film.max_count();
+      run.mean_spp = double(film.total_count()) / double(std::max<size_t>(film.pixels(), 1));
       if (outcome.stopped) run.stopped = signals.signal() == SIGTERM ? "SIGTERM" : "SIGINT";
       if (outcome.timed_out) run.stopped = "the time limit";
       // A render stopped before its first sample leaves the previous outputs as they were.
@@ -348,6 +366,12 @@ int render(const std::vector<std::string>& args) {
                             {"threads", tbb::this_task_arena::max_concurrency()},
                             {"load_seconds", load_seconds}};
         if (!run.stopped.empty()) j["stopped_by"] = run.stopped;
+        if (s.adaptive > 0)
+          j["adaptive"] = {{"target", s.adaptive},
+                           {"min_spp", adaptive_min_spp(s)},
+                           {"least_spp", run.least_spp},
+                           {"most_spp", run.most_spp},
+                           {"mean_spp", run.mean_spp}};
         j.update(to_json(run));
         return j;
       };

@@ -92,6 +92,15 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     r.stats = value();
   else if (a == "--spp")
     r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
+  else if (a == "--adaptive") {
+    const std::string v = value();
+    char* end = nullptr;
+    const double rel = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !(rel > 0.0 && rel < 1.0))
+      throw UsageError("--adaptive wants a relative error in (0, 1), e.g. 0.01, got '" + v + "'");
+    r.settings.adaptive = rel;
+  } else if (a == "--adaptive-min")
+    r.settings.adaptive_min = int(parse_int(a, value(), 2, 1 << 20));
   else if (a == "--width")
     r.settings.width = int(parse_int(a, value(), 1, max_image_side));
   else if (a == "--height")
@@ -234,9 +243,14 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
     throw UsageError(r.display_flag + " needs --preview (it changes only the PNG preview)");
   if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
   if (r.fps_given && !r.frames) throw UsageError("--fps needs --frames");
+  check_adaptive(r.settings);
   if (r.frames && r.gltf.time)
     throw UsageError("--time and --frames both give the time: use one (a frame's is frame / fps)");
   return r;
+}
+
+void check_adaptive(const RenderSettings& s) {
+  if (s.adaptive_min > 0 && s.adaptive == 0.0) throw UsageError("--adaptive-min needs --adaptive");
 }
 
 void check_integrator(const std::string& name) {

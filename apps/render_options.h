@@ -49,6 +49,9 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
 // `dacrt render`'s arguments: SCENE and render options.
 RenderArgs parse_render(const std::vector<std::string>& args);
 
+// Throws UsageError for --adaptive-min without --adaptive.
+void check_adaptive(const RenderSettings& settings);
+
 // Throws UsageError naming the known integrators unless `name` is one.
 void check_integrator(const std::string& name);
 

@@ -83,8 +83,14 @@ nlohmann::json to_json(const BackendRun& run) {
 void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings& s) {
   const RenderStats& stats = run.stats;
   char figures[256];
-  std::snprintf(figures, sizeof figures, ": %d×%d, %u spp%s, %s/%s, %.2f s", shot.width, shot.height,
-                run.spp,
+  char spp[96];
+  if (s.adaptive > 0)
+    std::snprintf(spp, sizeof spp, "adaptive %g: %u to %u spp, mean %.1f", s.adaptive,
+                  run.least_spp, run.most_spp, run.mean_spp);
+  else
+    std::snprintf(spp, sizeof spp, "%u spp", run.spp);
+  std::snprintf(figures, sizeof figures, ": %d×%d, %s%s, %s/%s, %.2f s", shot.width, shot.height,
+                spp,
                 run.stopped.empty()
                     ? ""
                     : (" of " + std::to_string(s.spp) + ", stopped by " + run.stopped).c_str(),

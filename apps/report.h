@@ -19,6 +19,9 @@ struct BackendRun {
   double seconds = 0.0;  // whole render, the backend's build included
   double build_seconds = 0.0;  // the backend's build (Backend::create) alone
   uint32_t spp = 0;      // samples every pixel has (fewer than asked when stopped early)
+  // The samples the pixels got: fewest, most, mean (they differ with adaptive sampling).
+  uint32_t least_spp = 0, most_spp = 0;
+  double mean_spp = 0.0;
   std::string stopped;   // why the render stopped early ("SIGINT", "the time limit"), or empty
 };
 

@@ -78,6 +78,12 @@ uint32_t Film::max_count() const {
   return count_.empty() ? 0 : *std::max_element(count_.begin(), count_.end());
 }
 
+uint64_t Film::total_count() const {
+  uint64_t n = 0;
+  for (uint32_t c : count_) n += c;
+  return n;
+}
+
 Image Film::resolve() const {
   Image img(width_, height_);
   tbb::parallel_for(size_t(0), pixels(), [&](size_t p) {

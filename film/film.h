@@ -110,9 +110,10 @@ class Film {
 
   uint64_t dropped() const { return dropped_; }
   uint32_t count(size_t pixel) const { return count_[pixel]; }
-  // The fewest and most samples any pixel has.
+  // The fewest and most samples any pixel has, and all pixels' samples.
   uint32_t min_count() const;
   uint32_t max_count() const;
+  uint64_t total_count() const;
 
   // The per-pixel mean colour.
   Image resolve() const;

@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -52,6 +53,11 @@ struct RenderSettings {
   int max_depth = 64;      // scattering events per path; Russian roulette ends most earlier
   int roulette_depth = 3;  // Russian roulette from this many bounces on
   uint64_t seed = 0;
+  // Adaptive sampling (render/adaptive.h): 0 off, else the relative error at which a pixel stops
+  // taking samples, in (0, 1); adaptive_min: the samples every pixel takes first (0: max(16,
+  // spp / 16)).
+  double adaptive = 0.0;
+  int adaptive_min = 0;
   SamplerKind sampler = SamplerKind::sobol;  // where the paths' numbers come from
   // The path tracer shades Lambert vertices sixteen at a time (integrators/lambert_lanes.h);
   // false: one at a time, the general way (for the tests, and to measure what the lanes save).
@@ -111,17 +117,20 @@ class Integrator {
   static std::vector<std::string> names();
 
   // Adds samples [first, last) of every pixel to the film (sample indices, so that renders of
-  // [0, a) and [a, b) merge into the image of [0, b)). When *stop becomes true no new sample
-  // starts; the paths in flight finish, so every sample begun reaches the film. Progress counts
-  // the samples finished over all calls.
+  // [0, a) and [a, b) merge into the image of [0, b)); of the pixels `only` lists (increasing)
+  // when it is not empty. When *stop becomes true no new sample starts; the paths in flight
+  // finish, so every sample begun reaches the film. Progress counts the samples finished over all
+  // calls.
   // Returns the samples taken: (last − first) × pixels unless stopped, else the first that many
   // in the call's sample_order().
-  virtual uint64_t render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
+  virtual uint64_t render(Film& film, uint32_t first, uint32_t last,
+                          std::span<const uint32_t> only, const std::atomic<bool>* stop,
                           Progress& progress) = 0;
   virtual const RenderStats& stats() const = 0;
-  // The order of render(first, last)'s samples (integrators/sample_order.h), from which RenderJob
-  // knows the samples every pixel has after a stop.
-  virtual SampleOrder sample_order(uint32_t first, uint32_t last) const = 0;
+  // The order of the samples of render(first, last) over `pixels` pixels (all, or as many as
+  // `only` lists): integrators/sample_order.h. RenderJob learns from it what every pixel has
+  // after a stop.
+  virtual SampleOrder sample_order(uint32_t first, uint32_t last, uint64_t pixels) const = 0;
 
   using Factory = std::function<std::unique_ptr<Integrator>(const Scene&, const Shot&, Backend&,
                                                              const RenderSettings&)>;

@@ -86,23 +86,34 @@ Wavefront::Wavefront(const Scene& scene, const Shot& shot, Backend& backend,
   }
 }
 
-SampleOrder Wavefront::sample_order(uint32_t first, uint32_t last) const {
-  const uint64_t pixels = shot_.pixels();
+SampleOrder Wavefront::sample_order(uint32_t first, uint32_t last, uint64_t pixels) const {
   return {pixels, first, std::max(first, last) - first,
           textured_ ? SampleOrder::tiled_group : std::max<uint64_t>(pixels, 1)};
 }
 
 Wavefront::~Wavefront() = default;
 
-uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
+uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last,
+                           std::span<const uint32_t> only, const std::atomic<bool>* stop,
                            Progress& progress) {
   const auto start_time = Clock::now();
-  const uint64_t pixels = shot_.pixels();
-  if (film.pixels() != pixels)
+  if (film.pixels() != shot_.pixels())
     throw Error("the film has " + std::to_string(film.pixels()) + " pixels, the render " +
-                std::to_string(pixels));
+                std::to_string(shot_.pixels()));
+  call_pixels_ = order_pixels_;
+  if (!only.empty() && textured_) {  // the listed pixels, by tiles
+    std::vector<uint8_t> listed(shot_.pixels(), 0);
+    for (uint32_t p : only) listed[p] = 1;
+    only_pixels_.clear();
+    for (uint32_t p : order_pixels_)
+      if (listed[p]) only_pixels_.push_back(p);
+    call_pixels_ = only_pixels_;
+  } else if (!only.empty()) {
+    call_pixels_ = only;
+  }
+  const uint64_t pixels = call_pixels_.size();
   const uint64_t begin = uint64_t(first) * pixels, end = uint64_t(std::max(first, last)) * pixels;
-  order_ = sample_order(first, last);
+  order_ = sample_order(first, last, pixels);
   begin_id_ = begin;
   const size_t slots = resolve_wavefront(s_, end - begin);
   stats_.wavefront = std::max<uint64_t>(stats_.wavefront, slots);
@@ -133,6 +144,7 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last, const std:
                       [&](size_t i) { ++paths_.depth[bounce_.path[i]]; });
     progress.update(stats_.paths + finished, stats_.total_rays());
   }
+  call_pixels_ = {};
   stats_.paths += finished;
   stats_.dropped_samples = film.dropped();
   stats_.seconds += std::chrono::duration<double>(Clock::now() - start_time).count();
@@ -156,7 +168,7 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
       const size_t lanes = std::min(sampler_lanes, range.end() - first);
       for (size_t k = 0; k < lanes; ++k, ++at) {
         const auto [index, s] = *at;
-        pixel[k] = order_pixels_[index], sample[k] = s;
+        pixel[k] = call_pixels_[index], sample[k] = s;
       }
       sampler_.numbers(pixel, sample, depth, lanes, jitter, numbers);
       for (size_t k = 0; k < lanes; ++k) {

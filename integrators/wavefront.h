@@ -35,9 +35,9 @@ class Wavefront : public Integrator {
   ~Wavefront() override;
 
   const RenderStats& stats() const override { return stats_; }
-  SampleOrder sample_order(uint32_t first, uint32_t last) const override;
-  uint64_t render(Film& film, uint32_t first, uint32_t last, const std::atomic<bool>* stop,
-                  Progress& progress) override;
+  SampleOrder sample_order(uint32_t first, uint32_t last, uint64_t pixels) const override;
+  uint64_t render(Film& film, uint32_t first, uint32_t last, std::span<const uint32_t> only,
+                  const std::atomic<bool>* stop, Progress& progress) override;
 
  protected:
   // The shading stage on one traced batch. It flags the paths that end in ended_ (their
@@ -158,6 +158,10 @@ class Wavefront : public Integrator {
   uint64_t to_film(Film& film);
 
   std::unique_ptr<AlphaFilter> alpha_;  // null when every material is opaque
+  // The pixels render() samples, in sample_order()'s order: order_pixels_, or the pixels `only`
+  // lists (in that order too: only_pixels_ holds them when it differs).
+  std::span<const uint32_t> call_pixels_;
+  std::vector<uint32_t> only_pixels_;
   Array<uint32_t> free_;                // slots without a path
   RayBatch camera_, bounce_;
   HitBatch hits_;

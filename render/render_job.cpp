@@ -86,7 +86,9 @@ RenderJob::RenderJob(const Scene& scene, Backend& backend, RenderSettings settin
 RenderJob::RenderJob(const Scene& scene, Backend& backend, RenderSettings settings, Shot shot)
     : settings_(std::move(settings)),
       shot_(std::move(shot)),
-      integrator_(Integrator::create(scene, shot_, backend, settings_)) {}
+      integrator_(Integrator::create(scene, shot_, backend, settings_)) {
+  if (settings_.adaptive > 0) adaptive_.emplace(settings_, shot_.width, shot_.height);
+}
 
 RenderJob::~RenderJob() = default;
 
@@ -106,12 +108,24 @@ RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress
   const auto start = Clock::now();
   auto last_checkpoint = start;
   const uint32_t pass = pass_size(options);
+  const uint64_t wavefront = resolve_wavefront(settings_, UINT64_MAX);
   RenderOutcome out;
   out.first = out.complete = out.most = first;
+  if (adaptive_ && first == 0) adaptive_->reset();
   while (out.complete < last) {
-    const uint32_t end = uint32_t(std::min<uint64_t>(uint64_t(out.complete) + pass, last));
-    const uint64_t taken = integrator_->render(film, out.complete, end, options.stop, progress);
-    const auto [fewest, most] = integrator_->sample_order(out.complete, end).counts(taken);
+    const uint32_t end = adaptive_
+                             ? adaptive_->pass_end(out.complete, last, pass, wavefront)
+                             : uint32_t(std::min<uint64_t>(uint64_t(out.complete) + pass, last));
+    // Adaptive sampling lists the pixels still sampling; before the minimum, all of them.
+    std::span<const uint32_t> only;
+    if (adaptive_ && out.complete >= adaptive_->min_spp()) {
+      only = adaptive_->active();
+      if (only.empty()) break;  // every pixel converged
+    }
+    const uint64_t pixels = only.empty() ? shot_.pixels() : only.size();
+    const uint64_t taken =
+        integrator_->render(film, out.complete, end, only, options.stop, progress);
+    const auto [fewest, most] = integrator_->sample_order(out.complete, end, pixels).counts(taken);
     out.most = out.complete + most;
     out.complete += fewest;
     out.seconds = seconds_since(start);
@@ -120,6 +134,7 @@ RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress
       break;
     }
     ++out.passes;
+    if (adaptive_) adaptive_->update(film, end);
     if (options.stop && options.stop->load()) {
       out.stopped = true;
       break;

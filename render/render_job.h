@@ -6,6 +6,10 @@
 // wavefront (the samples begun still finish and reach the film, so nothing rendered is lost); a
 // time limit ends it after the pass that crosses it; a checkpoint callback sees the film after
 // passes, at most once per checkpoint interval. Films of [0, a) and [a, b) merge into [0, b).
+// With adaptive sampling (settings.adaptive, render/adaptive.h) the passes after the minimum give
+// samples only to the pixels that have not converged; the job remembers which pixels stopped, so
+// a render continued by another call (first = where the last ended) goes on from there, and one
+// from sample 0 starts again with every pixel.
 #pragma once
 
 #include <atomic>
@@ -17,6 +21,7 @@
 
 #include "film/film.h"
 #include "integrators/integrator.h"
+#include "render/adaptive.h"
 #include "scene/scene.h"
 #include "scene/shot.h"
 #include "tracer/backend.h"
@@ -48,7 +53,8 @@ struct PassOptions {
 
 struct RenderOutcome {
   uint32_t first = 0;
-  uint32_t complete = 0;  // every pixel has the samples [first, complete)
+  // Every pixel has the samples [first, complete), adaptive sampling's pixels still sampling.
+  uint32_t complete = 0;
   uint32_t most = 0;      // some pixels have up to [first, most) (a pass cut short by a stop)
   uint32_t passes = 0;    // whole passes
   bool stopped = false, timed_out = false;
@@ -85,6 +91,7 @@ class RenderJob {
   const RenderSettings settings_;
   const Shot shot_;
   std::unique_ptr<Integrator> integrator_;
+  std::optional<AdaptiveSampling> adaptive_;  // with settings_.adaptive > 0
 };
 
 // dacrt's version ("0.1.0"), for headers and statistics.

@@ -273,3 +273,23 @@ TEST_CASE("converge: SIGTERM stops at the next wavefront and writes the points f
   CHECK(rows.size() < 16);  // stopped long before the budget
   CHECK(files(out) == std::vector<std::string>{"convergence.csv", "convergence.gp"});
 }
+
+TEST_CASE("converge: --adaptive is a configuration's flag, compared with uniform sampling") {
+  TempDir dir("converge-cli-adaptive");
+  const std::string out = dir / "out";
+  const Run r = run(dir, "converge " + tiny + " --max-spp 8 --reference-spp 16 -o " + out +
+                             " --no-plot --config '' --config 'adaptive=0.2 adaptive-min=2'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto configs = by_config(read_csv(out + "/convergence.csv"));
+  REQUIRE(configs.count("default"));
+  REQUIRE(configs.count("adaptive=0.2 adaptive-min=2"));
+  CHECK(configs.at("adaptive=0.2 adaptive-min=2").size() == 4);  // 1, 2, 4, 8 spp
+  CHECK(r.out.find("equal time: ") != std::string::npos);
+  // A bad value is refused before anything renders, naming the configuration.
+  const Run bad = run(dir, "converge " + tiny + " -o " + (dir / "bad") + " --config 'adaptive=2'");
+  CHECK(bad.code == 2);
+  CHECK(lines(bad.err) == 1);
+  CHECK(bad.err.find("--adaptive") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "bad"));
+}

@@ -392,3 +392,63 @@ TEST_CASE("render cli: a signal during the first of several backends writes its 
   CHECK(j["backends"][0]["backend"] == "dacrt");
   CHECK(j["backends"][0]["stopped_by"] == "SIGINT");
 }
+
+TEST_CASE("render cli: --adaptive stops converged pixels; the samples, header and stats say so") {
+  TempDir dir("render-cli-adaptive");
+  const std::string out = dir / "out.exr", stats = dir / "stats.json";
+  Run r = run(dir, "render " + cornell + " --width 24 --height 24 --spp 48 --quiet --seed 2" +
+                       " --adaptive 0.2 --adaptive-min 8 -o " + out + " --stats " + stats);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const ExrFile f = read_exr_file(out);
+  // Counts that differ: the samples channel is written without being asked.
+  const Channel* samples = f.find("samples");
+  REQUIRE(samples);
+  const auto [least, most] = std::minmax_element(samples->values.begin(), samples->values.end());
+  CHECK(*least == 8.f);
+  CHECK(*most == 48.f);
+  double total = 0.0;
+  for (float n : samples->values) total += n;
+  check_counts(f);
+  CHECK(attribute(f, "adaptiveTarget") == "0.2");
+  CHECK(attribute(f, "adaptiveMinSpp") == "8");
+  CHECK(attribute(f, "adaptiveSampling") == "on: relative error 0.2, at least 8 spp, at most 48");
+  CHECK(attribute(f, "samplesPerPixel") == "from 8 to 48 (the samples channel)");
+  const nlohmann::json j = nlohmann::json::parse(slurp(stats));
+  REQUIRE(j.contains("adaptive"));
+  CHECK(j["adaptive"]["target"] == 0.2);
+  CHECK(j["adaptive"]["min_spp"] == 8);
+  CHECK(j["adaptive"]["least_spp"] == 8);
+  CHECK(j["adaptive"]["most_spp"] == 48);
+  CHECK(j["adaptive"]["mean_spp"].get<double>() == doctest::Approx(total / (24 * 24)));
+  // Every path rendered is a sample counted (the Cornell box drops none).
+  CHECK(j["paths"].get<double>() == total);
+  CHECK(j["dropped_samples"] == 0);
+  // Without --adaptive the header and the statistics say nothing of it.
+  const std::string plain = dir / "plain.exr", plain_stats = dir / "plain.json";
+  REQUIRE(run(dir, "render " + cornell + " --width 8 --height 8 --spp 2 --quiet -o " + plain +
+                       " --stats " + plain_stats)
+              .code == 0);
+  const ExrFile g = read_exr_file(plain);
+  CHECK(attribute(g, "adaptiveSampling").empty());
+  CHECK_FALSE(nlohmann::json::parse(slurp(plain_stats)).contains("adaptive"));
+}
+
+TEST_CASE("render cli: a bad --adaptive or --adaptive-min is one line naming it, exit 2") {
+  TempDir dir("render-cli-adaptive-bad");
+  const std::string out = dir / "out.exr";
+  auto refused = [&](const std::string& flags, const std::string& named) {
+    INFO(flags);
+    const Run r = run(dir, "render " + cornell + " --spp 2 --quiet -o " + out + " " + flags);
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) == 1);
+    CHECK(r.err.find(named) != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+  };
+  for (const char* bad : {"0", "1", "-0.1", "1.5", "nan", "inf", "-inf", "0.01x", "abc", "''"})
+    refused("--adaptive " + std::string(bad), "--adaptive");
+  refused("--adaptive", "--adaptive needs a value");
+  for (const char* bad : {"1", "0", "-3", "x", "16.5"})
+    refused("--adaptive 0.01 --adaptive-min " + std::string(bad), "--adaptive-min");
+  refused("--adaptive-min 16", "--adaptive-min needs --adaptive");
+}
