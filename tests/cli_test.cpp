@@ -191,9 +191,10 @@ TEST_CASE("cli: a white sphere under --environment 1,1,1 renders 1 everywhere") 
   size_t off = 0;
   for (float v : img.rgb) off += std::abs(v - 1.f) > 1e-5f;
   CHECK(off == 0);  // BSDF sampling alone: every sample is 1
-  // Sampled as a light (the default here, an open scene), 1 on average only.
+  // Sampled as a light, 1 on average only.
   Run nee = run(dir, "render " + (dir / "sphere.glb") + " -o " + (dir / "nee.exr") +
-                         " --environment 1,1,1 --width 16 --height 16 --spp 4 --quiet");
+                         " --environment 1,1,1 --sample-environment on --width 16 --height 16"
+                         " --spp 4 --quiet");
   REQUIRE(nee.code == 0);
   off = 0;
   for (float v : read_exr(dir / "nee.exr").rgb) off += std::abs(v - 1.f) > 1e-5f;

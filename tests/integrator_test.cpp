@@ -93,30 +93,39 @@ TEST_CASE("a uniform environment sampled as a light: unbiased, and where the sce
     return false;
   };
   // The white furnace with light samples and MIS still renders 1 (now with noise: per pixel
-  // against its own standard error), as does a sphere of albedo 0.5 under the sky's 0.5 + 0.5.
-  for (Mode mode : {Mode::on, Mode::automatic}) {
+  // against its own standard error).
+  s.sample_environment = Mode::on;
+  Result on = render(scene, s);
+  check_renders(on.film, 1.0);
+  CHECK(shadow_rays(on) > 0);
+  CHECK_FALSE(says_skipped(on));
+  for (Mode mode : {Mode::off, Mode::automatic}) {
     s.sample_environment = mode;
     Result r = render(scene, s);
     check_renders(r.film, 1.0);
-    CHECK(shadow_rays(r) > 0);  // the open sphere: automatic samples the sky too
-    CHECK_FALSE(says_skipped(r));
+    // Nothing else is a light: automatic leaves the sky to BSDF sampling too, and says so.
+    CHECK(shadow_rays(r) == 0);
+    CHECK(says_skipped(r) == (mode == Mode::automatic));
   }
-  s.sample_environment = Mode::off;
-  Result off = render(scene, s);
-  CHECK(shadow_rays(off) == 0);
-  // Inside a closed box no bounce ray escapes: automatic leaves the sky to BSDF sampling (the
-  // box is black; it is lit by nothing) and says so.
+  // With a light beside it, the open sphere's sky is sampled too; inside a closed box no bounce
+  // ray escapes, and automatic leaves it to BSDF sampling.
+  PunctualLight light;
+  light.position = glm::vec3(0.f, 3.f, 0.f);
+  s.lights = {light};
+  s.spp = 2;
+  s.sample_environment = Mode::automatic;
+  CHECK_FALSE(says_skipped(render(scene, s)));
   Scene box;
   box.geometry = inward_box();
   box.materials = {Material::lambert(glm::vec3(0.5f))};
   box.cameras = {looking_at(glm::vec3(0.2f, -0.1f, 0.3f), glm::vec3(1, 0.3f, -1), 1.4f)};
-  s.spp = 2;
-  s.sample_environment = Mode::automatic;
-  Result closed = render(box, s);
-  CHECK(shadow_rays(closed) == 0);
-  CHECK(says_skipped(closed));
+  s.lights = {};
+  CHECK(says_skipped(render(box, s)));  // (no light)
+  light.position = glm::vec3(0.1f);
+  s.lights = {light};
+  CHECK(says_skipped(render(box, s)));  // closed
   s.sample_environment = Mode::on;
-  CHECK(shadow_rays(render(box, s)) > 0);
+  CHECK_FALSE(says_skipped(render(box, s)));
 }
 
 TEST_CASE("furnace: a smooth white metal sphere under a uniform environment of 1 renders 1") {
