@@ -121,7 +121,8 @@ Light transport
   --environment FILE.exr     an equirectangular environment map (+Y up, image centre towards -Z),
                              importance-sampled
   --sample-environment MODE  next-event estimation of a uniform environment, with MIS: auto
-                             (default: where a pilot finds a quarter of bounce rays escaping), on, off
+                             (default: with other lights, where a pilot finds a quarter of bounce
+                             rays escaping), on, off
   --seed S                   random seed (default 0)
   --sampler NAME             sobol (default: Owen-scrambled Sobol, stratified in each pair of
                              dimensions), independent (a hash per number: white noise)
