@@ -49,12 +49,22 @@ TEST_CASE("furnace: inside a closed box of albedo 0.5 and emission 0.5, everythi
   for (size_t p = 0; p < outside.film.pixels(); ++p) CHECK(outside.film.mean_and_error(p).x == 0.0);
 }
 
-TEST_CASE("furnace: a white diffuse sphere under a uniform environment of 1 renders 1") {
+namespace {
+
+// A white Lambert sphere of radius 1 at the origin, seen from 3.5 away: under a uniform sky of 1
+// every pixel is 1 (KHR_materials_specular's factor 0 leaves the glTF BRDF's Lambert base).
+Scene white_sphere() {
   Scene scene;
   scene.geometry = sphere(32, 64, glm::vec3(0.f), 1.f);
-  // KHR_materials_specular's factor 0 leaves the glTF BRDF's Lambert base: white renders 1.
   scene.materials = {Material::lambert(glm::vec3(1.f))};
   scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
+  return scene;
+}
+
+}  // namespace
+
+TEST_CASE("furnace: a white diffuse sphere under a uniform environment of 1 renders 1") {
+  Scene scene = white_sphere();
   RenderSettings s;
   s.width = 32, s.height = 32, s.spp = 16, s.environment = glm::vec3(1.f);
   // BSDF sampling alone here (next-event estimation of the sky: the test below).
@@ -80,10 +90,7 @@ TEST_CASE("furnace: a white diffuse sphere under a uniform environment of 1 rend
 
 TEST_CASE("a uniform environment sampled as a light: unbiased, and where the scene is open") {
   using Mode = RenderSettings::EnvironmentSampling;
-  Scene scene;
-  scene.geometry = sphere(32, 64, glm::vec3(0.f), 1.f);
-  scene.materials = {Material::lambert(glm::vec3(1.f))};
-  scene.cameras = {looking_at(glm::vec3(0, 0.5f, 3.5f), glm::vec3(0), 0.9f)};
+  const Scene scene = white_sphere();
   RenderSettings s;
   s.width = 16, s.height = 16, s.spp = 256, s.environment = glm::vec3(1.f);
   auto shadow_rays = [](const Result& r) { return r.stats.by_type[size_t(RayType::shadow)].rays; };
