@@ -59,12 +59,19 @@ long parse_int(const std::string& flag, const std::string& text, long lo, long h
 }
 
 // A positive finite number of seconds (or scene units, for --ao-distance).
-double parse_seconds(const std::string& flag, const std::string& text) {
+// The number the whole text spells (strtod's forms), or nothing.
+std::optional<double> parse_real(const std::string& text) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(v > 0.0 && v < 1e30))
-    throw UsageError(flag + " wants a positive number, got '" + text + "'");
+  if (text.empty() || *end != '\0') return std::nullopt;
   return v;
+}
+
+double parse_seconds(const std::string& flag, const std::string& text) {
+  const std::optional<double> v = parse_real(text);
+  if (!v || !(*v > 0.0 && *v < 1e30))
+    throw UsageError(flag + " wants a positive number, got '" + text + "'");
+  return *v;
 }
 
 bool parse_render_option(const std::vector<std::string>& args, size_t& i, RenderArgs& r) {
@@ -83,10 +90,10 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     r.display_flag = a;
   } else if (a == "--exposure") {
     const std::string v = value();
-    char* end = nullptr;
-    r.display.exposure = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !std::isfinite(r.display.exposure))
+    const std::optional<double> stops = parse_real(v);
+    if (!stops || !std::isfinite(*stops))
       throw UsageError("--exposure wants a finite number of stops, got '" + v + "'");
+    r.display.exposure = *stops;
     r.display_flag = a;
   } else if (a == "--stats")
     r.stats = value();
@@ -94,11 +101,10 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
   else if (a == "--adaptive") {
     const std::string v = value();
-    char* end = nullptr;
-    const double rel = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !(rel > 0.0 && rel < 1.0))
+    const std::optional<double> rel = parse_real(v);
+    if (!rel || !(*rel > 0.0 && *rel < 1.0))
       throw UsageError("--adaptive wants a relative error in (0, 1), e.g. 0.01, got '" + v + "'");
-    r.settings.adaptive = rel;
+    r.settings.adaptive = *rel;
   } else if (a == "--adaptive-min")
     r.settings.adaptive_min = int(parse_int(a, value(), 2, 1 << 20));
   else if (a == "--width")

@@ -27,11 +27,7 @@ struct SampleOrder {
 
   // The k-th sample of the call: the index of its pixel in the call's pixel order (tiled()) and
   // its sample index.
-  std::pair<uint64_t, uint32_t> at(uint64_t k) const {
-    const uint64_t per_group = group * samples, g = k / per_group, r = k % per_group;
-    const uint64_t size = std::min(group, pixels - g * group);
-    return {g * group + r % size, first + uint32_t(r / size)};
-  }
+  std::pair<uint64_t, uint32_t> at(uint64_t k) const;
 
   // at(k), at(k + 1)… without a division per sample (camera ray generation's loop).
   class Cursor {
@@ -83,5 +79,7 @@ struct SampleOrder {
     return order;
   }
 };
+
+inline std::pair<uint64_t, uint32_t> SampleOrder::at(uint64_t k) const { return *Cursor(*this, k); }
 
 }  // namespace dacrt

@@ -4,7 +4,6 @@
 #include <tbb/parallel_reduce.h>
 
 #include <chrono>
-#include <numeric>
 
 #include "materials/sampling.h"
 #include "tracer/ray.h"
@@ -78,12 +77,7 @@ Wavefront::Wavefront(const Scene& scene, const Shot& shot, Backend& backend,
                                 : std::optional<GltfBrdf>(brdf));
   }
   for (std::string& what : scene.unused_work()) stats_.skipped.push_back(std::move(what));
-  if (textured_) {
-    order_pixels_ = SampleOrder::tiled(uint32_t(shot.width), uint32_t(shot.height));
-  } else {
-    order_pixels_.resize(shot.pixels());
-    std::iota(order_pixels_.begin(), order_pixels_.end(), 0u);
-  }
+  if (textured_) tiled_ = SampleOrder::tiled(uint32_t(shot.width), uint32_t(shot.height));
 }
 
 SampleOrder Wavefront::sample_order(uint32_t first, uint32_t last, uint64_t pixels) const {
@@ -100,18 +94,18 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last,
   if (film.pixels() != shot_.pixels())
     throw Error("the film has " + std::to_string(film.pixels()) + " pixels, the render " +
                 std::to_string(shot_.pixels()));
-  call_pixels_ = order_pixels_;
+  call_pixels_ = tiled_;
   if (!only.empty() && textured_) {  // the listed pixels, by tiles
     std::vector<uint8_t> listed(shot_.pixels(), 0);
     for (uint32_t p : only) listed[p] = 1;
     only_pixels_.clear();
-    for (uint32_t p : order_pixels_)
+    for (uint32_t p : tiled_)
       if (listed[p]) only_pixels_.push_back(p);
     call_pixels_ = only_pixels_;
   } else if (!only.empty()) {
     call_pixels_ = only;
   }
-  const uint64_t pixels = call_pixels_.size();
+  const uint64_t pixels = call_pixels_.empty() ? shot_.pixels() : call_pixels_.size();
   const uint64_t begin = uint64_t(first) * pixels, end = uint64_t(std::max(first, last)) * pixels;
   order_ = sample_order(first, last, pixels);
   begin_id_ = begin;
@@ -168,7 +162,7 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
       const size_t lanes = std::min(sampler_lanes, range.end() - first);
       for (size_t k = 0; k < lanes; ++k, ++at) {
         const auto [index, s] = *at;
-        pixel[k] = call_pixels_[index], sample[k] = s;
+        pixel[k] = call_pixels_.empty() ? uint32_t(index) : call_pixels_[index], sample[k] = s;
       }
       sampler_.numbers(pixel, sample, depth, lanes, jitter, numbers);
       for (size_t k = 0; k < lanes; ++k) {

@@ -147,9 +147,6 @@ class Wavefront : public Integrator {
   class AlphaFilter;
 
   size_t camera_rays(uint64_t first_id, uint64_t end_id);
-  std::vector<uint32_t> order_pixels_;  // the image's pixels in sample_order()'s order
-  SampleOrder order_;            // the render call's
-  uint64_t begin_id_ = 0;        // its first sample id
   void intersect_and_shade();
   void append(RayBatch& to, const RayBatch& from);
   void trace(const RayBatch& rays, HitBatch& hits, size_t camera);
@@ -158,10 +155,13 @@ class Wavefront : public Integrator {
   uint64_t to_film(Film& film);
 
   std::unique_ptr<AlphaFilter> alpha_;  // null when every material is opaque
-  // The pixels render() samples, in sample_order()'s order: order_pixels_, or the pixels `only`
-  // lists (in that order too: only_pixels_ holds them when it differs).
+  // The pixels render() samples, in sample_order()'s order: those `only` lists, or every pixel;
+  // in textured scenes by tiles (tiled_: the image's; only_pixels_: those listed), else in rows
+  // (empty: every pixel).
+  std::vector<uint32_t> tiled_, only_pixels_;
   std::span<const uint32_t> call_pixels_;
-  std::vector<uint32_t> only_pixels_;
+  SampleOrder order_;      // the render call's
+  uint64_t begin_id_ = 0;  // its first sample id
   Array<uint32_t> free_;                // slots without a path
   RayBatch camera_, bounce_;
   HitBatch hits_;
