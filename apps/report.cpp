@@ -109,8 +109,7 @@ void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings
                  (unsigned long long)stats.dropped_samples);
 }
 
-void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs) {
-  // Rows of cells: a label, then one cell per backend.
+std::vector<std::vector<std::string>> comparison_rows(const std::vector<BackendRun>& runs) {
   std::vector<std::vector<std::string>> rows;
   auto row = [&](std::string label, auto cell) {
     std::vector<std::string> r{std::move(label)};
@@ -171,7 +170,11 @@ void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs) {
       [](const BackendRun& run) { return format("%.3f", run.seconds); });
   row("ratio to " + runs[0].backend,
       [&](const BackendRun& run) { return format("%.2f", run.seconds / runs[0].seconds); });
+  return rows;
+}
 
+void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs) {
+  const std::vector<std::vector<std::string>> rows = comparison_rows(runs);
   std::vector<size_t> width;
   for (const auto& r : rows)
     for (size_t c = 0; c < r.size(); ++c) {

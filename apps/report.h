@@ -35,7 +35,10 @@ std::string with_frame(const std::string& path, int frame);
 
 nlohmann::json to_json(const BackendRun& run);
 void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings& s);
-// One column per backend; ratios against the first.
+// The comparison's rows: a label, then one cell per backend; ratios against the first. The first
+// row names the backends, an empty row is a rule.
+std::vector<std::vector<std::string>> comparison_rows(const std::vector<BackendRun>& runs);
+// The rows as a text table, one column per backend.
 void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs);
 
 }  // namespace dacrt

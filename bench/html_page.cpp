@@ -81,7 +81,8 @@ std::string bar_chart_svg(const std::string& title, const std::string& axis,
   const int bar_width = 18, gap = 24;
   const int cluster = int(series.size()) * bar_width;
   const int plot_width = std::max(240, int(groups.size()) * (cluster + gap) + gap);
-  const int width = left + plot_width + right;
+  const int legend_columns = int(std::min<size_t>(series.size(), 4));
+  const int width = std::max(left + plot_width + right, left + 150 * legend_columns);
   const int legend_y = plot_top + plot_height + label_height;
   const int height = legend_y + 20 * int((series.size() + 3) / 4) + 8;
   const auto y_of = [&](double v) { return plot_top + plot_height * (1.0 - std::max(0.0, v) / top); };
@@ -128,7 +129,8 @@ std::string bar_chart_svg(const std::string& title, const std::string& axis,
        "\" y1=\"" + std::to_string(plot_top + plot_height) + "\" y2=\"" +
        std::to_string(plot_top + plot_height) + "\" stroke=\"#000\"/>\n";
   for (size_t k = 0; k < series.size(); ++k) {
-    const int x = left + int(k % 4) * 150, y = legend_y + 20 * int(k / 4);
+    const int x = left + int(k) % legend_columns * 150;
+    const int y = legend_y + 20 * (int(k) / legend_columns);
     s += "<rect x=\"" + std::to_string(x) + "\" y=\"" + std::to_string(y - 10) +
          "\" width=\"12\" height=\"12\" fill=\"" + palette[k % 8] + "\"/><text x=\"" +
          std::to_string(x + 16) + "\" y=\"" + std::to_string(y) + "\">" + html_escape(series[k]) +
@@ -196,7 +198,8 @@ std::string HtmlPage::html() const {
          ".images { display: flex; flex-wrap: wrap; gap: 1em; }\n"
          "figure { margin: 0.5em 0; }\n"
          "figcaption { font-size: small; color: #444; }\n"
-         "img { image-rendering: pixelated; max-width: 100%; }\n"
+         "img { image-rendering: pixelated; height: 16em; width: auto; }\n"
+         "figure svg { max-width: 100%; height: auto; }\n"
          "</style>\n</head>\n<body>\n<h1>" +
          html_escape(title_) + "</h1>\n" + body_ + "</body>\n</html>\n";
 }
