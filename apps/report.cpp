@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "bench/report.h"
 #include "tracer/stats_json.h"
 #include "util/text.h"
 
@@ -168,8 +169,10 @@ std::vector<std::vector<std::string>> comparison_rows(const std::vector<BackendR
       [](const BackendRun& run) { return format("%.3f", run.backend_stats.build_seconds); });
   row("render s, build included",
       [](const BackendRun& run) { return format("%.3f", run.seconds); });
-  row("ratio to " + runs[0].backend,
-      [&](const BackendRun& run) { return format("%.2f", run.seconds / runs[0].seconds); });
+  // The one convention of dacrt's ratios, named as dacrt bench names it.
+  row(bench::speedup_title(runs[0].backend), [&](const BackendRun& run) {
+    return format("%.2f", run.seconds > 0.0 ? runs[0].seconds / run.seconds : 0.0);
+  });
   return rows;
 }
 

@@ -24,7 +24,7 @@ struct BenchArgs {
   std::vector<std::string> backends;
   std::optional<int> width, height;
   std::optional<size_t> count;
-  int repeat = 3;
+  int repeat = 5;
   int threads = 0;  // 0 = all cores
   Options backend_options;
   bool has_backend_options = false;
