@@ -54,6 +54,8 @@ Options
   --sweep triangles          the scene decimated to every k-th triangle, k = 1, 2, 4, 8, 16, 32,
                              each with every ray type at --count
   --json FILE                also write the results as JSON
+  --report DIR               also DIR/index.html: a self-contained page with the table and plots
+                             of Mrays/s and speed-up per ray type, each with its interval
   --seed S                   seed of the ray generators (default 0)
   --tmax-at-hit              intersect rays (primary, bounce, random) end at their closest hit, found
                              by the reference backend before any timing: the work a traversal
@@ -188,6 +190,8 @@ BenchArgs parse_bench_args(const std::vector<std::string>& args) {
         throw std::invalid_argument("--sweep wants rays or triangles, got '" + v + "'");
     } else if (a == "--json") {
       b.json = value();
+    } else if (a == "--report") {
+      b.report = value();
     } else if (a == "--seed") {
       b.seed = uint64_t(parse_bench_int(a, value(), 0, LONG_MAX));
     } else if (a == "--tmax-at-hit") {

@@ -20,6 +20,7 @@ enum class Sweep { none, rays, triangles };
 
 struct BenchArgs {
   std::string scene, json;
+  std::string report;  // --report DIR: DIR/index.html
   std::vector<BenchRay> rays;
   std::vector<std::string> backends;
   std::optional<int> width, height;

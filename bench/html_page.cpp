@@ -147,7 +147,7 @@ void HtmlPage::paragraph(std::string_view text) { body_ += "<p>" + html_escape(t
 
 void HtmlPage::table(const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows) {
-  body_ += "<table>\n<tr>";
+  body_ += "<div class=\"table\"><table>\n<tr>";
   for (const std::string& h : header) body_ += "<th>" + html_escape(h) + "</th>";
   body_ += "</tr>\n";
   for (const auto& row : rows) {
@@ -155,7 +155,7 @@ void HtmlPage::table(const std::vector<std::string>& header,
     for (const std::string& cell : row) body_ += "<td>" + html_escape(cell) + "</td>";
     body_ += "</tr>\n";
   }
-  body_ += "</table>\n";
+  body_ += "</table></div>\n";
 }
 
 void HtmlPage::images(const std::vector<Image>& images) {
@@ -195,6 +195,8 @@ std::string HtmlPage::html() const {
          "table { border-collapse: collapse; margin: 1em 0; }\n"
          "th, td { border: 1px solid #bbb; padding: 0.25em 0.6em; text-align: right; }\n"
          "th:first-child, td:first-child { text-align: left; }\n"
+         "th, td { white-space: nowrap; }\n"
+         ".table { overflow-x: auto; }\n"
          ".images { display: flex; flex-wrap: wrap; gap: 1em; }\n"
          "figure { margin: 0.5em 0; }\n"
          "figcaption { font-size: small; color: #444; }\n"

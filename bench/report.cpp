@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string_view>
 
+#include "bench/html_page.h"
 #include "tracer/stats_json.h"
 
 namespace dacrt::bench {
@@ -92,7 +94,7 @@ std::string choose_baseline(const std::vector<std::string>& backends) {
   return "";
 }
 
-void print_table(std::ostream& out, const BenchReport& report) {
+std::vector<std::vector<std::string>> table_rows(const BenchReport& report) {
   const char* title[] = {"rays",    "count",   "triangles",          "backend", "build s",
                          "trace s", "Mrays/s", "Mrays/s with build", "peak MB", nullptr};
   const bool vs = !report.baseline.empty();
@@ -120,6 +122,12 @@ void print_table(std::ostream& out, const BenchReport& report) {
     }
     rows.push_back(std::move(row));
   }
+  return rows;
+}
+
+void print_table(std::ostream& out, const BenchReport& report) {
+  const bool vs = !report.baseline.empty();
+  const std::vector<std::vector<std::string>> rows = table_rows(report);
   std::vector<size_t> width(rows[0].size(), 3);
   for (const auto& row : rows)
     for (size_t k = 0; k < row.size(); ++k) width[k] = std::max(width[k], row[k].size());
@@ -206,6 +214,62 @@ nlohmann::ordered_json to_json(const BenchReport& report) {
       {"reference", report.reference},
       {"baseline", report.baseline.empty() ? json(nullptr) : json(report.baseline)},
       {"results", results}};
+}
+
+std::string report_page(const std::string& dir) {
+  return (std::filesystem::path(dir) / "index.html").string();
+}
+
+void write_report(const std::string& dir, const BenchReport& report) {
+  HtmlPage page("dacrt bench: " + report.scene);
+  page.paragraph(std::to_string(report.triangles) + " triangles, " +
+                 std::to_string(report.threads) + " threads; " + method_text(report.repeat) +
+                 "; secondary rays from " + report.reference + "'s primary hits" +
+                 (report.baseline.empty() ? "" : "; " + speedup_legend(report.baseline)) + ".");
+  // One cluster per batch (a ray type, and its size in a sweep), one bar per backend.
+  std::vector<std::string> backends;
+  for (const Result& r : report.results)
+    if (std::find(backends.begin(), backends.end(), r.backend) == backends.end())
+      backends.push_back(r.backend);
+  auto label = [&](const Result& r) {
+    std::string l(to_string(r.rays));
+    if (report.sweep != Sweep::none)
+      l.append(1, ' ').append(std::to_string(report.sweep == Sweep::rays ? r.count : r.triangles));
+    return l;
+  };
+  std::vector<BarGroup> rates, speedups;
+  auto group_of = [&](std::vector<BarGroup>& groups, const Result& r) -> Bar& {
+    const std::string l = label(r);
+    auto g = std::find_if(groups.begin(), groups.end(), [&](const BarGroup& x) { return x.label == l; });
+    if (g == groups.end()) {
+      groups.push_back({l, std::vector<Bar>(backends.size(), Bar{0.0, NAN, NAN, false})});
+      g = groups.end() - 1;
+    }
+    const size_t k = size_t(std::find(backends.begin(), backends.end(), r.backend) - backends.begin());
+    return g->bars[k];
+  };
+  for (const Result& r : report.results) {
+    const MedianInterval m = r.mrays_per_s();
+    group_of(rates, r) = {m.median, m.low, m.high};
+    if (const std::vector<double> s = speedup_runs(report, r); !s.empty()) {
+      const MedianInterval v = median_interval(s);
+      group_of(speedups, r) = {v.median, v.low, v.high};
+    }
+  }
+  page.heading("Rays per second");
+  page.figure(bar_chart_svg("Mrays/s per ray type", "Mrays/s", backends, rates),
+              "The median of the timed runs; the whiskers are its 95 % confidence interval "
+              "(order statistics; the min-max range with its coverage when the runs are too few).");
+  if (!speedups.empty())
+    page.figure(bar_chart_svg(speedup_title(report.baseline), "speed-up", backends, speedups),
+                "The baseline's trace seconds over each backend's, repeat by repeat, then the "
+                "median and its interval: above 1 is faster than " + report.baseline + ".");
+  page.heading("Table");
+  std::vector<std::vector<std::string>> rows = table_rows(report);
+  const std::vector<std::string> header = rows.front();
+  rows.erase(rows.begin());
+  page.table(header, rows);
+  page.write(dir);
 }
 
 }  // namespace dacrt::bench

@@ -44,7 +44,14 @@ std::string method_text(int repeat);
 // The speed-up column's header, naming its convention: "speed-up vs embree, higher is faster".
 std::string speedup_title(const std::string& baseline);
 
+// The table's cells: the header row, then one row per result.
+std::vector<std::vector<std::string>> table_rows(const BenchReport& report);
 void print_table(std::ostream& out, const BenchReport& report);
+
+// `bench --report DIR`: DIR/index.html (report_page), a self-contained page (bench/html_page.h)
+// with the table and bar charts of Mrays/s and of the speed-up per ray type, with intervals.
+std::string report_page(const std::string& dir);
+void write_report(const std::string& dir, const BenchReport& report);
 
 // The contract: {"scene", "triangles", "threads", "results": [{"backend", "rays", "count",
 // "build_s", "trace_s", "mrays_per_s", "mrays_per_s_with_build", "peak_mb"}]}, those figures

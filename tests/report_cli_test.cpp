@@ -35,6 +35,35 @@ std::string screenshot(const TempDir& dir, const std::string& page, std::string&
   return png;
 }
 
+// A page that a browser shows without a console or load error, and not blank.
+void check_in_browser(const TempDir& dir, const std::string& page) {
+  std::string log;
+  const std::string shot = screenshot(dir, page, log);
+  if (shot.empty()) {
+    MESSAGE("skipped the browser check: /usr/bin/chromium is not installed (`make test` installs it)");
+    return;
+  }
+  for (const char* error : {"ERROR:CONSOLE", "Uncaught", "Failed to load", "net::ERR"})
+    CHECK_MESSAGE(log.find(error) == std::string::npos, log);
+  int w = 0, h = 0, n = 0;
+  std::unique_ptr<unsigned char, void (*)(void*)> pixels(stbi_load(shot.c_str(), &w, &h, &n, 3),
+                                                         stbi_image_free);
+  REQUIRE(pixels);
+  CHECK(w == 1100);
+  // Not blank: the page's images and plots put many colours on the white.
+  size_t coloured = 0;
+  for (int i = 0; i < w * h; ++i) {
+    const unsigned char* p = pixels.get() + 3 * i;
+    coloured += !(p[0] == p[1] && p[1] == p[2]);
+  }
+  CHECK(coloured > size_t(w * h / 500));
+}
+
+void check_self_contained(const std::string& html) {
+  for (const char* remote : {"<script", "<link", "@import", "url(", "src=\"http", "href="})
+    CHECK_MESSAGE(html.find(remote) == std::string::npos, remote);
+}
+
 }  // namespace
 
 TEST_CASE("render --report: one self-contained page with each backend's image, and a browser shows it") {
@@ -55,8 +84,7 @@ TEST_CASE("render --report: one self-contained page with each backend's image, a
   CHECK(html.find("cornell-box.gltf, 48×32, 2 spp") != std::string::npos);
   CHECK(html.find("<td>triangle tests</td>") != std::string::npos);
   CHECK(html.find("Mrays/s per ray type") != std::string::npos);
-  for (const char* remote : {"<script", "<link", "@import", "url(", "src=\"http", "href="})
-    CHECK_MESSAGE(html.find(remote) == std::string::npos, remote);
+  check_self_contained(html);
 
   // --report is an output: refused with --frames, and a directory that cannot be made is named.
   const Run frames = run(dir, "render " + cornell + " --spp 1 --frames 0:1 --report " + report);
@@ -67,24 +95,28 @@ TEST_CASE("render --report: one self-contained page with each backend's image, a
   CHECK(blocked.code == 1);
   CHECK(blocked.err.find("cb.dacrt.exr/sub") != std::string::npos);
 
-  std::string log;
-  const std::string shot = screenshot(dir, fs::path(report) / "index.html", log);
-  if (shot.empty()) {
-    MESSAGE("skipped the browser check: /usr/bin/chromium is not installed (`make test` installs it)");
-    return;
-  }
-  for (const char* error : {"ERROR:CONSOLE", "Uncaught", "Failed to load", "net::ERR"})
-    CHECK_MESSAGE(log.find(error) == std::string::npos, log);
-  int w = 0, h = 0, n = 0;
-  std::unique_ptr<unsigned char, void (*)(void*)> pixels(stbi_load(shot.c_str(), &w, &h, &n, 3),
-                                                         stbi_image_free);
-  REQUIRE(pixels);
-  CHECK(w == 1100);
-  // Not blank: the page's images and plots put many colours on the white.
-  size_t coloured = 0;
-  for (int i = 0; i < w * h; ++i) {
-    const unsigned char* p = pixels.get() + 3 * i;
-    coloured += !(p[0] == p[1] && p[1] == p[2]);
-  }
-  CHECK(coloured > size_t(w * h / 50));
+  check_in_browser(dir, fs::path(report) / "index.html");
+}
+
+TEST_CASE("bench --report: the table and the Mrays/s with their intervals, on one page") {
+  TempDir dir("bench-report");
+  const std::string report = dir / "bench";
+  const Run r = run(dir, "bench " + cornell + " --width 16 --height 16 --rays primary,bounce --repeat 3 "
+                             "--backends dacrt,brute --quiet --report " + report);
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string html = slurp(fs::path(report) / "index.html");
+  CHECK(html.find("Mrays/s per ray type") != std::string::npos);
+  CHECK(html.find("after 1 discarded warm-up run") != std::string::npos);
+  // Four bars (two ray types, two backends), each with its interval's whisker.
+  size_t whiskers = 0;
+  for (size_t at = html.find("<path"); at != std::string::npos; at = html.find("<path", at + 1))
+    ++whiskers;
+  CHECK(whiskers == 4);
+  for (const char* cell : {"<td>primary</td>", "<td>bounce</td>", "<td>dacrt</td>", "<td>brute</td>"})
+    CHECK_MESSAGE(html.find(cell) != std::string::npos, cell);
+  check_self_contained(html);
+  const Run blocked = run(dir, "bench " + cornell + " --width 16 --height 16 --report " + (dir / "bench/index.html/x"));
+  CHECK(blocked.code == 1);
+  CHECK(blocked.err.find("index.html/x") != std::string::npos);
+  check_in_browser(dir, fs::path(report) / "index.html");
 }
