@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -64,11 +65,23 @@ Configurations
                              would end past it (its cost predicted from the points so far); the
                              first two points (1 and 2 spp) are always rendered
   --max-spp N                stop at N samples per pixel at most (default 65536)
+  --repeats N                render each configuration N times (default 1), repeat i with seed
+                             S + 2i (and S + 2i + 1 for --noise): every point is the mean of the
+                             N measures, with a 95 % confidence interval (Student t with N - 1
+                             degrees of freedom) in the CSV, the plot (shaded) and the tables.
+                             The first repeat's doubling sets the points; the others render the
+                             same ones. The repeats take turns: each configuration's first, then
+                             each one's second, ...
 Error
   --reference REF.exr        the converged image (same size as the renders)
-  --reference-spp N          without --reference: render one of N spp (default 1024) with the
-                             shared options (no configuration's), seed S + 2^32, and keep it as
-                             OUTDIR/reference.exr (reuse it with --reference)
+  --reference-spp N          without --reference: render one of N >= 2 spp (default 1024) with
+                             the shared options (no configuration's) as two halves, seeds
+                             S + 2^32 and S + 2^32 + 1, averaged, and keep it as
+                             OUTDIR/reference.exr (reuse it with --reference). The halves give
+                             the reference's own MSE, mean (a - b)^2 / 4, which is subtracted
+                             from every configuration's MSE against it (RMSE and relMSE; clamped
+                             at 0) and kept in the EXR (referenceMse, referenceRelmse) for reuse.
+                             A --reference without these attributes is used as it is
   --no-reference             no reference: the error is the noise between two seeds
   --noise                    also the noise: every point rendered again with seed S + 1;
                              noise = RMSE(seed S, seed S + 1) / sqrt 2 (the second render's time
@@ -95,7 +108,8 @@ Metrics (on linear radiance, every channel of every pixel, against the reference
   RMSE sqrt(mean (x-r)^2), relMSE mean (x-r)^2/(r^2 + 0.01), MAE mean |x-r|,
   SMAPE mean 2|x-r|/(|x|+|r|) (0 where both are 0).
 Seconds are cumulative, as a user waits for them: the backend's build and the render of every
-sample so far.
+sample so far. A configuration whose last point took under 0.1 s gets a warning: times that
+short are noisy.
 )help";
 
 // Options that change the image itself: every configuration must share them (one reference).
@@ -121,6 +135,7 @@ struct ConvergeArgs {
   std::optional<Metric> metric;
   double budget = 10.0;
   uint32_t max_spp = 1u << 16;
+  int repeats = 1;
   std::vector<double> targets;
 };
 
@@ -156,7 +171,7 @@ ConvergeArgs parse_converge(const std::vector<std::string>& args) {
     else if (a == "--reference")
       c.reference = value();
     else if (a == "--reference-spp")
-      c.reference_spp = int(parse_int(a, value(), 1, 1 << 20));
+      c.reference_spp = int(parse_int(a, value(), 2, 1 << 20));  // two halves
     else if (a == "--no-reference")
       c.no_reference = true;
     else if (a == "--noise")
@@ -171,6 +186,8 @@ ConvergeArgs parse_converge(const std::vector<std::string>& args) {
       c.budget = parse_seconds(a, value());
     else if (a == "--max-spp")
       c.max_spp = uint32_t(parse_int(a, value(), 1, 1 << 20));
+    else if (a == "--repeats")
+      c.repeats = int(parse_int(a, value(), 1, 1000));
     else if (a == "--target-error")
       c.targets.push_back(parse_seconds(a, value()));
     else if (a == "-o" || a == "--output")
@@ -304,7 +321,9 @@ std::vector<Config> parse_configs(const ConvergeArgs& c) {
 // Error when they exceed the memory this process may still take.
 void check_memory(const ConvergeArgs& a, const std::vector<Config>& configs, const Shot& shot) {
   const RenderMemory reference = render_memory(shot, a.shared.settings, false);
-  uint64_t need = reference.image + reference.paths;
+  // The reference's render beside its first half's image and, once both are done, their mean.
+  const uint64_t rgb = uint64_t(shot.pixels()) * 3 * sizeof(float);
+  uint64_t need = reference.image + reference.paths + 2 * rgb;
   for (const Config& c : configs) {
     const RenderMemory m = render_memory(shot, c.args.settings, false);
     need = std::max(need, (a.noise ? 2 : 1) * (m.image + m.paths) + reference.image);
@@ -326,6 +345,29 @@ void check_finite(const std::string& path, const Image& image) {
                   (std::isnan(image.rgb[i]) ? "NaN" : "infinite") +
                   ": a reference must be finite everywhere");
     }
+}
+
+// The reference's own error, kept in the EXR that converge renders so that a later
+// `--reference` of it subtracts the same; a reference from elsewhere has none.
+constexpr const char* reference_mse_key = "referenceMse";
+constexpr const char* reference_relmse_key = "referenceRelmse";
+
+std::optional<ReferenceError> stored_reference_error(const std::string& path) {
+  const std::map<std::string, std::string> attributes = read_exr_file(path).attributes;
+  auto number = [&](const char* key) -> std::optional<double> {
+    const auto it = attributes.find(key);
+    if (it == attributes.end()) return std::nullopt;
+    char* end = nullptr;
+    const double v = std::strtod(it->second.c_str(), &end);
+    if (it->second.empty() || *end != '\0' || !std::isfinite(v) || v < 0)
+      throw Error(path + ": the reference's " + key + " '" + shortened(it->second) +
+                  "' is not a non-negative number");
+    return v;
+  };
+  const std::optional<double> mse = number(reference_mse_key),
+                              relmse = number(reference_relmse_key);
+  if (!mse || !relmse) return std::nullopt;
+  return ReferenceError{*mse, *relmse};
 }
 
 std::optional<std::string> find_in_path(const std::string& program) {
@@ -419,9 +461,11 @@ int converge_main(const std::vector<std::string>& args) {
                    "written, the plot is not (install gnuplot-nox)\n");
   }
   std::optional<Image> reference;
+  std::optional<ReferenceError> reference_error;
   if (!a.reference.empty()) {
     reference = read_exr(a.reference);
     check_finite(a.reference, *reference);
+    reference_error = stored_reference_error(a.reference);
   }
 
   std::unique_ptr<tbb::global_control> threads;
@@ -454,31 +498,49 @@ int converge_main(const std::vector<std::string>& args) {
     shared.args.backend =
         split_list(a.shared.backend).empty() ? "dacrt" : split_list(a.shared.backend)[0];
     const uint64_t seed = base.seed + (uint64_t(1) << 32);
+    const uint32_t halves[2] = {uint32_t(a.reference_spp) / 2,
+                                uint32_t(a.reference_spp) - uint32_t(a.reference_spp) / 2};
     if (verbose)
       std::fprintf(stderr,
-                   "converge: rendering the reference: %d spp, %s, sampler %s, seed %llu "
-                   "(--reference-spp, or --reference REF.exr)\n",
+                   "converge: rendering the reference: %d spp as two halves, %s, sampler %s, "
+                   "seeds %llu and %llu (--reference-spp, or --reference REF.exr)\n",
                    a.reference_spp, shared.args.backend.c_str(), sampler_name(base.sampler).c_str(),
-                   (unsigned long long)seed);
-    Run run = start_run(scene, shot, shared, seed);
+                   (unsigned long long)seed, (unsigned long long)seed + 1);
+    // Two independent halves, averaged: their difference measures the reference's own noise.
+    std::vector<Image> images;
     double seconds = 0;
-    if (!render_to(run, 0, uint32_t(a.reference_spp), "reference", bar, stop, &seconds))
-      return 128 + signals.signal();
-    reference = run.film->resolve();
+    for (int h = 0; h < 2; ++h) {
+      Run run = start_run(scene, shot, shared, seed + h);
+      double step = 0;
+      if (!render_to(run, 0, halves[h], h ? "reference, second half" : "reference, first half", bar,
+                     stop, &step))
+        return 128 + signals.signal();
+      seconds += step;
+      images.push_back(run.film->resolve());
+    }
+    SplitReference split = combine_halves(images[0], images[1]);
+    reference = std::move(split.image);
+    reference_error = split.error;
     if (!outdir_exists) fs::create_directories(outdir);
     ExrMetadata meta;
     meta.spp = a.reference_spp;
     meta.backend = shared.args.backend;
     meta.integrator = base.integrator;
     meta.render_seconds = seconds;
-    meta.extra = {{"scene", a.shared.scene},
-                  {"sampler", sampler_name(base.sampler)},
-                  {"seed", std::to_string(seed)},
-                  {"software", std::string("dacrt ") + version()}};
+    meta.extra = {
+        {"scene", a.shared.scene},
+        {"sampler", sampler_name(base.sampler)},
+        {"seed", std::to_string(seed)},
+        {"referenceHalves", std::to_string(halves[0]) + " spp with seed " + std::to_string(seed) +
+                                " and " + std::to_string(halves[1]) + " spp with seed " +
+                                std::to_string(seed + 1) + ", averaged"},
+        {reference_mse_key, format("%.9g", split.error.mse)},
+        {reference_relmse_key, format("%.9g", split.error.relmse)},
+        {"software", std::string("dacrt ") + version()}};
     write_exr(reference_out, *reference, meta);
     if (verbose)
-      std::fprintf(stderr, "converge: reference: %d spp in %.3g s, %s\n", a.reference_spp, seconds,
-                   reference_out.c_str());
+      std::fprintf(stderr, "converge: reference: %d spp in %.3g s, its own MSE %.3g, %s\n",
+                   a.reference_spp, seconds, split.error.mse, reference_out.c_str());
   }
 
   const Metric metric = *a.metric;
@@ -486,77 +548,103 @@ int converge_main(const std::vector<std::string>& args) {
                             std::to_string(shot.width) + " x " + std::to_string(shot.height) +
                             ": " + metric_names[int(metric)] + " against time";
   std::vector<Curve> curves;
-  // The CSV and the script hold every point measured so far: written after each configuration,
-  // and before an error of a later one ends the command, so that it loses none of them.
-  auto write_so_far = [&](const Curve* unfinished) {
-    std::vector<Curve> all = curves;
-    if (unfinished && !unfinished->points.empty()) all.push_back(*unfinished);
+  for (const Config& c : configs) curves.push_back({c.label, {}});
+  // The CSV and the script hold every point measured so far: written after each configuration's
+  // run, and before an error of a later one ends the command, so that it loses none of them.
+  auto measured = [&] {
+    std::vector<Curve> all;
+    for (const Curve& c : curves)
+      if (!c.points.empty()) all.push_back(c);
+    return all;
+  };
+  auto write_so_far = [&] {
+    const std::vector<Curve> all = measured();
     if (all.empty()) return;
     if (!fs::exists(outdir)) fs::create_directories(outdir);
-    write_csv(csv, all);
+    write_csv(csv, all, reference_error);
     write_script(script, all, metric, title);
   };
   // On an error: the points so far are kept if they can be, the error (one line) is the
   // command's. Out of memory, the write may fail too: the original error is the one to report.
-  auto keep_so_far = [&](const Curve* unfinished) {
+  auto keep_so_far = [&] {
     try {
-      write_so_far(unfinished);
-      return !curves.empty() || !unfinished->points.empty();
+      write_so_far();
+      return !measured().empty();
     } catch (...) {
       return false;
     }
   };
-  for (size_t k = 0; k < configs.size() && !signals.signal(); ++k) {
-    const Config& c = configs[k];
-    Curve curve{c.label, {}};
-    try {
-      std::unique_ptr<tbb::global_control> own_threads;
-      if (c.args.threads > 0 && c.args.threads != a.shared.threads)
-        own_threads = std::make_unique<tbb::global_control>(
-            tbb::global_control::max_allowed_parallelism, size_t(c.args.threads));
-      const auto t0 = Clock::now();
-      Run run = start_run(scene, shot, c, c.args.settings.seed);
-      const double setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-      std::optional<Run> second;
-      if (a.noise) second = start_run(scene, shot, c, c.args.settings.seed + 1);
-      double rendered = 0;  // the render seconds of the samples so far
-      uint32_t spp = 0;
-      for (uint32_t next = 1;; next *= 2) {
-        const std::string label = "converge " + c.label + ": " + std::to_string(next) + " spp";
-        double step = 0;
-        if (!render_to(run, spp, next, label, bar, stop, &step)) break;
-        if (second && !render_to(*second, spp, next, label + " (seed S + 1)", bar, stop, nullptr))
-          break;
-        spp = next;
-        rendered += step;
-        Point p;
-        p.spp = spp;
-        p.seconds = setup_seconds + rendered;
-        const Image image = run.film->resolve();
-        if (reference) p.error = image_error(image, *reference);
-        if (second) p.noise = noise_from_seeds(image, second->film->resolve());
-        curve.points.push_back(p);
-        if (verbose)
-          std::fprintf(stderr, "converge %s: %u spp, %.3g s, %s %.4g\n", c.label.c_str(), spp,
-                       p.seconds, metric_names[int(metric)], value_of(p, metric).value_or(NAN));
-        // Doubling renders as many samples again: it costs about what the samples so far cost.
-        if (spp >= a.max_spp || (curve.points.size() >= 2 && p.seconds + rendered > a.budget))
-          break;
+  // Repeat-major order: a configuration's repeats are spread over the run, so that a slow spell
+  // of a shared machine falls on every configuration rather than on one.
+  for (int repeat = 0; repeat < a.repeats && !signals.signal(); ++repeat)
+    for (size_t k = 0; k < configs.size() && !signals.signal(); ++k) {
+      const Config& c = configs[k];
+      Curve& curve = curves[k];
+      const std::string suffix = a.repeats > 1 ? " (repeat " + std::to_string(repeat + 1) + "/" +
+                                                     std::to_string(a.repeats) + ")"
+                                               : std::string();
+      const uint64_t seed = c.args.settings.seed + 2 * uint64_t(repeat);
+      try {
+        std::unique_ptr<tbb::global_control> own_threads;
+        if (c.args.threads > 0 && c.args.threads != a.shared.threads)
+          own_threads = std::make_unique<tbb::global_control>(
+              tbb::global_control::max_allowed_parallelism, size_t(c.args.threads));
+        const auto t0 = Clock::now();
+        Run run = start_run(scene, shot, c, seed);
+        const double setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        std::optional<Run> second;
+        if (a.noise) second = start_run(scene, shot, c, seed + 1);
+        double rendered = 0;  // the render seconds of the samples so far
+        uint32_t spp = 0;
+        for (uint32_t next = 1, index = 0;; next *= 2, ++index) {
+          // The first repeat's doubling sets the points; the others render the same ones.
+          if (repeat > 0 && index >= curve.points.size()) break;
+          const std::string label =
+              "converge " + c.label + suffix + ": " + std::to_string(next) + " spp";
+          double step = 0;
+          if (!render_to(run, spp, next, label, bar, stop, &step)) break;
+          if (second && !render_to(*second, spp, next, label + " (seed S + 1)", bar, stop, nullptr))
+            break;
+          spp = next;
+          rendered += step;
+          Measure m;
+          m.seconds = setup_seconds + rendered;
+          const Image image = run.film->resolve();
+          if (reference) {
+            m.raw = image_error(image, *reference);
+            m.error = reference_error ? without_reference_error(*m.raw, *reference_error) : *m.raw;
+          }
+          if (second) m.noise = noise_from_seeds(image, second->film->resolve());
+          if (repeat == 0)
+            curve.points.push_back({spp, {m}});
+          else
+            curve.points[index].repeats.push_back(m);
+          if (verbose)
+            std::fprintf(stderr, "converge %s%s: %u spp, %.3g s, %s %.4g\n", c.label.c_str(),
+                         suffix.c_str(), spp, m.seconds, metric_names[int(metric)],
+                         value_of(m, metric).value_or(NAN));
+          // Doubling renders as many samples again: it costs about what the samples so far cost.
+          if (repeat == 0 &&
+              (spp >= a.max_spp || (curve.points.size() >= 2 && m.seconds + rendered > a.budget)))
+            break;
+        }
+      } catch (const Error& e) {
+        const bool kept = keep_so_far();
+        throw Error("--config \"" + shortened(c.label) + "\": " + e.what() +
+                    (kept ? " (the points so far are in " + csv + ")" : ""));
+      } catch (...) {
+        keep_so_far();
+        throw;
       }
-    } catch (const Error& e) {
-      const bool kept = keep_so_far(&curve);
-      throw Error("--config \"" + shortened(c.label) + "\": " + e.what() +
-                  (kept ? " (the points so far are in " + csv + ")" : ""));
-    } catch (...) {
-      keep_so_far(&curve);
-      throw;
+      write_so_far();
     }
-    if (!curve.points.empty()) curves.push_back(std::move(curve));
-    write_so_far(nullptr);
-  }
+  curves = measured();
 
   if (!curves.empty()) {
     if (gnuplot) draw_plot(*gnuplot, fs::absolute(script).string(), svg, png);
+    warn_short_runs(curves);
+    if (reference)
+      print_reference(a.reference.empty() ? reference_out : a.reference, reference_error);
     print_table(curves, metric, a.targets);
     if (verbose) {
       std::fprintf(stderr, "converge: wrote %s, %s", csv.c_str(), script.c_str());

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "util/atomic_file.h"
@@ -23,14 +24,40 @@ namespace dacrt {
 
 namespace fs = std::filesystem;
 
-std::optional<double> value_of(const Point& p, Metric m) {
-  if (m == Metric::noise) return p.noise;
-  if (!p.error) return std::nullopt;
-  const ImageError& e = *p.error;
-  return m == Metric::rmse     ? e.rmse
-         : m == Metric::relmse ? e.relmse
-         : m == Metric::mae    ? e.mae
-                               : e.smape;
+std::optional<double> value_of(const Measure& measure, Metric metric) {
+  if (metric == Metric::noise) return measure.noise;
+  if (!measure.error) return std::nullopt;
+  const ImageError& e = *measure.error;
+  return metric == Metric::rmse     ? e.rmse
+         : metric == Metric::relmse ? e.relmse
+         : metric == Metric::mae    ? e.mae
+                                    : e.smape;
+}
+
+namespace {
+
+// A point's values of `get` (a Measure to an optional number) over its repeats: their mean and
+// band, or nothing when one repeat lacks the value.
+template <class Get>
+std::optional<Interval> summarize(const Point& p, Get get) {
+  std::vector<double> values;
+  for (const Measure& m : p.repeats) {
+    const std::optional<double> v = get(m);
+    if (!v) return std::nullopt;
+    values.push_back(*v);
+  }
+  if (values.empty()) return std::nullopt;
+  return mean_interval95(values);
+}
+
+}  // namespace
+
+std::optional<Interval> summary_of(const Point& p, Metric metric) {
+  return summarize(p, [&](const Measure& m) { return value_of(m, metric); });
+}
+
+Interval seconds_of(const Point& p) {
+  return *summarize(p, [](const Measure& m) { return std::optional<double>(m.seconds); });
 }
 
 std::string format(const char* f, double v) {
@@ -59,7 +86,7 @@ std::string gnuplot_quote(const std::string& text) {
 
 std::vector<double> costs(const Curve& c) {
   std::vector<double> v;
-  for (const Point& p : c.points) v.push_back(p.seconds);
+  for (const Point& p : c.points) v.push_back(seconds_of(p).mean);
   return v;
 }
 std::vector<double> samples(const Curve& c) {
@@ -67,10 +94,30 @@ std::vector<double> samples(const Curve& c) {
   for (const Point& p : c.points) v.push_back(p.spp);
   return v;
 }
-std::vector<double> errors(const Curve& c, Metric m) {
+// The curve's mean errors, or one end of their bands (NaN without one).
+std::vector<double> errors(const Curve& c, Metric m, double Interval::*end = &Interval::mean) {
   std::vector<double> v;
-  for (const Point& p : c.points) v.push_back(value_of(p, m).value_or(NAN));
+  for (const Point& p : c.points) {
+    const std::optional<Interval> e = summary_of(p, m);
+    v.push_back(e ? (*e).*end : NAN);
+  }
   return v;
+}
+bool has_band(const Curve& c) {
+  for (const Point& p : c.points)
+    if (p.repeats.size() > 1) return true;
+  return false;
+}
+
+// A number, or nothing (an empty CSV cell) when it is not one.
+std::string cell(std::optional<double> v) {
+  return v && std::isfinite(*v) ? format("%.9g", *v) : std::string();
+}
+// "  [low, high]" of a band, or nothing without one.
+std::string band_text(double low, double high) {
+  return std::isfinite(low) && std::isfinite(high)
+             ? "  [" + format("%.3g", low) + ", " + format("%.3g", high) + "]"
+             : std::string();
 }
 
 std::string slope_text(double slope) {
@@ -79,17 +126,37 @@ std::string slope_text(double slope) {
 
 }  // namespace
 
-void write_csv(const std::string& path, const std::vector<Curve>& curves) {
+void write_csv(const std::string& path, const std::vector<Curve>& curves,
+               const std::optional<ReferenceError>& reference) {
+  // One field of a band, or of the reference's error, that may not exist: an empty cell then.
+  auto field = [](const auto& maybe, double std::decay_t<decltype(*maybe)>::*member) {
+    return cell(maybe ? std::optional((*maybe).*member) : std::nullopt);
+  };
   write_atomically(path, "CSV", [&](std::ostream& out) {
-    out << "config,spp,seconds,rmse,relmse,mae,smape,noise\n";
+    out << "config,spp,seconds,rmse,relmse,mae,smape,noise,repeats,seconds_low,seconds_high";
+    for (const char* key : metric_keys) out << ',' << key << "_low," << key << "_high";
+    out << ",rmse_raw,relmse_raw,reference_mse,reference_relmse\n";
     for (const Curve& c : curves)
       for (const Point& p : c.points) {
-        out << csv_quote(c.label) << ',' << p.spp << ',' << format("%.6g", p.seconds);
+        const Interval seconds = seconds_of(p);
+        out << csv_quote(c.label) << ',' << p.spp << ',' << format("%.6g", seconds.mean);
+        std::vector<std::optional<Interval>> bands;
         for (int m = 0; m < 5; ++m) {
-          const std::optional<double> v = value_of(p, Metric(m));
-          out << ',' << (v ? format("%.9g", *v) : std::string());
+          bands.push_back(summary_of(p, Metric(m)));
+          out << ',' << field(bands.back(), &Interval::mean);
         }
-        out << '\n';
+        out << ',' << p.repeats.size() << ',' << cell(seconds.low) << ',' << cell(seconds.high);
+        for (const std::optional<Interval>& b : bands)
+          out << ',' << field(b, &Interval::low) << ',' << field(b, &Interval::high);
+        for (double ImageError::*raw : {&ImageError::rmse, &ImageError::relmse})
+          out << ','
+              << field(summarize(p,
+                                 [&](const Measure& m) {
+                                   return m.raw ? std::optional((*m.raw).*raw) : std::nullopt;
+                                 }),
+                       &Interval::mean);
+        out << ',' << field(reference, &ReferenceError::mse) << ','
+            << field(reference, &ReferenceError::relmse) << '\n';
       }
   });
 }
@@ -102,23 +169,37 @@ void write_script(const std::string& path, const std::vector<Curve>& curves, Met
   std::ostringstream data;
   for (size_t k = 0; k < curves.size(); ++k) {
     const Curve& c = curves[k];
-    data << "$config" << k << " << EOD\n# seconds " << metric_keys[int(metric)] << " spp\n";
+    data << "$config" << k << " << EOD\n# seconds " << metric_keys[int(metric)]
+         << " spp low high (the 95 % band; the value itself without repeats)\n";
     int rows = 0;
-    for (const Point& p : c.points)
-      if (const auto v = value_of(p, metric); v && *v > 0 && p.seconds > 0)
-        data << format("%.6g", p.seconds) << ' ' << format("%.9g", *v) << ' ' << p.spp << '\n',
-            ++rows;
+    for (const Point& p : c.points) {
+      const std::optional<Interval> v = summary_of(p, metric);
+      const double seconds = seconds_of(p).mean;
+      if (!v || !(v->mean > 0) || !(seconds > 0)) continue;
+      // A band that reaches 0 would leave the log plot: its low end is drawn at a tenth of the
+      // mean (the CSV and the tables keep the interval as computed).
+      const double low = std::isfinite(v->low) ? std::max(v->low, v->mean / 10) : v->mean;
+      const double high = std::isfinite(v->high) ? v->high : v->mean;
+      data << format("%.6g", seconds) << ' ' << format("%.9g", v->mean) << ' ' << p.spp << ' '
+           << format("%.9g", low) << ' ' << format("%.9g", high) << '\n';
+      ++rows;
+    }
     data << "EOD\n";
     if (rows == 0) continue;
     const LogLogFit by_time = fit_log_log(costs(c), errors(c, metric));
     const LogLogFit by_spp = fit_log_log(samples(c), errors(c, metric));
     const std::string legend = c.label + ": slope " + slope_text(by_time.slope) + " vs time, " +
                                slope_text(by_spp.slope) + " vs spp";
-    plot << (drawn++ ? ", \\\n     " : "") << "$config" << k
-         << " using 1:2 with linespoints linewidth 2 pointtype " << 5 + 2 * (k % 4) << " title "
-         << gnuplot_quote(legend);
+    const std::string colour = " linecolor " + std::to_string(k % 8 + 1);
+    plot << (drawn++ ? ", \\\n     " : "");
+    if (has_band(c))
+      plot << "$config" << k << " using 1:4:5 with filledcurves" << colour
+           << " fillstyle transparent solid 0.2 noborder notitle, \\\n     ";
+    plot << "$config" << k << " using 1:2 with linespoints linewidth 2" << colour << " pointtype "
+         << 5 + 2 * (k % 4) << " title " << gnuplot_quote(legend);
   }
   if (drawn == 0) plot << "NaN notitle";
+  const bool banded = std::any_of(curves.begin(), curves.end(), has_band);
   write_atomically(path, "gnuplot script", [&](std::ostream& out) {
     out << "# dacrt converge: " << metric_names[int(metric)]
         << " against render time, one curve per configuration.\n"
@@ -129,7 +210,8 @@ void write_script(const std::string& path, const std::vector<Curve>& curves, Met
         << "set format x '%g'\nset format y '%g'\n"
         << "set xlabel 'seconds (cumulative: build and every sample so far)'\n"
         << "set ylabel "
-        << gnuplot_quote(std::string(metric_names[int(metric)]) + " (linear radiance)")
+        << gnuplot_quote(std::string(metric_names[int(metric)]) + " (linear radiance" +
+                         (banded ? "; the mean of the repeats, their 95 % band shaded)" : ")"))
         << "\nset title " << gnuplot_quote(title) << "\nset key top right box opaque\n"
         << "set terminal svg size 820,560 dynamic noenhanced font 'sans,12' background '#ffffff'\n"
         << "set output svg\n"
@@ -189,31 +271,70 @@ void draw_plot(const std::string& gnuplot, const std::string& script, const std:
                 (message.empty() ? "" : ": " + one_line(message)));
 }
 
+void print_reference(const std::string& path, const std::optional<ReferenceError>& error) {
+  if (error)
+    std::printf(
+        "reference %s: its own MSE %.3g (RMSE %.3g, relMSE %.3g), from its two halves, is "
+        "subtracted from each configuration's MSE against it (RMSE and relMSE; MAE and "
+        "SMAPE as measured)\n\n",
+        path.c_str(), error->mse, std::sqrt(error->mse), error->relmse);
+  else
+    std::printf(
+        "reference %s: its own error is unknown (no referenceMse attribute): not "
+        "subtracted\n\n",
+        path.c_str());
+}
+
+void warn_short_runs(const std::vector<Curve>& curves) {
+  constexpr double noisy_below = 0.1;  // seconds
+  for (const Curve& c : curves) {
+    const double seconds = seconds_of(c.points.back()).mean;
+    if (seconds < noisy_below)
+      std::fprintf(stderr,
+                   "dacrt converge: warning: --config \"%s\" ran %.3g s in all: times under "
+                   "0.1 s are noisy (a larger --time-budget, --max-spp or image runs longer)\n",
+                   c.label.c_str(), seconds);
+  }
+}
+
 void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<double> targets) {
   const char* name = metric_names[int(metric)];
   size_t width = 6;
   for (const Curve& c : curves) width = std::max(width, c.label.size());
   const int w = int(width);
-  std::printf("%-*s  points  last spp  seconds  %8s  slope/spp  slope/time\n", w, "config", name);
+  const bool banded = std::any_of(curves.begin(), curves.end(), has_band);
+  if (banded)
+    std::printf(
+        "(each number the mean of the repeats, [low, high] its 95 %% confidence interval, "
+        "Student t)\n");
+  std::printf("%-*s  points  last spp  seconds  %8s  slope/spp  slope/time%s\n", w, "config", name,
+              banded ? "  95 % band" : "");
   double common_error = 0, common_time = INFINITY;
   for (const Curve& c : curves) {
     const std::vector<double> e = errors(c, metric);
     const LogLogFit by_spp = fit_log_log(samples(c), e), by_time = fit_log_log(costs(c), e);
     const Point& last = c.points.back();
-    std::printf("%-*s  %6zu  %8u  %7.3g  %8.3g  %9s  %10s\n", w, c.label.c_str(), c.points.size(),
-                last.spp, last.seconds, e.back(), slope_text(by_spp.slope).c_str(),
-                slope_text(by_time.slope).c_str());
+    std::printf("%-*s  %6zu  %8u  %7.3g  %8.3g  %9s  %10s%s\n", w, c.label.c_str(), c.points.size(),
+                last.spp, seconds_of(last).mean, e.back(), slope_text(by_spp.slope).c_str(),
+                slope_text(by_time.slope).c_str(),
+                band_text(errors(c, metric, &Interval::low).back(),
+                          errors(c, metric, &Interval::high).back())
+                    .c_str());
     double lowest = INFINITY;
     for (double v : e)
       if (v > 0) lowest = std::min(lowest, v);
     common_error = std::max(common_error, lowest);
-    common_time = std::min(common_time, last.seconds);
+    common_time = std::min(common_time, seconds_of(last).mean);
   }
   const bool automatic = targets.empty();
   if (automatic && std::isfinite(common_error)) targets.push_back(common_error);
   for (double target : targets) {
     std::printf("\nequal error: %s %.3g%s\n", name, target,
                 automatic ? " (the lowest every configuration reached)" : "");
+    if (banded)
+      std::printf(
+          "  ([low, high]: when the band's low and high ends reach it; > the last "
+          "point's seconds when the high end never does)\n");
     std::optional<double> first;
     std::string sentence;
     for (size_t k = 0; k < curves.size(); ++k) {
@@ -230,6 +351,16 @@ void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<do
             "never (lowest " + format("%.3g", lowest) + " in " + format("%.3g", t.back()) + " s)";
       } else {
         text = format("%.3g s", *at);
+        if (has_band(c)) {
+          // A low end at or below 0 has reached every level: it counts as the least positive.
+          std::vector<double> lows = errors(c, metric, &Interval::low);
+          for (double& v : lows) v = std::max(v, std::numeric_limits<double>::min());
+          const std::optional<double> low = cost_to_reach(t, lows, target),
+                                      high = cost_to_reach(t, errors(c, metric, &Interval::high),
+                                                           target);
+          text += " [" + (low ? format("%.3g", *low) : std::string("?")) + ", " +
+                  (high ? format("%.3g", *high) : format("> %.3g", t.back())) + "]";
+        }
         if (first && *first > 0) text += format("  %.2fx", *at / *first);
         if (!e.empty() && e[0] <= target) text += "  (at its first point: perhaps sooner)";
       }
@@ -244,9 +375,18 @@ void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<do
     std::optional<double> first;
     for (size_t k = 0; k < curves.size(); ++k) {
       const Curve& c = curves[k];
-      const std::optional<double> e = error_at(costs(c), errors(c, metric), common_time);
+      const std::vector<double> t = costs(c);
+      const std::optional<double> e = error_at(t, errors(c, metric), common_time);
       if (k == 0) first = e;
       std::string text = e ? format("%.3g", *e) : std::string("n/a (its first point is later)");
+      if (e && has_band(c)) {
+        // The band's half width, interpolated as the mean is (a low end may be 0 or below,
+        // which a log-log interpolation cannot take).
+        std::vector<double> half = errors(c, metric, &Interval::high), mean = errors(c, metric);
+        for (size_t i = 0; i < half.size(); ++i) half[i] -= mean[i];
+        const double h = error_at(t, half, common_time).value_or(NAN);
+        text += band_text(*e - h, *e + h);
+      }
       if (e && first && *first > 0) text += format("  %.2fx", *e / *first);
       std::printf("  %-*s  %s %s\n", w, c.label.c_str(), name, text.c_str());
     }

@@ -16,11 +16,18 @@ namespace dacrt {
 enum class Metric { rmse, relmse, mae, smape, noise };
 constexpr const char* metric_keys[] = {"rmse", "relmse", "mae", "smape", "noise"};
 constexpr const char* metric_names[] = {"RMSE", "relMSE", "MAE", "SMAPE", "noise"};
+// One render's measurement at a point: the seconds it took and its errors.
+struct Measure {
+  double seconds = 0.0;
+  std::optional<ImageError> error;  // against the reference, its own error taken out when known
+  std::optional<ImageError> raw;    // against the reference as it is
+  std::optional<double> noise;
+};
+
+// A point of a curve: `spp` samples per pixel, one measure per repeat (--repeats).
 struct Point {
   uint32_t spp = 0;
-  double seconds = 0.0;
-  std::optional<ImageError> error;
-  std::optional<double> noise;
+  std::vector<Measure> repeats;
 };
 
 struct Curve {
@@ -28,12 +35,19 @@ struct Curve {
   std::vector<Point> points;
 };
 
-// A point's value of a metric (nothing when it was not measured).
-std::optional<double> value_of(const Point& p, Metric m);
+// A measure's value of a metric (nothing when it was not measured).
+std::optional<double> value_of(const Measure& m, Metric metric);
+// A point's metric over its repeats: the mean and its 95 % band (NaN ends with one repeat);
+// nothing when a repeat lacks it.
+std::optional<Interval> summary_of(const Point& p, Metric metric);
+// A point's seconds over its repeats, the same way.
+Interval seconds_of(const Point& p);
 // snprintf of one number.
 std::string format(const char* f, double v);
 
-void write_csv(const std::string& path, const std::vector<Curve>& curves);
+// The reference's own error (nothing when unknown) fills the CSV's reference columns.
+void write_csv(const std::string& path, const std::vector<Curve>& curves,
+               const std::optional<ReferenceError>& reference);
 // The gnuplot script, its data inline: `gnuplot convergence.gp` in OUTDIR draws the plot again.
 // The outputs are the variables svg and png (set with -e), convergence.svg/png by default.
 void write_script(const std::string& path, const std::vector<Curve>& curves, Metric metric,
@@ -43,6 +57,12 @@ void draw_plot(const std::string& gnuplot, const std::string& script, const std:
                const std::string& png);
 // The table on stdout: each curve's fit, then equal-error and equal-time comparisons (at
 // `targets`, or at the lowest error every curve reached).
+// The reference's line above the table: its own MSE and that it is subtracted, or that it is
+// unknown.
+void print_reference(const std::string& path, const std::optional<ReferenceError>& error);
+// One warning line on stderr for each curve whose last point took under 0.1 s: so short a time
+// is mostly the timer's and the machine's noise.
+void warn_short_runs(const std::vector<Curve>& curves);
 void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<double> targets);
 
 }  // namespace dacrt

@@ -32,6 +32,40 @@ ImageError image_error(const Image& image, const Image& reference);
 // independent, so the squared difference holds two variances).
 double noise_from_seeds(const Image& a, const Image& b);
 
+// The error a reference has against the converged image, estimated from two independent renders
+// a and b of it (the reference is their mean): per channel E[(a − b)²] = var a + var b =
+// 4 var((a + b)/2), so mean (a − b)²/4 is the reference's MSE, and the same over r² + ε its
+// relMSE (r the mean, as in image_error). No assumption on how each half converges (Sobol or
+// independent samples, any spp each): only that they are unbiased and independent.
+struct ReferenceError {
+  double mse = 0.0;     // the reference's mean (r − truth)²
+  double relmse = 0.0;  // mean (r − truth)² / (r² + relmse_epsilon)
+};
+struct SplitReference {
+  Image image;  // (a + b) / 2
+  ReferenceError error;
+};
+// Throws Error when the sizes differ or the images are empty.
+SplitReference combine_halves(const Image& a, const Image& b);
+
+// An error measured against a noisy reference r with r's own error taken out. x − r =
+// (x − truth) − (r − truth) with independent terms, so E[(x − r)²] = MSE(x) + MSE(r): RMSE
+// becomes √max(0, RMSE² − mse) and relMSE max(0, relMSE − relmse) (clamped at 0: both terms are
+// estimates, and near convergence their difference can come out negative). MAE and SMAPE are
+// not sums of squares and stay as measured.
+ImageError without_reference_error(const ImageError& measured, const ReferenceError& reference);
+
+// The mean of repeated measurements and its 95 % confidence interval, mean ± t·s/√n with s the
+// sample standard deviation and t the Student t quantile 0.975 with n − 1 degrees of freedom
+// (the repeats' errors taken as normal). With fewer than two values low and high are NaN.
+struct Interval {
+  double mean, low, high;
+};
+Interval mean_interval95(const std::vector<double>& values);
+// The quantile 0.975 of Student's t with `dof` ≥ 1 degrees of freedom: 12.71 at 1, 2.78 at 4,
+// 1.96 in the limit.
+double student_t975(int dof);
+
 // The least-squares line y = intercept + slope·x through the points (log x, log y) for which both
 // are positive and finite; `points` says how many. With fewer than two usable points (or all at
 // one x) the slope and intercept are NaN.

@@ -25,7 +25,10 @@ namespace {
 
 const std::string cornell = DACRT_SOURCE_DIR "/scenes/cornell-box.gltf";
 const std::string tiny = cornell + " --width 12 --height 12 --max-depth 4 --quiet";
-const std::string header = "config,spp,seconds,rmse,relmse,mae,smape,noise";
+const std::string header =
+    "config,spp,seconds,rmse,relmse,mae,smape,noise,repeats,seconds_low,seconds_high,rmse_low,"
+    "rmse_high,relmse_low,relmse_high,mae_low,mae_high,smape_low,smape_high,noise_low,noise_high,"
+    "rmse_raw,relmse_raw,reference_mse,reference_relmse";
 
 bool have_gnuplot() {
   return std::system("command -v gnuplot >/dev/null 2>&1") == 0;
@@ -45,6 +48,11 @@ struct Row {
   int spp;
   double seconds;
   std::vector<std::string> metrics;  // rmse, relmse, mae, smape, noise (empty: not measured)
+  std::map<std::string, std::string> cells;  // every column after config, by name
+  double number(const std::string& column) const {
+    REQUIRE_MESSAGE(!cells.at(column).empty(), column);
+    return std::stod(cells.at(column));
+  }
 };
 
 // The CSV's rows, its header checked.
@@ -52,15 +60,21 @@ std::vector<Row> read_csv(const std::string& path) {
   std::vector<std::string> lines = split(slurp(path), '\n');
   REQUIRE(!lines.empty());
   CHECK(lines[0] == header);
+  const std::vector<std::string> columns = split(header, ',');
   std::vector<Row> rows;
   for (size_t k = 1; k < lines.size(); ++k) {
     if (lines[k].empty()) continue;
     const std::vector<std::string> cells = split(lines[k], ',');
-    REQUIRE_MESSAGE(cells.size() == 8, lines[k]);
+    REQUIRE_MESSAGE(cells.size() == columns.size(), lines[k]);
     REQUIRE(cells[0].size() >= 2);
     CHECK(cells[0].front() == '"');
-    rows.push_back({cells[0].substr(1, cells[0].size() - 2), std::stoi(cells[1]),
-                    std::stod(cells[2]), std::vector<std::string>(cells.begin() + 3, cells.end())});
+    Row row{cells[0].substr(1, cells[0].size() - 2),
+            std::stoi(cells[1]),
+            std::stod(cells[2]),
+            std::vector<std::string>(cells.begin() + 3, cells.begin() + 8),
+            {}};
+    for (size_t c = 1; c < cells.size(); ++c) row.cells[columns[c]] = cells[c];
+    rows.push_back(row);
   }
   return rows;
 }
@@ -89,7 +103,9 @@ TEST_CASE("converge: a tiny run writes the CSV, the script, the reference and th
                              out + " --config '' --config 'sampler=independent max-depth=2'");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  CHECK(r.err.empty());  // --quiet
+  // --quiet: no progress, only the warnings that these runs are too short to time.
+  CHECK(lines(r.err) == 2);
+  CHECK(r.err.find("warning: --config \"default\" ran ") != std::string::npos);
   const auto configs = by_config(read_csv(out + "/convergence.csv"));
   REQUIRE(configs.size() == 2);
   for (const char* label : {"default", "sampler=independent max-depth=2"}) {
@@ -101,10 +117,16 @@ TEST_CASE("converge: a tiny run writes the CSV, the script, the reference and th
       CHECK(rows[k].spp == 1 << k);
       CHECK(rows[k].seconds > 0);
       if (k) CHECK(rows[k].seconds > rows[k - 1].seconds);
-      for (const std::string& m : rows[k].metrics) {
-        CHECK(!m.empty());
-        CHECK(std::stod(m) > 0);
+      for (size_t m = 0; m < rows[k].metrics.size(); ++m) {
+        CHECK(!rows[k].metrics[m].empty());
+        // RMSE and relMSE less the 16-spp reference's own error reach 0 (clamped) once the
+        // render is as good as the reference.
+        CHECK(std::stod(rows[k].metrics[m]) >= (m < 2 ? 0 : 1e-12));
       }
+      // One repeat: no band.
+      CHECK(rows[k].cells.at("repeats") == "1");
+      CHECK(rows[k].cells.at("rmse_low").empty());
+      CHECK(rows[k].cells.at("noise_high").empty());
     }
   }
   const ExrFile reference = read_exr_file(out + "/reference.exr");
@@ -226,6 +248,9 @@ TEST_CASE("converge: bad input is one line, a non-zero exit, and nothing written
       {"--spp 4" + out, 2, "--spp does not apply"},
       {"--metric rms" + out, 2, "--metric wants"},
       {"--time-budget 0" + out, 2, "--time-budget wants a positive number"},
+      {"--repeats 0" + out, 2, "--repeats"},
+      {"--repeats 2.5" + out, 2, "--repeats"},
+      {"--reference-spp 1" + out, 2, "--reference-spp"},
       {"--reference " + (dir / "missing.exr") + out, 1, "missing.exr"},
       {"--reference " + (dir / "not.exr") + out, 1, "not.exr"},
       {"--reference " + small_ref + out, 1, "the reference is 6 x 6, the renders are 12 x 12"},
@@ -248,8 +273,9 @@ TEST_CASE("converge: --help lists the options") {
   TempDir dir("converge-cli-help");
   const Run r = run(dir, "converge --help");
   CHECK(r.code == 0);
-  for (const char* option : {"--config", "--reference", "--reference-spp", "--time-budget",
-                             "--noise", "--no-reference", "--metric", "--quiet", "-o, --output"})
+  for (const char* option :
+       {"--config", "--reference", "--reference-spp", "--time-budget", "--noise", "--no-reference",
+        "--metric", "--quiet", "-o, --output", "--repeats"})
     CHECK_MESSAGE(r.out.find(option) != std::string::npos, option);
   CHECK(run(dir, "--help").out.find("dacrt converge SCENE") != std::string::npos);
 }
@@ -292,4 +318,96 @@ TEST_CASE("converge: --adaptive is a configuration's flag, compared with uniform
   CHECK(lines(bad.err) == 1);
   CHECK(bad.err.find("--adaptive") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "bad"));
+}
+
+TEST_CASE("converge: --repeats gives every point a mean and a 95 % band") {
+  TempDir dir("converge-cli-repeats");
+  const std::string out = dir / "out";
+  const Run r = run(dir, "converge " + tiny +
+                             " --repeats 3 --max-spp 4 --reference-spp 16 "
+                             "--noise -o " +
+                             out + " --config 'sampler=independent'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::vector<Row> rows = read_csv(out + "/convergence.csv");
+  REQUIRE(rows.size() == 3);  // 1, 2, 4 spp: the first repeat's points, which the others render
+  for (const Row& row : rows) {
+    INFO(row.spp);
+    CHECK(row.cells.at("repeats") == "3");
+    for (const char* key : {"seconds", "rmse", "relmse", "mae", "smape", "noise"}) {
+      INFO(key);
+      // Three seeds, three different errors: a band of some width around the mean.
+      CHECK(row.number(std::string(key) + "_low") < row.number(key));
+      CHECK(row.number(key) < row.number(std::string(key) + "_high"));
+    }
+  }
+  if (have_gnuplot()) CHECK(slurp(out + "/convergence.svg").find("<svg") != std::string::npos);
+  CHECK(slurp(out + "/convergence.gp").find("using 1:4:5 with filledcurves") != std::string::npos);
+  CHECK(r.out.find("95 % confidence interval") != std::string::npos);
+  // The equal-time line: "RMSE <mean> [<low>, <high>]".
+  const size_t equal_time = r.out.find("equal time: ");
+  REQUIRE(equal_time != std::string::npos);
+  CHECK(r.out.find("RMSE ", equal_time) < r.out.find(" [", equal_time));
+}
+
+TEST_CASE("converge: the reference's own MSE, from its halves, is subtracted and kept") {
+  TempDir dir("converge-cli-reference-error");
+  const std::string out = dir / "out";
+  const Run r = run(dir, "converge " + tiny + " --max-spp 16 --reference-spp 8 --no-plot -o " +
+                             out + " --config 'sampler=independent'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const ExrFile reference = read_exr_file(out + "/reference.exr");
+  const double mse = std::stod(reference.attributes.at("referenceMse"));
+  CHECK(mse > 0);
+  CHECK(std::stod(reference.attributes.at("referenceRelmse")) > 0);
+  CHECK(r.out.find("its own MSE") != std::string::npos);
+  const std::vector<Row> rows = read_csv(out + "/convergence.csv");
+  REQUIRE(rows.size() == 5);
+  for (const Row& row : rows) {
+    INFO(row.spp);
+    CHECK(row.number("reference_mse") == doctest::Approx(mse).epsilon(1e-6));
+    const double raw = row.number("rmse_raw"), rmse = row.number("rmse");
+    // RMSE² = raw RMSE² − the reference's MSE, clamped at 0: an 8-spp reference is as noisy as
+    // the 8-spp render, and past it the render's error is mostly the reference's.
+    CHECK(rmse * rmse == doctest::Approx(std::max(0.0, raw * raw - mse)).epsilon(1e-5));
+    CHECK(row.number("relmse") <= row.number("relmse_raw"));
+  }
+  CHECK(rows[0].number("rmse") > 0);
+  CHECK(rows[0].number("rmse") < rows[0].number("rmse_raw"));
+  // Reused with --reference it is subtracted again; a reference without the attribute is not.
+  const Run again = run(dir, "converge " + tiny + " --max-spp 2 --no-plot --reference " + out +
+                                 "/reference.exr -o " + (dir / "again") + " --config ''");
+  REQUIRE(again.code == 0);
+  CHECK(read_csv(dir / "again/convergence.csv")[0].number("reference_mse") ==
+        doctest::Approx(mse).epsilon(1e-6));
+  const std::string plain = dir / "plain.exr";
+  REQUIRE(run(dir, "render " + tiny + " --spp 8 -o " + plain).code == 0);
+  const Run other = run(dir, "converge " + tiny + " --max-spp 2 --no-plot --reference " + plain +
+                                 " -o " + (dir / "other") + " --config ''");
+  REQUIRE(other.code == 0);
+  CHECK(other.out.find("not subtracted") != std::string::npos);
+  for (const Row& row : read_csv(dir / "other/convergence.csv")) {
+    CHECK(row.cells.at("reference_mse").empty());
+    CHECK(row.cells.at("rmse") == row.cells.at("rmse_raw"));
+  }
+}
+
+TEST_CASE("converge: a configuration that ran under 0.1 s gets a warning, a longer one none") {
+  TempDir dir("converge-cli-short");
+  const Run r = run(dir, "converge " + tiny + " --max-spp 2 --no-reference --no-plot -o " +
+                             (dir / "short") + " --config 'max-depth=2'");
+  REQUIRE(r.code == 0);
+  CHECK(lines(r.err) == 1);
+  CHECK(r.err.find("warning: --config \"max-depth=2\" ran ") != std::string::npos);
+  CHECK(r.err.find("times under 0.1 s are noisy") != std::string::npos);
+  // The budget stops doubling once the next point would end past 0.4 s: the last point is past
+  // 0.2 s (doubling costs what the samples so far cost).
+  const Run longer = run(dir, "converge " + cornell +
+                                  " --width 16 --height 16 --quiet "
+                                  "--threads 1 --no-reference --no-plot --time-budget 0.4 -o " +
+                                  (dir / "long") + " --config ''");
+  INFO(longer.err);
+  REQUIRE(longer.code == 0);
+  CHECK(longer.err.empty());
 }
