@@ -145,6 +145,10 @@ void HtmlPage::heading(std::string_view text) { body_ += "<h2>" + html_escape(te
 
 void HtmlPage::paragraph(std::string_view text) { body_ += "<p>" + html_escape(text) + "</p>\n"; }
 
+void HtmlPage::preformatted(std::string_view text) {
+  body_ += "<pre>" + html_escape(text) + "</pre>\n";
+}
+
 void HtmlPage::table(const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows) {
   body_ += "<div class=\"table\"><table>\n<tr>";
@@ -200,6 +204,7 @@ std::string HtmlPage::html() const {
          ".images { display: flex; flex-wrap: wrap; gap: 1em; }\n"
          "figure { margin: 0.5em 0; }\n"
          "figcaption { font-size: small; color: #444; }\n"
+         "pre { white-space: pre-wrap; }\n"
          "img { image-rendering: pixelated; height: 16em; width: auto; }\n"
          "figure svg { max-width: 100%; height: auto; }\n"
          "</style>\n</head>\n<body>\n<h1>" +

@@ -39,6 +39,8 @@ class HtmlPage {
 
   void heading(std::string_view text);
   void paragraph(std::string_view text);
+  // Text shown as it is, in a fixed-width font (a table printed for a terminal).
+  void preformatted(std::string_view text);
   // Cells are text (escaped); the header row is bold.
   void table(const std::vector<std::string>& header,
              const std::vector<std::vector<std::string>>& rows);

@@ -60,8 +60,11 @@ void check_in_browser(const TempDir& dir, const std::string& page) {
 }
 
 void check_self_contained(const std::string& html) {
-  for (const char* remote : {"<script", "<link", "@import", "url(", "src=\"http", "href="})
+  for (const char* remote : {"<script", "<link", "@import", "url(", "src=\"http"})
     CHECK_MESSAGE(html.find(remote) == std::string::npos, remote);
+  // Links only inside the page (gnuplot's SVG reuses its point symbols: href='#gpPt4').
+  for (size_t at = html.find("href="); at != std::string::npos; at = html.find("href=", at + 1))
+    CHECK_MESSAGE(html.compare(at + 6, 1, "#") == 0, html.substr(at, 40));
 }
 
 }  // namespace
@@ -119,4 +122,26 @@ TEST_CASE("bench --report: the table and the Mrays/s with their intervals, on on
   CHECK(blocked.code == 1);
   CHECK(blocked.err.find("index.html/x") != std::string::npos);
   check_in_browser(dir, fs::path(report) / "index.html");
+}
+
+TEST_CASE("converge -o DIR: the plot, the tables and every point with its band on one page") {
+  TempDir dir("converge-report");
+  const std::string out = dir / "study";
+  const Run r = run(dir, "converge " + cornell + " --width 12 --height 12 --reference-spp 16 "
+                             "--max-spp 4 --repeats 2 --config \"\" --config sampler=independent "
+                             "--quiet -o " + out);
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string html = slurp(fs::path(out) / "index.html");
+  // The summary printed on stdout is in the page as it is.
+  const size_t equal_time = r.out.find("equal time:");
+  REQUIRE(equal_time != std::string::npos);
+  CHECK(html.find(html_escape(r.out.substr(equal_time, 40))) != std::string::npos);
+  CHECK(html.find("<td>sampler=independent</td><td>4</td><td>2</td>") != std::string::npos);
+  CHECK(html.find("[95 % band]") != std::string::npos);
+  if (fs::exists(fs::path(out) / "convergence.svg"))
+    CHECK(html.find("<svg") != std::string::npos);
+  else
+    CHECK(html.find("No plot: gnuplot was not found") != std::string::npos);
+  check_self_contained(html);
+  check_in_browser(dir, fs::path(out) / "index.html");
 }
