@@ -340,14 +340,8 @@ void check_memory(const ConvergeArgs& a, const std::vector<Config>& configs, con
 
 // A reference with a NaN or an infinite value would make every error NaN or infinite.
 void check_finite(const std::string& path, const Image& image) {
-  for (size_t i = 0; i < image.rgb.size(); ++i)
-    if (!std::isfinite(image.rgb[i])) {
-      const size_t pixel = i / 3;
-      throw Error(path + ": the reference's pixel (" + std::to_string(pixel % image.width) + ", " +
-                  std::to_string(pixel / image.width) + ") channel " + "RGB"[i % 3] + " is " +
-                  (std::isnan(image.rgb[i]) ? "NaN" : "infinite") +
-                  ": a reference must be finite everywhere");
-    }
+  if (const std::optional<std::string> where = first_non_finite(image))
+    throw Error(path + ": the reference's " + *where + ": a reference must be finite everywhere");
 }
 
 // The reference's own error, kept in the EXR that converge renders so that a later

@@ -1,5 +1,6 @@
 // dacrt: the command-line front end. `dacrt render` path-traces a glTF scene to OpenEXR (plus a
-// PNG preview), `dacrt info` describes a scene, `dacrt views` lists the preview's display views.
+// PNG preview), `dacrt info` describes a scene, `dacrt views` lists the preview's display views,
+// `dacrt diff` compares two images.
 // Exit codes: 0 success, 1 error (one line on stderr naming the file and what is wrong), 2 usage
 // error.
 #include <tbb/global_control.h>
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include "apps/converge.h"
+#include "apps/diff.h"
 #include "apps/render_options.h"
 #include "apps/render_report.h"
 #include "apps/report.h"
@@ -61,6 +63,9 @@ Usage:
                                  "backend=embree") at 1, 2, 4, ... spp against a reference; a
                                  CSV, a plot, equal-error and equal-time tables
                                  (`dacrt converge --help`)
+  dacrt diff A.exr B.exr         how far image A is from B (the reference): RMSE, relMSE,
+                                 MAE, SMAPE, max |A-B| per channel; error maps as EXR and
+                                 false-colour PNG (`dacrt diff --help`)
   dacrt --help                   this text; `dacrt render --help` lists the render options
 )";
 
@@ -590,6 +595,7 @@ int run(std::vector<std::string> args) {
   if (command == "views") return views(args);
   if (command == "bench") return bench_main(args);
   if (command == "converge") return converge_main(args);
+  if (command == "diff") return diff_main(args);
   throw UsageError("unknown command '" + command + "'");
 }
 

@@ -374,15 +374,19 @@ void write_preview_png(const std::string& path, const Image& image, const Displa
   // Round to nearest: values are already clamped to [0, 1].
   std::transform(display.begin(), display.end(), pixels.begin(),
                  [](float v) { return uint8_t(std::lround(v * 255.f)); });
+  write_png(path, image.width, image.height, pixels);
+}
 
+void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
+  if (width <= 0 || height <= 0 || rgb.size() != size_t(3) * size_t(width) * size_t(height))
+    throw Error("cannot write PNG '" + path + "': the image is empty or its size is wrong");
   std::vector<unsigned char> png;
   auto append = [](void* context, void* data, int size) {
     auto* bytes = static_cast<std::vector<unsigned char>*>(context);
     bytes->insert(bytes->end(), static_cast<unsigned char*>(data),
                   static_cast<unsigned char*>(data) + size);
   };
-  if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, pixels.data(),
-                              3 * image.width))
+  if (!stbi_write_png_to_func(append, &png, width, height, 3, rgb.data(), 3 * width))
     throw Error("cannot write PNG '" + path + "': encoding failed");
   write_atomically(path, "PNG", [&](std::ostream& out) {
     out.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));

@@ -4,6 +4,7 @@
 // Rec.1886 display.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -41,5 +42,8 @@ std::vector<float> to_display(const Image& image, const DisplayOptions& options 
 // Writes a PNG preview (temporary name, then rename). Throws dacrt::Error on failure.
 void write_preview_png(const std::string& path, const Image& image,
                        const DisplayOptions& options = {});
+// Writes display-encoded 8-bit RGB (3 * width * height bytes, rows from the top) as a PNG, the
+// same way: for images that are already display values (false-colour maps).
+void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 
 }  // namespace dacrt

@@ -32,25 +32,55 @@ double lerp_log(double x0, double y0, double x1, double y1, double x) {
 
 }  // namespace
 
-ImageError image_error(const Image& image, const Image& reference) {
+ChannelErrors channel_errors(const Image& image, const Image& reference) {
   check_same_size(image, reference);
-  double se = 0, rel = 0, ae = 0, sm = 0;
+  // Sums per channel: each channel's metrics are its own sums over its pixels, and the overall
+  // ones the three channels' sums over all values (every channel has the same count).
+  std::array<ImageError, 3> sum{};
   const size_t n = image.rgb.size();
   for (size_t k = 0; k < n; ++k) {
     const double x = image.rgb[k], r = reference.rgb[k];
     const double d = x - r;
-    se += d * d;
-    rel += d * d / (r * r + relmse_epsilon);
-    ae += std::abs(d);
+    ImageError& s = sum[k % 3];
+    s.rmse += d * d;
+    s.relmse += d * d / (r * r + relmse_epsilon);
+    s.mae += std::abs(d);
     const double scale = std::abs(x) + std::abs(r);
-    if (scale > 0) sm += 2 * std::abs(d) / scale;
+    if (scale > 0) s.smape += 2 * std::abs(d) / scale;
+    s.max_abs = std::max(s.max_abs, std::abs(d));
   }
-  ImageError e;
-  e.rmse = std::sqrt(se / double(n));
-  e.relmse = rel / double(n);
-  e.mae = ae / double(n);
-  e.smape = sm / double(n);
+  const auto mean = [](const ImageError& s, double count) {
+    ImageError e;
+    e.rmse = std::sqrt(s.rmse / count);
+    e.relmse = s.relmse / count;
+    e.mae = s.mae / count;
+    e.smape = s.smape / count;
+    e.max_abs = s.max_abs;
+    return e;
+  };
+  ImageError total;
+  for (const ImageError& s : sum) {
+    total.rmse += s.rmse, total.relmse += s.relmse, total.mae += s.mae, total.smape += s.smape;
+    total.max_abs = std::max(total.max_abs, s.max_abs);
+  }
+  ChannelErrors e;
+  for (int c = 0; c < 3; ++c) e.channel[c] = mean(sum[c], double(n / 3));
+  e.all = mean(total, double(n));
   return e;
+}
+
+ImageError image_error(const Image& image, const Image& reference) {
+  return channel_errors(image, reference).all;
+}
+
+std::optional<std::string> first_non_finite(const Image& image) {
+  for (size_t i = 0; i < image.rgb.size(); ++i)
+    if (!std::isfinite(image.rgb[i])) {
+      const size_t pixel = i / 3, width = size_t(image.width);
+      return "pixel (" + std::to_string(pixel % width) + ", " + std::to_string(pixel / width) +
+             ") channel " + "RGB"[i % 3] + " is " + (std::isnan(image.rgb[i]) ? "NaN" : "infinite");
+    }
+  return std::nullopt;
 }
 
 double noise_from_seeds(const Image& a, const Image& b) {

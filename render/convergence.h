@@ -5,6 +5,7 @@
 // samples). `dacrt converge` is built on these.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,15 +18,28 @@ namespace dacrt {
 inline constexpr double relmse_epsilon = 1e-2;
 
 struct ImageError {
-  double rmse = 0.0;    // √(mean (x − r)²)
-  double relmse = 0.0;  // mean (x − r)² / (r² + relmse_epsilon)
-  double mae = 0.0;     // mean |x − r|
-  double smape = 0.0;   // mean 2|x − r| / (|x| + |r|), a term 0 where both are 0; in [0, 2]
+  double rmse = 0.0;     // √(mean (x − r)²)
+  double relmse = 0.0;   // mean (x − r)² / (r² + relmse_epsilon)
+  double mae = 0.0;      // mean |x − r|
+  double smape = 0.0;    // mean 2|x − r| / (|x| + |r|), a term 0 where both are 0; in [0, 2]
+  double max_abs = 0.0;  // max |x − r|
 };
 
 // The error of `image` against `reference`, over every channel of every pixel. Throws Error when
 // the sizes differ (naming both) or the images are empty.
 ImageError image_error(const Image& image, const Image& reference);
+
+// The same for each channel alone (R, G, B) and over all three (what image_error gives).
+struct ChannelErrors {
+  std::array<ImageError, 3> channel;
+  ImageError all;
+};
+ChannelErrors channel_errors(const Image& image, const Image& reference);
+
+// Where `image` first holds a NaN or an infinite value, scanning pixels row by row from the
+// top-left: "pixel (x, y) channel G is NaN" (or "is infinite"); nothing when every value is
+// finite. The metrics of an image with one are NaN or infinite, so callers refuse it.
+std::optional<std::string> first_non_finite(const Image& image);
 
 // The noise of one render measured from two of the same configuration with different seeds:
 // RMSE(a, b) / √2, the RMSE either has against the converged image (their errors are

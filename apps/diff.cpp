@@ -1,0 +1,184 @@
+#include "apps/diff.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "apps/false_color.h"
+#include "apps/render_options.h"
+#include "io/color.h"
+#include "io/exr.h"
+#include "render/convergence.h"
+#include "render/render_job.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+#include "util/image.h"
+#include "util/paths.h"
+#include "util/text.h"
+
+namespace dacrt {
+
+namespace {
+
+constexpr const char* diff_help = R"help(Usage: dacrt diff A.exr B.exr [options]
+
+Compares the R, G and B channels of two OpenEXR images of the same size, pixel by pixel, in
+linear values, B being the reference, and prints for each channel and for all three together:
+  RMSE        sqrt(mean (A-B)^2)
+  relMSE      mean (A-B)^2 / (B^2 + 0.01): relative to B, the reference
+  MAE         mean |A-B|
+  SMAPE       mean |A-B| / ((|A|+|B|)/2), a term 0 where both are 0 (from 0 to 2)
+  max |A-B|   the largest difference
+Images of different sizes, or with a NaN or infinite value, are refused.
+
+Options
+  -o, --output MAP.exr       the per-pixel error as an EXR of one channel, Y: the mean over R, G
+                             and B of |A-B|, in linear values
+  --preview MAP.png          the same error in false colour (viridis, from 0 to the scale) with
+                             a colour bar on the right labelled with its two ends
+  --scale X                  the error at the top of the colour bar (default: the largest
+                             per-pixel error of the map); larger errors take its top colour.
+                             Needs --preview
+  --json                     the metrics as JSON on stdout instead of the table
+  -h, --help                 this text
+)help";
+
+struct DiffArgs {
+  std::string a, b, map, preview;
+  std::optional<double> scale;
+  bool json = false, help = false;
+};
+
+DiffArgs parse_diff(const std::vector<std::string>& args) {
+  DiffArgs d;
+  std::vector<std::string> images;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size() || args[i + 1].empty()) throw UsageError(a + " needs a value");
+      return args[++i];
+    };
+    if (a == "-h" || a == "--help")
+      d.help = true;
+    else if (a == "-o" || a == "--output")
+      d.map = value();
+    else if (a == "--preview")
+      d.preview = value();
+    else if (a == "--scale")
+      d.scale = parse_seconds(a, value());
+    else if (a == "--json")
+      d.json = true;
+    else if (a.size() > 1 && a[0] == '-')
+      throw UsageError("diff: unknown option " + a);
+    else
+      images.push_back(a);
+  }
+  if (d.help) return d;
+  if (images.size() != 2)
+    throw UsageError("diff needs two images, A.exr and B.exr (got " +
+                     std::to_string(images.size()) + ")");
+  d.a = images[0], d.b = images[1];
+  if (d.scale && d.preview.empty()) throw UsageError("--scale needs --preview");
+  return d;
+}
+
+std::string size_of(const Image& image) {
+  return std::to_string(image.width) + "x" + std::to_string(image.height);
+}
+
+// The images compared: the same size, every value finite (a NaN would make every metric NaN).
+void check_comparable(const DiffArgs& d, const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height)
+    throw Error(d.a + " is " + size_of(a) + ", " + d.b + " is " + size_of(b) +
+                ": the images must be the same size");
+  for (const auto& [path, image] : {std::pair{&d.a, &a}, std::pair{&d.b, &b}})
+    if (const std::optional<std::string> where = first_non_finite(*image))
+      throw Error(*path + ": " + *where + ": only finite values can be compared");
+}
+
+const char* const rows[] = {"R", "G", "B", "RGB"};
+
+void print_table(const DiffArgs& d, const Image& a, const ChannelErrors& e) {
+  std::printf("A  %s\n", d.a.c_str());
+  std::printf("B  %s (the reference: relMSE divides by B^2 + 0.01)\n", d.b.c_str());
+  std::printf("%d x %d pixels, linear values\n\n", a.width, a.height);
+  std::printf("%-8s%13s%13s%13s%13s%13s\n", "channel", "RMSE", "relMSE", "MAE", "SMAPE",
+              "max |A-B|");
+  for (int r = 0; r < 4; ++r) {
+    const ImageError& m = r < 3 ? e.channel[r] : e.all;
+    std::printf("%-8s%13.6g%13.6g%13.6g%13.6g%13.6g\n", rows[r], m.rmse, m.relmse, m.mae, m.smape,
+                m.max_abs);
+  }
+}
+
+void print_json(const DiffArgs& d, const Image& a, const ChannelErrors& e) {
+  nlohmann::json j = {
+      {"a", d.a}, {"b", d.b}, {"reference", "b"}, {"width", a.width}, {"height", a.height}};
+  for (int r = 0; r < 4; ++r) {
+    const ImageError& m = r < 3 ? e.channel[r] : e.all;
+    j["metrics"][rows[r]] = {{"rmse", m.rmse},
+                             {"relmse", m.relmse},
+                             {"mae", m.mae},
+                             {"smape", m.smape},
+                             {"max_abs", m.max_abs}};
+  }
+  std::printf("%s\n", json_text(j).c_str());
+}
+
+// The per-pixel error: the mean over R, G and B of |A - B|.
+std::vector<float> error_map(const Image& a, const Image& b) {
+  std::vector<float> map(a.rgb.size() / 3);
+  for (size_t p = 0; p < map.size(); ++p) {
+    double sum = 0;
+    for (size_t c = 0; c < 3; ++c) sum += std::abs(double(a.rgb[3 * p + c]) - b.rgb[3 * p + c]);
+    map[p] = float(sum / 3);
+  }
+  return map;
+}
+
+}  // namespace
+
+int diff_main(const std::vector<std::string>& args) {
+  const DiffArgs d = parse_diff(args);
+  if (d.help) return std::fputs(diff_help, stdout), 0;
+  // Everything checked before an image is read: the inputs exist, the outputs can be written and
+  // are neither an input nor each other.
+  check_input_file(d.a, "EXR image");
+  check_input_file(d.b, "EXR image");
+  const std::vector<NamedFile> outputs = {{"-o", d.map}, {"--preview", d.preview}};
+  for (const NamedFile& out : outputs)
+    if (!out.path.empty()) check_writable(out.path);
+  check_outputs(outputs, {{"image A", d.a}, {"image B", d.b}});
+
+  const Image a = read_exr(d.a), b = read_exr(d.b);
+  check_comparable(d, a, b);
+  const ChannelErrors e = channel_errors(a, b);
+  if (d.json)
+    print_json(d, a, e);
+  else
+    print_table(d, a, e);
+
+  if (d.map.empty() && d.preview.empty()) return 0;
+  const std::vector<float> map = error_map(a, b);
+  if (!d.map.empty()) {
+    ExrMetadata meta;
+    meta.extra = {{"errorMap", "Y: the mean over R, G and B of |A - B|"},
+                  {"imageA", d.a},
+                  {"imageB", d.b},
+                  {"software", std::string("dacrt ") + version()}};
+    write_exr(d.map, a.width, a.height, {{"Y", map}}, meta);
+  }
+  if (!d.preview.empty()) {
+    double scale = 0;
+    for (const float v : map) scale = std::max(scale, double(v));
+    const Picture p = false_color(map, a.width, a.height, d.scale.value_or(scale));
+    write_png(d.preview, p.width, p.height, p.rgb);
+  }
+  return 0;
+}
+
+}  // namespace dacrt
