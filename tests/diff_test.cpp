@@ -25,7 +25,7 @@ namespace {
 
 // The hand-computed pair: a 2 × 1 image A against the reference B.
 //   R: A 1, 3 against B 0, 1 (differences 1, 2)
-//   G: A 2, 0 against B 1, 1 (differences 1, −1)
+//   G: A 2, 0 against B 1, 3 (differences 1, −3: the largest difference is negative)
 //   B: A 0, 0.5 against B 0, 0.25 (differences 0, 0.25; the first pair both black)
 Image pair_a() {
   Image i(2, 1);
@@ -34,7 +34,7 @@ Image pair_a() {
 }
 Image pair_b() {
   Image i(2, 1);
-  i.rgb = {0, 1, 0, 1, 1, 0.25f};
+  i.rgb = {0, 1, 0, 1, 3, 0.25f};
   return i;
 }
 
@@ -46,11 +46,11 @@ struct Expected {
 const Expected expected[] = {
     // relMSE (A − B)² / (B² + 0.01): 1/0.01 and 4/1.01; SMAPE 2|d| / (|A| + |B|): 2/1 and 4/4.
     {"R", std::sqrt(5.0 / 2), (100 + 4 / 1.01) / 2, 1.5, (2 + 1.0) / 2, 2},
-    {"G", 1, 1 / 1.01, 1, (2.0 / 3 + 2) / 2, 1},
+    {"G", std::sqrt(10.0 / 2), (1 / 1.01 + 9 / 9.01) / 2, 2, (2.0 / 3 + 2) / 2, 3},
     // The black pair counts 0 in SMAPE; 0.0625 / 0.0725 in relMSE.
     {"B", 0.25 / std::sqrt(2.0), 0.0625 / 0.0725 / 2, 0.125, (2.0 / 3) / 2, 0.25},
-    {"RGB", std::sqrt(7.0625 / 6), (100 + 4 / 1.01 + 2 / 1.01 + 0.0625 / 0.0725) / 6, 5.25 / 6,
-     (2 + 1 + 2.0 / 3 + 2 + 2.0 / 3) / 6, 2},
+    {"RGB", std::sqrt(15.0625 / 6), (100 + 4 / 1.01 + 1 / 1.01 + 9 / 9.01 + 0.0625 / 0.0725) / 6,
+     7.25 / 6, (2 + 1 + 2.0 / 3 + 2 + 2.0 / 3) / 6, 3},
 };
 
 // Each metric of `e` within a relative `epsilon` of `x`'s (the table prints six digits).
