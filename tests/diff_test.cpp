@@ -38,6 +38,16 @@ Image pair_b() {
   return i;
 }
 
+// The pair written as a.exr and b.exr in a fresh directory, for the CLI.
+struct PairFiles {
+  TempDir dir;
+  std::string a = dir / "a.exr", b = dir / "b.exr";
+  explicit PairFiles(const std::string& name) : dir(name) {
+    write_exr(a, pair_a(), {});
+    write_exr(b, pair_b(), {});
+  }
+};
+
 // What each metric must be, per channel then over all six values.
 struct Expected {
   const char* name;
@@ -114,11 +124,9 @@ TEST_CASE("diff: RMSE, relMSE, MAE, SMAPE and max |A-B| per channel of a hand-co
 }
 
 TEST_CASE("diff: the CLI prints the metrics of A against the reference B, as a table and as JSON") {
-  TempDir dir("diff-cli");
-  write_exr(dir / "a.exr", pair_a(), {});
-  write_exr(dir / "b.exr", pair_b(), {});
-
-  const Run json = run(dir, "diff " + dir / "a.exr" + " " + dir / "b.exr" + " --json");
+  const PairFiles files("diff-cli");
+  const std::string ab = "diff " + files.a + " " + files.b;
+  const Run json = run(files.dir, ab + " --json");
   INFO(json.err);
   REQUIRE(json.code == 0);
   const nlohmann::json j = nlohmann::json::parse(json.out);
@@ -133,7 +141,7 @@ TEST_CASE("diff: the CLI prints the metrics of A against the reference B, as a t
     check_metrics(e, x);
   }
 
-  const Run table = run(dir, "diff " + dir / "a.exr" + " " + dir / "b.exr");
+  const Run table = run(files.dir, ab);
   REQUIRE(table.code == 0);
   CHECK(table.err.empty());
   CHECK(table.out.find("the reference: relMSE divides by B^2 + 0.01") != std::string::npos);
@@ -256,10 +264,9 @@ TEST_CASE(
 }
 
 TEST_CASE("diff: an output that names an input is refused, and the input is left as it was") {
-  TempDir dir("diff-overwrite");
-  const std::string a = dir / "a.exr", b = dir / "b.exr";
-  write_exr(a, pair_a(), {});
-  write_exr(b, pair_b(), {});
+  const PairFiles files("diff-overwrite");
+  const TempDir& dir = files.dir;
+  const std::string &a = files.a, &b = files.b;
   const std::string a_bytes = slurp(a), b_bytes = slurp(b);
   check_refused(run(dir, "diff " + a + " " + b + " -o " + a), 1,
                 "dacrt: error: -o " + a + " would overwrite image A");
@@ -273,11 +280,9 @@ TEST_CASE("diff: an output that names an input is refused, and the input is left
 }
 
 TEST_CASE("diff: usage mistakes are one line and exit 2") {
-  TempDir dir("diff-usage");
-  const std::string a = dir / "a.exr", b = dir / "b.exr";
-  write_exr(a, pair_a(), {});
-  write_exr(b, pair_b(), {});
-  const std::string ab = " " + a + " " + b;
+  const PairFiles files("diff-usage");
+  const TempDir& dir = files.dir;
+  const std::string a = files.a, ab = " " + files.a + " " + files.b;
   check_refused(run(dir, "diff"), 2, "diff needs two images");
   check_refused(run(dir, "diff " + a), 2, "diff needs two images");
   check_refused(run(dir, "diff" + ab + " " + a), 2, "diff needs two images");
