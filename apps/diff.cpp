@@ -17,6 +17,7 @@
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/image.h"
+#include "util/memory.h"
 #include "util/paths.h"
 #include "util/text.h"
 
@@ -100,7 +101,11 @@ void check_comparable(const DiffArgs& d, const Image& a, const Image& b) {
       throw Error(*path + ": " + *where + ": only finite values can be compared");
 }
 
-const char* const rows[] = {"R", "G", "B", "RGB"};
+// The rows of the table and the keys of the JSON: each channel, then all three.
+const char* const row_names[] = {"R", "G", "B", "RGB"};
+const ImageError& row(const ChannelErrors& e, int r) {
+  return r < 3 ? e.channel[r] : e.all;
+}
 
 void print_table(const DiffArgs& d, const Image& a, const ChannelErrors& e) {
   std::printf("A  %s\n", d.a.c_str());
@@ -109,9 +114,9 @@ void print_table(const DiffArgs& d, const Image& a, const ChannelErrors& e) {
   std::printf("%-8s%13s%13s%13s%13s%13s\n", "channel", "RMSE", "relMSE", "MAE", "SMAPE",
               "max |A-B|");
   for (int r = 0; r < 4; ++r) {
-    const ImageError& m = r < 3 ? e.channel[r] : e.all;
-    std::printf("%-8s%13.6g%13.6g%13.6g%13.6g%13.6g\n", rows[r], m.rmse, m.relmse, m.mae, m.smape,
-                m.max_abs);
+    const ImageError& m = row(e, r);
+    std::printf("%-8s%13.6g%13.6g%13.6g%13.6g%13.6g\n", row_names[r], m.rmse, m.relmse, m.mae,
+                m.smape, m.max_abs);
   }
 }
 
@@ -119,12 +124,12 @@ void print_json(const DiffArgs& d, const Image& a, const ChannelErrors& e) {
   nlohmann::json j = {
       {"a", d.a}, {"b", d.b}, {"reference", "b"}, {"width", a.width}, {"height", a.height}};
   for (int r = 0; r < 4; ++r) {
-    const ImageError& m = r < 3 ? e.channel[r] : e.all;
-    j["metrics"][rows[r]] = {{"rmse", m.rmse},
-                             {"relmse", m.relmse},
-                             {"mae", m.mae},
-                             {"smape", m.smape},
-                             {"max_abs", m.max_abs}};
+    const ImageError& m = row(e, r);
+    j["metrics"][row_names[r]] = {{"rmse", m.rmse},
+                                  {"relmse", m.relmse},
+                                  {"mae", m.mae},
+                                  {"smape", m.smape},
+                                  {"max_abs", m.max_abs}};
   }
   std::printf("%s\n", json_text(j).c_str());
 }
@@ -138,6 +143,19 @@ std::vector<float> error_map(const Image& a, const Image& b) {
     map[p] = float(sum / 3);
   }
   return map;
+}
+
+// A preview is at least 32 rows tall and a bar and labels wider than the map: a map of one row
+// and 2^27 columns would take 12 GiB. Its size is checked before anything is written. The
+// picture is held three times over (the pixels, stb_image_write's filtered rows, the PNG).
+void check_preview_memory(const DiffArgs& d, const Image& a) {
+  if (d.preview.empty()) return;
+  const uint64_t need = 3 * uint64_t(a.width + 256) * uint64_t(std::max(a.height, 32)) * 3;
+  const uint64_t available = available_memory();
+  if (need > available)
+    throw Error(d.preview + ": the preview of a " + size_of(a) + " image needs about " +
+                format_bytes(need) + ", more than the " + format_bytes(available) +
+                " of memory available");
 }
 
 }  // namespace
@@ -156,6 +174,7 @@ int diff_main(const std::vector<std::string>& args) {
 
   const Image a = read_exr(d.a), b = read_exr(d.b);
   check_comparable(d, a, b);
+  check_preview_memory(d, a);
   const ChannelErrors e = channel_errors(a, b);
   if (d.json)
     print_json(d, a, e);

@@ -2,6 +2,10 @@
 // through the CLI's table and JSON, B the reference), the error map's EXR, the false-colour
 // preview's colour scale and its colour bar, and the refusals: sizes that differ, a NaN or an
 // infinite value, an output that is an input, usage mistakes.
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
 #include <doctest/doctest.h>
 
 #include <array>
@@ -297,4 +301,34 @@ TEST_CASE("diff: usage mistakes are one line and exit 2") {
   const Run help = run(dir, "diff --help");
   CHECK(help.code == 0);
   CHECK(help.out.find("Usage: dacrt diff A.exr B.exr") == 0);
+}
+
+TEST_CASE(
+    "diff: a preview larger than the memory available is refused before anything is written") {
+  // One black row of 2^22 pixels, uncompressed (one scanline a block: dacrt's own ZIP blocks of
+  // 16 lines this wide exceed what the reader accepts): its preview, 32 rows tall, would take
+  // over 1 GB, the address space the command gets (ulimit -v counts KiB).
+  TempDir dir("diff-memory");
+  const std::string a = dir / "a.exr";
+  {
+    const int width = 1 << 22;
+    Imf::Header header(width, 1, 1.f, Imath::V2f(0, 0), 1.f, Imf::INCREASING_Y,
+                       Imf::NO_COMPRESSION);
+    std::vector<float> black(size_t(width), 0.f);
+    Imf::FrameBuffer frame;
+    for (const char* c : {"R", "G", "B"}) {
+      header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+      frame.insert(c,
+                   Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(black.data()), sizeof(float), 0));
+    }
+    Imf::OutputFile file(a.c_str(), header);
+    file.setFrameBuffer(frame);
+    file.writePixels(1);
+  }
+  const std::string args =
+      "diff " + a + " " + a + " -o " + dir / "map.exr" + " --preview " + dir / "map.png";
+  check_refused(run(dir, args, "ulimit -v 1000000;"), 1,
+                dir / "map.png" + ": the preview of a 4194304x1 image needs about");
+  CHECK(!fs::exists(dir / "map.exr"));
+  CHECK(!fs::exists(dir / "map.png"));
 }
