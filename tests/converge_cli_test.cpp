@@ -366,11 +366,11 @@ TEST_CASE("converge: the reference's own MSE, from its halves, is subtracted and
   REQUIRE(rows.size() == 5);
   for (const Row& row : rows) {
     INFO(row.spp);
-    CHECK(row.number("reference_mse") == doctest::Approx(mse).epsilon(1e-6));
+    CHECK(row.number("reference_mse") == doctest::Approx(mse).epsilon(1e-6).scale(0));
     const double raw = row.number("rmse_raw"), rmse = row.number("rmse");
     // RMSE² = raw RMSE² − the reference's MSE, clamped at 0: an 8-spp reference is as noisy as
     // the 8-spp render, and past it the render's error is mostly the reference's.
-    CHECK(rmse * rmse == doctest::Approx(std::max(0.0, raw * raw - mse)).epsilon(1e-5));
+    CHECK(rmse * rmse == doctest::Approx(std::max(0.0, raw * raw - mse)).epsilon(1e-5).scale(0));
     CHECK(row.number("relmse") <= row.number("relmse_raw"));
   }
   CHECK(rows[0].number("rmse") > 0);
@@ -380,7 +380,7 @@ TEST_CASE("converge: the reference's own MSE, from its halves, is subtracted and
                                  "/reference.exr -o " + (dir / "again") + " --config ''");
   REQUIRE(again.code == 0);
   CHECK(read_csv(dir / "again/convergence.csv")[0].number("reference_mse") ==
-        doctest::Approx(mse).epsilon(1e-6));
+        doctest::Approx(mse).epsilon(1e-6).scale(0));
   const std::string plain = dir / "plain.exr";
   REQUIRE(run(dir, "render " + tiny + " --spp 8 -o " + plain).code == 0);
   const Run other = run(dir, "converge " + tiny + " --max-spp 2 --no-plot --reference " + plain +
