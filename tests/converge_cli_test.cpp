@@ -344,10 +344,18 @@ TEST_CASE("converge: --repeats gives every point a mean and a 95 % band") {
   if (have_gnuplot()) CHECK(slurp(out + "/convergence.svg").find("<svg") != std::string::npos);
   CHECK(slurp(out + "/convergence.gp").find("using 1:4:5 with filledcurves") != std::string::npos);
   CHECK(r.out.find("95 % confidence interval") != std::string::npos);
-  // The equal-time line: "RMSE <mean> [<low>, <high>]".
-  const size_t equal_time = r.out.find("equal time: ");
-  REQUIRE(equal_time != std::string::npos);
-  CHECK(r.out.find("RMSE ", equal_time) < r.out.find(" [", equal_time));
+  // The configuration's line in the summary, the equal-error and the equal-time tables, each
+  // with its "[low, high]".
+  for (const char* table : {"config ", "equal error: ", "equal time: "}) {
+    INFO(table);
+    const size_t from = r.out.find(table);
+    REQUIRE(from != std::string::npos);
+    const size_t row = r.out.find("sampler=independent  ", from);
+    REQUIRE(row != std::string::npos);
+    const std::string line = r.out.substr(row, r.out.find('\n', row) - row);
+    CHECK_MESSAGE(line.find(" [") != std::string::npos, line);
+    CHECK_MESSAGE(line.find("]") != std::string::npos, line);
+  }
 }
 
 TEST_CASE("converge: the reference's own MSE, from its halves, is subtracted and kept") {
