@@ -9,10 +9,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -438,10 +441,11 @@ int converge_main(const std::vector<std::string>& args) {
                     script = (outdir / "convergence.gp").string(),
                     svg = (outdir / "convergence.svg").string(),
                     png = (outdir / "convergence.png").string(),
-                    reference_out = (outdir / "reference.exr").string();
+                    reference_out = (outdir / "reference.exr").string(),
+                    page = (outdir / "index.html").string();
   const bool render_reference = a.reference.empty() && !a.no_reference;
   if (outdir_exists) {
-    for (const std::string& out : {csv, script, svg, png}) check_writable(out);
+    for (const std::string& out : {csv, script, svg, png, page}) check_writable(out);
     if (render_reference) check_writable(reference_out);
   } else {
     check_writable(a.outdir);  // its parent is a writable directory
@@ -449,7 +453,8 @@ int converge_main(const std::vector<std::string>& args) {
   std::vector<NamedFile> inputs = {{"the scene", a.shared.scene},
                                    {"--reference", a.reference},
                                    {"--environment", a.shared.settings.environment_file}};
-  std::vector<NamedFile> outputs = {{"-o", csv}, {"-o", script}, {"-o", svg}, {"-o", png}};
+  std::vector<NamedFile> outputs = {{"-o", csv}, {"-o", script}, {"-o", svg}, {"-o", png},
+                                    {"-o", page}};
   if (render_reference) outputs.push_back({"-o", reference_out});
   check_outputs(outputs, inputs);
   std::optional<std::string> gnuplot;
@@ -643,11 +648,22 @@ int converge_main(const std::vector<std::string>& args) {
   if (!curves.empty()) {
     if (gnuplot) draw_plot(*gnuplot, fs::absolute(script).string(), svg, png);
     warn_short_runs(curves);
+    // The summary goes to stdout and into the page.
+    char* text = nullptr;
+    size_t size = 0;
+    std::FILE* summary = open_memstream(&text, &size);
+    if (!summary) throw Error(std::string("cannot make the summary: ") + std::strerror(errno));
     if (reference)
-      print_reference(a.reference.empty() ? reference_out : a.reference, reference_error);
-    print_table(curves, metric, a.targets);
+      print_reference(summary, a.reference.empty() ? reference_out : a.reference,
+                      reference_error);
+    print_table(summary, curves, metric, a.targets);
+    std::fclose(summary);
+    const std::string summary_text(text, size);
+    std::free(text);
+    std::fputs(summary_text.c_str(), stdout);
+    write_page(a.outdir, title, curves, metric, summary_text, gnuplot ? svg : std::string());
     if (verbose) {
-      std::fprintf(stderr, "converge: wrote %s, %s", csv.c_str(), script.c_str());
+      std::fprintf(stderr, "converge: wrote %s, %s, %s", page.c_str(), csv.c_str(), script.c_str());
       if (gnuplot) std::fprintf(stderr, ", %s, %s", svg.c_str(), png.c_str());
       std::fprintf(stderr, "\n");
     }

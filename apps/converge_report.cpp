@@ -15,6 +15,7 @@
 #include <limits>
 #include <sstream>
 
+#include "bench/html_page.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 
@@ -271,15 +272,16 @@ void draw_plot(const std::string& gnuplot, const std::string& script, const std:
                 (message.empty() ? "" : ": " + one_line(message)));
 }
 
-void print_reference(const std::string& path, const std::optional<ReferenceError>& error) {
+void print_reference(std::FILE* out, const std::string& path,
+                     const std::optional<ReferenceError>& error) {
   if (error)
-    std::printf(
+    std::fprintf(out, 
         "reference %s: its own MSE %.3g (RMSE %.3g, relMSE %.3g), from its two halves, is "
         "subtracted from each configuration's MSE against it (RMSE and relMSE; MAE and "
         "SMAPE as measured)\n\n",
         path.c_str(), error->mse, std::sqrt(error->mse), error->relmse);
   else
-    std::printf(
+    std::fprintf(out, 
         "reference %s: its own error is unknown (no referenceMse attribute): not "
         "subtracted\n\n",
         path.c_str());
@@ -296,24 +298,25 @@ void warn_short_runs(const std::vector<Curve>& curves) {
   }
 }
 
-void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<double> targets) {
+void print_table(std::FILE* out, const std::vector<Curve>& curves, Metric metric,
+                 std::vector<double> targets) {
   const char* name = metric_names[int(metric)];
   size_t width = 6;
   for (const Curve& c : curves) width = std::max(width, c.label.size());
   const int w = int(width);
   const bool banded = std::any_of(curves.begin(), curves.end(), has_band);
   if (banded)
-    std::printf(
+    std::fprintf(out, 
         "(each number the mean of the repeats, [low, high] its 95 %% confidence interval, "
         "Student t)\n");
-  std::printf("%-*s  points  last spp  seconds  %8s  slope/spp  slope/time%s\n", w, "config", name,
+  std::fprintf(out, "%-*s  points  last spp  seconds  %8s  slope/spp  slope/time%s\n", w, "config", name,
               banded ? "  95 % band" : "");
   double common_error = 0, common_time = INFINITY;
   for (const Curve& c : curves) {
     const std::vector<double> e = errors(c, metric);
     const LogLogFit by_spp = fit_log_log(samples(c), e), by_time = fit_log_log(costs(c), e);
     const Point& last = c.points.back();
-    std::printf("%-*s  %6zu  %8u  %7.3g  %8.3g  %9s  %10s%s\n", w, c.label.c_str(), c.points.size(),
+    std::fprintf(out, "%-*s  %6zu  %8u  %7.3g  %8.3g  %9s  %10s%s\n", w, c.label.c_str(), c.points.size(),
                 last.spp, seconds_of(last).mean, e.back(), slope_text(by_spp.slope).c_str(),
                 slope_text(by_time.slope).c_str(),
                 band_text(errors(c, metric, &Interval::low).back(),
@@ -328,10 +331,10 @@ void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<do
   const bool automatic = targets.empty();
   if (automatic && std::isfinite(common_error)) targets.push_back(common_error);
   for (double target : targets) {
-    std::printf("\nequal error: %s %.3g%s\n", name, target,
+    std::fprintf(out, "\nequal error: %s %.3g%s\n", name, target,
                 automatic ? " (the lowest every configuration reached)" : "");
     if (banded)
-      std::printf(
+      std::fprintf(out, 
           "  ([low, high]: when the band's low and high ends reach it; > the last "
           "point's seconds when the high end never does)\n");
     std::optional<double> first;
@@ -363,14 +366,14 @@ void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<do
         if (first && *first > 0) text += format("  %.2fx", *at / *first);
         if (!e.empty() && e[0] <= target) text += "  (at its first point: perhaps sooner)";
       }
-      std::printf("  %-*s  %s\n", w, c.label.c_str(), text.c_str());
+      std::fprintf(out, "  %-*s  %s\n", w, c.label.c_str(), text.c_str());
       sentence += (k ? (k + 1 == curves.size() ? " and " : ", ") : "") + c.label +
                   (at ? " in " + format("%.3g s", *at) : " never");
     }
-    std::printf("  (%s reach %s %.3g)\n", sentence.c_str(), name, target);
+    std::fprintf(out, "  (%s reach %s %.3g)\n", sentence.c_str(), name, target);
   }
   if (std::isfinite(common_time)) {
-    std::printf("\nequal time: %.3g s (the longest every configuration ran)\n", common_time);
+    std::fprintf(out, "\nequal time: %.3g s (the longest every configuration ran)\n", common_time);
     std::optional<double> first;
     for (size_t k = 0; k < curves.size(); ++k) {
       const Curve& c = curves[k];
@@ -387,9 +390,41 @@ void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<do
         text += band_text(*e - h, *e + h);
       }
       if (e && first && *first > 0) text += format("  %.2fx", *e / *first);
-      std::printf("  %-*s  %s %s\n", w, c.label.c_str(), name, text.c_str());
+      std::fprintf(out, "  %-*s  %s %s\n", w, c.label.c_str(), name, text.c_str());
     }
   }
+}
+
+void write_page(const std::string& dir, const std::string& title, const std::vector<Curve>& curves,
+                Metric metric, const std::string& summary, const std::string& svg) {
+  HtmlPage page("dacrt converge: " + title);
+  if (!svg.empty()) {
+    std::ifstream in(svg);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in) throw Error("cannot read the plot " + svg + " for the report");
+    page.figure(text.str(), std::string(metric_names[int(metric)]) +
+                                " against render seconds, log-log; with --repeats, each point is "
+                                "the mean over the seeds and the band its 95 % interval.");
+  } else {
+    page.paragraph("No plot: gnuplot was not found (install gnuplot-nox).");
+  }
+  page.heading("Fits and comparisons");
+  page.preformatted(summary);
+  page.heading("Points");
+  std::vector<std::vector<std::string>> rows;
+  for (const Curve& c : curves)
+    for (const Point& p : c.points) {
+      const Interval t = seconds_of(p);
+      const std::optional<Interval> e = summary_of(p, metric);
+      rows.push_back({c.label, std::to_string(p.spp), std::to_string(p.repeats.size()),
+                      format("%.3g", t.mean) + band_text(t.low, t.high),
+                      e ? format("%.4g", e->mean) + band_text(e->low, e->high) : "-"});
+    }
+  page.table({"config", "spp", "repeats", "seconds [95 % band]",
+              std::string(metric_names[int(metric)]) + " [95 % band]"},
+             rows);
+  page.write(dir);
 }
 
 }  // namespace dacrt

@@ -59,10 +59,18 @@ void draw_plot(const std::string& gnuplot, const std::string& script, const std:
 // `targets`, or at the lowest error every curve reached).
 // The reference's line above the table: its own MSE and that it is subtracted, or that it is
 // unknown.
-void print_reference(const std::string& path, const std::optional<ReferenceError>& error);
+void print_reference(std::FILE* out, const std::string& path,
+                     const std::optional<ReferenceError>& error);
 // One warning line on stderr for each curve whose last point is too short to time
 // (render/convergence.h: under 0.1 s).
 void warn_short_runs(const std::vector<Curve>& curves);
-void print_table(const std::vector<Curve>& curves, Metric metric, std::vector<double> targets);
+void print_table(std::FILE* out, const std::vector<Curve>& curves, Metric metric,
+                 std::vector<double> targets);
+
+// OUTDIR/index.html: one self-contained page (bench/html_page.h) with the plot (the SVG gnuplot
+// drew, when it did: `svg` empty otherwise), `summary` (the reference's line and the table printed
+// on stdout) and every point with its band.
+void write_page(const std::string& dir, const std::string& title, const std::vector<Curve>& curves,
+                Metric metric, const std::string& summary, const std::string& svg);
 
 }  // namespace dacrt

@@ -25,6 +25,7 @@
 
 #include "apps/converge.h"
 #include "apps/render_options.h"
+#include "apps/render_report.h"
 #include "apps/report.h"
 #include "bench/bench.h"
 #include "integrators/integrator.h"
@@ -74,6 +75,9 @@ Output
   --exposure STOPS           scales the preview's scene-linear values by 2^STOPS before the view
                              (default 0; the EXR is not changed). Needs --preview
   --stats OUT.json           render statistics: time and rays/s per ray type and bounce
+  --report DIR               also DIR/index.html: one self-contained page with the backends'
+                             images side by side (DIR/NAME.png), their rays per second per ray
+                             type and bounce, the batch sizes and the comparison table
   --aov LIST                 more layers in the EXR, comma-separated: albedo (albedo.R/G/B), normal
                              (N.X/Y/Z), depth (Z, along the view axis), position (P.X/Y/Z), variance
                              (variance.R/G/B: of each pixel's mean), samples (the per-pixel count)
@@ -254,7 +258,15 @@ int render(const std::vector<std::string>& args) {
     for (const BackendRun& run : frame_runs(frame))
       outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
   outputs.push_back({"--stats", r.stats});
-  if (!r.preview.empty()) {
+  if (!r.report.empty()) {
+    std::error_code ec;
+    fs::create_directories(r.report, ec);
+    if (ec) throw Error("--report: cannot create " + r.report + ": " + ec.message());
+    outputs.push_back({"--report", (fs::path(r.report) / "index.html").string()});
+    for (const BackendRun& run : runs)
+      outputs.push_back({"--report", report_preview(r.report, run.backend)});
+  }
+  if (!r.preview.empty() || !r.report.empty()) {
     set_color_warnings(!r.quiet);
     check_display_transform(r.display);
     for (const std::string& file : display_input_files())
@@ -289,6 +301,7 @@ int render(const std::vector<std::string>& args) {
   r.backend_options.threads = r.threads;
   nlohmann::json frame_stats = nlohmann::json::array();
   std::vector<BackendRun> last_runs;
+  std::string report_title;
   for (int frame : frames) {
     // A frame's geometry is made in place: the file's scene posed at its time (the first came
     // with the load).
@@ -299,6 +312,9 @@ int render(const std::vector<std::string>& args) {
       geometry_seconds = seconds_since(t0);
     }
     const Shot shot = make_shot(scene, s);
+    report_title = fs::path(r.scene).filename().string() + ", " + std::to_string(shot.width) +
+                   "×" + std::to_string(shot.height) + ", " + std::to_string(s.spp) + " spp, " +
+                   s.integrator + " integrator";
     if (frame == frames.front()) {
       check_memory(r, shot);
       if (!r.quiet)
@@ -331,6 +347,8 @@ int render(const std::vector<std::string>& args) {
       // A render stopped before its first sample leaves the previous outputs as they were.
       if (film.max_count() == 0 && outcome.stopped) break;
       write_outputs(r, scene, shot, run, film, outcome);
+      if (!r.report.empty())
+        write_preview_png(report_preview(r.report, run.backend), film.resolve(), r.display);
       if (!r.quiet) print_summary(run, shot, s);
       if (outcome.stopped) break;  // the backends after it are not rendered
     }
@@ -401,6 +419,7 @@ int render(const std::vector<std::string>& args) {
   runs = std::move(last_runs);
   if (signals.signal()) return 128 + signals.signal();
   if (runs.size() > 1) print_comparison(stdout, runs);
+  if (!r.report.empty()) write_render_report(r.report, report_title, runs);
   return 0;
 }
 

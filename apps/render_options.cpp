@@ -97,6 +97,8 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     r.display_flag = a;
   } else if (a == "--stats")
     r.stats = value();
+  else if (a == "--report")
+    r.report = value();
   else if (a == "--spp")
     r.settings.spp = int(parse_int(a, value(), 1, 1 << 20));
   else if (a == "--adaptive") {
@@ -249,6 +251,7 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
     throw UsageError(r.display_flag + " needs --preview (it changes only the PNG preview)");
   if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
   if (r.fps_given && !r.frames) throw UsageError("--fps needs --frames");
+  if (!r.report.empty() && r.frames) throw UsageError("--report is for one frame, not --frames");
   check_adaptive(r.settings);
   if (r.frames && r.gltf.time)
     throw UsageError("--time and --frames both give the time: use one (a frame's is frame / fps)");

@@ -25,6 +25,7 @@ struct UsageError : std::runtime_error {
 
 struct RenderArgs {
   std::string scene, output, preview, stats;
+  std::string report;  // --report DIR: DIR/index.html and the backends' previews beside it
   DisplayOptions display;
   std::string display_flag;  // --view or --exposure, when given: they need --preview
   GltfOptions gltf;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "bench/report.h"
 #include "tracer/stats_json.h"
 #include "util/text.h"
 
@@ -109,8 +110,7 @@ void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings
                  (unsigned long long)stats.dropped_samples);
 }
 
-void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs) {
-  // Rows of cells: a label, then one cell per backend.
+std::vector<std::vector<std::string>> comparison_rows(const std::vector<BackendRun>& runs) {
   std::vector<std::vector<std::string>> rows;
   auto row = [&](std::string label, auto cell) {
     std::vector<std::string> r{std::move(label)};
@@ -169,9 +169,15 @@ void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs) {
       [](const BackendRun& run) { return format("%.3f", run.backend_stats.build_seconds); });
   row("render s, build included",
       [](const BackendRun& run) { return format("%.3f", run.seconds); });
-  row("ratio to " + runs[0].backend,
-      [&](const BackendRun& run) { return format("%.2f", run.seconds / runs[0].seconds); });
+  // The one convention of dacrt's ratios, named as dacrt bench names it.
+  row(bench::speedup_title(runs[0].backend), [&](const BackendRun& run) {
+    return format("%.2f", run.seconds > 0.0 ? runs[0].seconds / run.seconds : 0.0);
+  });
+  return rows;
+}
 
+void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs) {
+  const std::vector<std::vector<std::string>> rows = comparison_rows(runs);
   std::vector<size_t> width;
   for (const auto& r : rows)
     for (size_t c = 0; c < r.size(); ++c) {

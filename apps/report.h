@@ -16,13 +16,13 @@ struct BackendRun {
   std::string backend, output, preview;
   RenderStats stats;
   Stats backend_stats;
-  double seconds = 0.0;  // whole render, the backend's build included
+  double seconds = 0.0;        // whole render, the backend's build included
   double build_seconds = 0.0;  // the backend's build (Backend::create) alone
-  uint32_t spp = 0;      // samples every pixel has (fewer than asked when stopped early)
+  uint32_t spp = 0;            // samples every pixel has (fewer than asked when stopped early)
   // The samples the pixels got: fewest, most, mean (they differ with adaptive sampling).
   uint32_t least_spp = 0, most_spp = 0;
   double mean_spp = 0.0;
-  std::string stopped;   // why the render stopped early ("SIGINT", "the time limit"), or empty
+  std::string stopped;  // why the render stopped early ("SIGINT", "the time limit"), or empty
 };
 
 // "a,b,c" → {a, b, c}; empty parts are dropped.
@@ -35,7 +35,11 @@ std::string with_frame(const std::string& path, int frame);
 
 nlohmann::json to_json(const BackendRun& run);
 void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings& s);
-// One column per backend; ratios against the first.
+// The comparison's rows: a label, then one cell per backend; the first row names the backends, an
+// empty row is a rule, and the last row is each one's speed-up against the first (the first's
+// render seconds over its own: higher is faster).
+std::vector<std::vector<std::string>> comparison_rows(const std::vector<BackendRun>& runs);
+// The rows as a text table, one column per backend.
 void print_comparison(std::FILE* out, const std::vector<BackendRun>& runs);
 
 }  // namespace dacrt

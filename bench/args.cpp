@@ -18,9 +18,12 @@ constexpr const char* bench_help_text = R"(Usage: dacrt bench SCENE [options]
 
 Times every backend on the same rays, in the same run: build seconds (Backend::create), trace
 seconds (one intersect or occluded call on the whole batch), Mrays/s without and with the build,
-and the backend's peak working memory (MB = 10^6 bytes). Each number is the median of --repeat
-runs; each run builds the backend anew. Runs alternate between backends so that noise on a
-shared machine hits them alike. The table goes to stdout, progress to stderr.
+and the backend's peak working memory (MB = 10^6 bytes, the largest of the runs). Each backend
+first makes one warm-up run per ray type, discarded; then each figure is the median of --repeat
+runs, in brackets its 95 % confidence interval from order statistics (below 6 runs, which cannot
+reach 95 %, the range of the runs and its coverage: 94 % for 5). Each run builds the backend anew.
+Runs alternate between backends so that noise on a shared machine hits them alike. The table
+goes to stdout, progress to stderr.
 
 Ray types
   primary    the scene's first camera (framed on the bounds if the file has none), one ray per
@@ -43,7 +46,7 @@ Options
   --count N                  rays per batch: primary renders about √N × √N pixels (camera aspect
                              kept; --width/--height win); shadow, ao, bounce draw exactly N rays,
                              ray i starting at primary hit i mod (number of hits); random draws N
-  --repeat N                 runs per measurement, the median is reported (default 3)
+  --repeat N                 timed runs per measurement, after the warm-up (default 5)
   --threads T                worker threads (default: all cores)
   --backend-option KEY=VALUE setting for the dacrt and dacrt-naive backends only, repeatable
                              (keys: @KEYS@)
@@ -51,6 +54,8 @@ Options
   --sweep triangles          the scene decimated to every k-th triangle, k = 1, 2, 4, 8, 16, 32,
                              each with every ray type at --count
   --json FILE                also write the results as JSON
+  --report DIR               also DIR/index.html: a self-contained page with the table and plots
+                             of Mrays/s and speed-up per ray type, each with its interval
   --seed S                   seed of the ray generators (default 0)
   --tmax-at-hit              intersect rays (primary, bounce, random) end at their closest hit, found
                              by the reference backend before any timing: the work a traversal
@@ -58,8 +63,9 @@ Options
   --quiet                    no progress on stderr
   -h, --help                 this text
 
-The "vs" column is the baseline's trace seconds over the row's (above 1: faster than the
-baseline), measured in the same run; the baseline is embree when benchmarked, else dacrt-naive.
+The "speed-up vs B, higher is faster" column is the baseline B's trace seconds over the row's,
+repeat by repeat, then their median and interval; B is embree when benchmarked, else dacrt-naive.
+The JSON keeps every timed run's figures beside their median, interval and coverage.
 )";
 
 long parse_bench_int(const std::string& flag, const std::string& text, long lo, long hi) {
@@ -184,6 +190,8 @@ BenchArgs parse_bench_args(const std::vector<std::string>& args) {
         throw std::invalid_argument("--sweep wants rays or triangles, got '" + v + "'");
     } else if (a == "--json") {
       b.json = value();
+    } else if (a == "--report") {
+      b.report = value();
     } else if (a == "--seed") {
       b.seed = uint64_t(parse_bench_int(a, value(), 0, LONG_MAX));
     } else if (a == "--tmax-at-hit") {

@@ -20,11 +20,12 @@ enum class Sweep { none, rays, triangles };
 
 struct BenchArgs {
   std::string scene, json;
+  std::string report;  // --report DIR: DIR/index.html
   std::vector<BenchRay> rays;
   std::vector<std::string> backends;
   std::optional<int> width, height;
   std::optional<size_t> count;
-  int repeat = 3;
+  int repeat = 5;
   int threads = 0;  // 0 = all cores
   Options backend_options;
   bool has_backend_options = false;

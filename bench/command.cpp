@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -79,8 +80,15 @@ int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
     return 0;
   }
   check_backend_options(a);
-  check_writable(a.json);
-  check_outputs({{"--json", a.json}}, {{"the scene", a.scene}});
+  std::vector<NamedFile> outputs = {{"--json", a.json}};
+  if (!a.report.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(a.report, ec);
+    if (ec) throw Error("--report: cannot create " + a.report + ": " + ec.message());
+    outputs.push_back({"--report", report_page(a.report)});
+  }
+  for (const NamedFile& o : outputs) check_writable(o.path);
+  check_outputs(outputs, {{"the scene", a.scene}});
 
   std::unique_ptr<tbb::global_control> threads;
   if (a.threads > 0)
@@ -91,7 +99,7 @@ int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
   if (scene.geometry.size() == 0) throw Error(a.scene + ": no triangles to benchmark");
   std::vector<NamedFile> inputs = {{"the scene", a.scene}};
   for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
-  check_outputs({{"--json", a.json}}, inputs);
+  check_outputs(outputs, inputs);
 
   // The cases: the scene once, or one per size of the sweep.
   std::vector<Scene> decimated;
@@ -137,6 +145,7 @@ int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
   if (!a.json.empty())
     write_atomically(a.json, "benchmark results",
                      [&](std::ostream& f) { f << json_text(to_json(report)) << "\n"; });
+  if (!a.report.empty()) write_report(a.report, report);
   return 0;
 }
 

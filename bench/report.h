@@ -1,5 +1,8 @@
 // BenchReport: what `dacrt bench` found, as a Markdown table (stdout) and as JSON (--json).
-// Speed-ups are ratios of trace seconds measured in the same run against one baseline backend.
+// Every figure is the median of the timed runs with its confidence interval
+// (util/median_interval.h). Speed-ups (higher is faster) are the baseline backend's trace seconds
+// over the row's, repeat by repeat (the runs of one repeat follow each other, so they share the
+// machine's mood), then their median.
 #pragma once
 
 #include <cstddef>
@@ -31,10 +34,29 @@ struct BenchReport {
 // against), else none.
 std::string choose_baseline(const std::vector<std::string>& backends);
 
+// The speed-up of each repeat, in the order of the runs; empty without a baseline.
+std::vector<double> speedup_runs(const BenchReport& report, const Result& r);
+
+// How the figures were made, one phrase for the table's caption and the JSON's "method": the
+// runs, the warm-up, the interval and its coverage.
+std::string method_text(int repeat);
+
+// The speed-up column's header, naming its convention: "speed-up vs embree, higher is faster".
+std::string speedup_title(const std::string& baseline);
+
+// The table's cells: the header row, then one row per result.
+std::vector<std::vector<std::string>> table_rows(const BenchReport& report);
 void print_table(std::ostream& out, const BenchReport& report);
 
+// `bench --report DIR`: DIR/index.html (report_page), a self-contained page (bench/html_page.h)
+// with the table and bar charts of Mrays/s and of the speed-up per ray type, with intervals.
+std::string report_page(const std::string& dir);
+void write_report(const std::string& dir, const BenchReport& report);
+
 // The contract: {"scene", "triangles", "threads", "results": [{"backend", "rays", "count",
-// "build_s", "trace_s", "mrays_per_s", "mrays_per_s_with_build", "peak_mb"}]}, plus extra fields.
+// "build_s", "trace_s", "mrays_per_s", "mrays_per_s_with_build", "peak_mb"}]}, those figures
+// medians, plus extra fields: "intervals" holds each figure's {"median", "low", "high",
+// "coverage", "runs"}, every timed run's value.
 nlohmann::ordered_json to_json(const BenchReport& report);
 
 }  // namespace dacrt::bench

@@ -15,40 +15,26 @@ namespace dacrt::bench {
 
 namespace {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
-// Millions of rays per second; 0 when nothing was timed.
-double mrays_per_second(size_t rays, double seconds) {
-  return seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0;
+// Millions of rays per second in each run; 0 for a run too short to time.
+std::vector<double> mrays_per_second(size_t rays, std::vector<double> seconds) {
+  for (double& s : seconds) s = s > 0.0 ? double(rays) / s * 1e-6 : 0.0;
+  return seconds;
 }
 
 }  // namespace
 
-double Result::build_s() const {
-  return median(build_runs);
-}
-
-double Result::trace_s() const {
-  return median(trace_runs);
-}
-
-double Result::total_s() const {
+std::vector<double> Result::total_runs() const {
   std::vector<double> t(build_runs.size());
   for (size_t i = 0; i < t.size(); ++i) t[i] = build_runs[i] + trace_runs[i];
-  return median(t);
+  return t;
 }
 
-double Result::mrays_per_s() const {
-  return mrays_per_second(count, trace_s());
+std::vector<double> Result::rate_runs() const {
+  return mrays_per_second(count, trace_runs);
 }
 
-double Result::mrays_per_s_with_build() const {
-  return mrays_per_second(count, total_s());
+std::vector<double> Result::rate_with_build_runs() const {
+  return mrays_per_second(count, total_runs());
 }
 
 Scene decimate(const Scene& scene, size_t k) {
@@ -80,7 +66,8 @@ std::string reference_backend(const BenchArgs& a) {
 BenchRunner::BenchRunner(const BenchArgs& args, size_t cases)
     : args_(args),
       progress_("bench",
-                uint64_t(cases) * args.rays.size() * args.backends.size() * uint64_t(args.repeat),
+                uint64_t(cases) * args.rays.size() * args.backends.size() *
+                    uint64_t(args.repeat + warmup_runs),
                 !args.quiet) {}
 
 void BenchRunner::run(const BenchCase& c) {
@@ -131,7 +118,7 @@ void BenchRunner::run(const BenchCase& c) {
     const RayBatch& rays = in_place ? primary : batch;
     if (rays.size() == 0) {
       warn(std::string(to_string(kind)) + ": no rays (no primary ray hit the scene): skipped");
-      done_ += args_.backends.size() * size_t(args_.repeat);
+      done_ += args_.backends.size() * size_t(args_.repeat + warmup_runs);
       progress_.update(done_, rays_);
       continue;
     }
@@ -182,31 +169,37 @@ void BenchRunner::measure(const RayBatch& batch, BenchRay kind, const BenchCase&
   else
     hits.resize(n);
 
-  for (int rep = 0; rep < args_.repeat; ++rep) {
-    for (size_t k = 0; k < nb; ++k) {
-      // Rotate which backend goes first, so none always runs right after ray generation.
-      const size_t b = (k + size_t(rep)) % nb;
-      Result& r = results_[first + b];
-      auto t0 = clock::now();
-      auto backend = Backend::create(r.backend, c.scene->geometry, options_for(r.backend));
-      auto t1 = clock::now();
-      if (occlusion)
-        backend->occluded(batch, occluded);
-      else
-        backend->intersect(batch, hits);
-      auto t2 = clock::now();
-      r.stats = backend->stats();
+  // One run of backend b: timed, and kept unless it is a warm-up.
+  auto run = [&](size_t b, bool warmup) {
+    Result& r = results_[first + b];
+    auto t0 = clock::now();
+    auto backend = Backend::create(r.backend, c.scene->geometry, options_for(r.backend));
+    auto t1 = clock::now();
+    if (occlusion)
+      backend->occluded(batch, occluded);
+    else
+      backend->intersect(batch, hits);
+    auto t2 = clock::now();
+    r.stats = backend->stats();
+    backend.reset();
+    if (warmup) {
+      ++r.warmups;
+    } else {
       r.peak_bytes = std::max(r.peak_bytes, r.stats.peak_bytes);
-      backend.reset();
       r.build_runs.push_back(std::chrono::duration<double>(t1 - t0).count());
       r.trace_runs.push_back(std::chrono::duration<double>(t2 - t1).count());
-      r.hits = occlusion
-                   ? uint64_t(std::count(occluded.begin(), occluded.end(), uint8_t(1)))
-                   : uint64_t(n - std::count(hits.prim.begin(), hits.prim.end(), HitBatch::miss));
-      rays_ += n;
-      progress_.update(++done_, rays_);
     }
-  }
+    r.hits = occlusion
+                 ? uint64_t(std::count(occluded.begin(), occluded.end(), uint8_t(1)))
+                 : uint64_t(n - std::count(hits.prim.begin(), hits.prim.end(), HitBatch::miss));
+    rays_ += n;
+    progress_.update(++done_, rays_);
+  };
+  for (int w = 0; w < warmup_runs; ++w)
+    for (size_t b = 0; b < nb; ++b) run(b, true);
+  // Rotate which backend goes first, so none always runs right after ray generation.
+  for (int rep = 0; rep < args_.repeat; ++rep)
+    for (size_t k = 0; k < nb; ++k) run((k + size_t(rep)) % nb, false);
   // Our backends agree bit for bit, and any backend should agree to a few grazing rays: a
   // larger difference means a broken backend, whose speed is then meaningless.
   for (size_t b = 1; b < nb; ++b) {

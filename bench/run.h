@@ -1,7 +1,9 @@
 // The measurement loop of `dacrt bench`: for each case (the scene, or one size of a sweep) it makes
-// each ray type's batch once, then times every backend on it, repeat after repeat, alternating
-// between backends so that a noisy neighbour slows them all alike. A run is Backend::create (build
-// seconds) then one intersect or occluded call on the whole batch (trace seconds).
+// each ray type's batch once, then runs every backend on it once untimed (the warm-up: the first
+// run pays for cold caches, page faults and thread start-up, 3.2 against 41.5 Mrays/s warm on
+// CornellBox-Original), then times them repeat after repeat, alternating between backends so that
+// a noisy neighbour slows them all alike. A run is Backend::create (build seconds) then one
+// intersect or occluded call on the whole batch (trace seconds).
 #pragma once
 
 #include <cstddef>
@@ -17,11 +19,16 @@
 #include "tracer/options.h"
 #include "tracer/ray_batch.h"
 #include "tracer/stats.h"
+#include "util/median_interval.h"
 #include "util/progress.h"
 
 namespace dacrt::bench {
 
-// One backend on one batch: every run's numbers, and their medians.
+// Runs of each backend on each batch before the timed ones, their figures discarded.
+inline constexpr int warmup_runs = 1;
+
+// One backend on one batch: every timed run's numbers, and their medians with 95 % intervals
+// (util/median_interval.h).
 struct Result {
   std::string backend;
   BenchRay rays = BenchRay::primary;
@@ -30,16 +37,22 @@ struct Result {
   size_t decimation = 1;                       // every k-th triangle of the scene was kept
   int width = 0, height = 0;                   // the primary resolution the batch comes from
   std::vector<double> build_runs, trace_runs;  // seconds, one per repeat
+  int warmups = 0;                             // untimed runs made before them
   uint64_t peak_bytes = 0;                     // largest over the runs
   uint64_t hits = 0;  // rays that hit something (intersect) or are occluded, in the last run
   Stats stats;        // the backend's counters in the last run (triangle tests, nodes, ...)
 
-  double build_s() const;
-  double trace_s() const;
-  // Median of whole runs, so that one slow build and one slow trace in different runs do not add.
-  double total_s() const;
-  double mrays_per_s() const;
-  double mrays_per_s_with_build() const;
+  // Per run: build + trace seconds; Mrays/s without and with the build. Figures of whole runs, so
+  // that one slow build and one slow trace in different runs do not add.
+  std::vector<double> total_runs() const;
+  std::vector<double> rate_runs() const;
+  std::vector<double> rate_with_build_runs() const;
+
+  MedianInterval build_s() const { return median_interval(build_runs); }
+  MedianInterval trace_s() const { return median_interval(trace_runs); }
+  MedianInterval total_s() const { return median_interval(total_runs()); }
+  MedianInterval mrays_per_s() const { return median_interval(rate_runs()); }
+  MedianInterval mrays_per_s_with_build() const { return median_interval(rate_with_build_runs()); }
   double peak_mb() const { return double(peak_bytes) * 1e-6; }
 };
 

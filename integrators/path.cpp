@@ -99,8 +99,8 @@ std::unique_ptr<const EnvironmentMap> uniform_environment(const Scene& scene, co
       return nullptr;
     }
   }
-  // 16 × 8 pixels: rows weighed by their solid angle, so directions are uniform on the sphere.
-  Image image(16, 8);
+  // A constant map, which EnvironmentMap samples uniformly over the sphere (its size is moot).
+  Image image(1, 1);
   for (size_t k = 0; k < image.rgb.size(); k += 3)
     image.rgb[k] = e.x, image.rgb[k + 1] = e.y, image.rgb[k + 2] = e.z;
   return std::make_unique<const EnvironmentMap>(std::move(image), "the uniform environment");

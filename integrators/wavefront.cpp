@@ -148,7 +148,7 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last,
 // Stage 1: new camera samples, in the call's SampleOrder, take the free slots. Returns how many.
 size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
   const size_t n = size_t(std::min<uint64_t>(free_.size(), end_id - first_id));
-  const Camera& camera = shot_.camera;
+  const CameraProjection camera(shot_.camera, shot_.width, shot_.height);
   const uint32_t width = uint32_t(shot_.width);
   camera_.type = RayType::primary;
   camera_.resize(n);
@@ -177,7 +177,7 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
         const float x = float(pixel[k] % width) + numbers[k][pixel_x];
         const float y = float(pixel[k] / width) + numbers[k][pixel_y];
         glm::vec3 o, d;
-        const float tmin = camera_ray(camera, shot_.width, shot_.height, x, y, o, d);
+        const float tmin = camera.ray(x, y, o, d);
         camera_.set(j, o, d, tmin, INFINITY, slot);
       }
     }

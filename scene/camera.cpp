@@ -63,23 +63,19 @@ glm::vec3 look_at_point(const Camera& camera, const glm::vec3& target) {
   return camera.position() - glm::vec3(camera.to_world[2]) * (d > 0.f ? d : 1.f);
 }
 
+CameraProjection::CameraProjection(const Camera& camera, int w, int h)
+    : to_world(camera.to_world),
+      width(float(w)),
+      height(float(h)),
+      aspect(float(w) / float(h)),
+      tan_half(std::tan(0.5f * camera.yfov)),
+      ymag(camera.ymag),
+      znear(camera.znear),
+      orthographic(camera.orthographic) {}
+
 float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
                  glm::vec3& direction) {
-  const float aspect = float(width) / float(height);
-  if (camera.orthographic) {
-    const glm::vec3 local((2.f * x / width - 1.f) * camera.ymag * aspect,
-                          (1.f - 2.f * y / height) * camera.ymag, 0.f);
-    origin = glm::vec3(camera.to_world * glm::vec4(local, 1.f));
-    direction = -glm::vec3(camera.to_world[2]);
-    return camera.znear;
-  }
-  const float tan_half = std::tan(0.5f * camera.yfov);
-  glm::vec3 local((2.f * x / width - 1.f) * tan_half * aspect, (1.f - 2.f * y / height) * tan_half,
-                  -1.f);
-  origin = camera.position();
-  direction = glm::normalize(glm::vec3(camera.to_world * glm::vec4(local, 0.f)));
-  // The near plane is at depth znear: `local` (depth 1) scaled by znear, |local| · znear away.
-  return camera.znear * glm::length(local);
+  return CameraProjection(camera, width, height).ray(x, y, origin, direction);
 }
 
 std::string camera_flags(const Camera& cam, const glm::vec3& target) {

@@ -71,4 +71,30 @@ glm::ivec2 image_size(float aspect, int width, int height, int longer, const std
 float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
                  glm::vec3& direction);
 
+// What camera_ray takes of a camera and an image size, made once for a batch of rays (the field
+// of view's tangent is worth hoisting: a call per camera sample was 4 % of a textured render). The
+// rays are the same bit for bit.
+struct CameraProjection {
+  glm::mat4 to_world;
+  float width, height, aspect, tan_half, ymag, znear;
+  bool orthographic;
+
+  CameraProjection(const Camera& camera, int width, int height);
+  float ray(float x, float y, glm::vec3& origin, glm::vec3& direction) const {
+    if (orthographic) {
+      const glm::vec3 local((2.f * x / width - 1.f) * ymag * aspect,
+                            (1.f - 2.f * y / height) * ymag, 0.f);
+      origin = glm::vec3(to_world * glm::vec4(local, 1.f));
+      direction = -glm::vec3(to_world[2]);
+      return znear;
+    }
+    glm::vec3 local((2.f * x / width - 1.f) * tan_half * aspect, (1.f - 2.f * y / height) * tan_half,
+                    -1.f);
+    origin = glm::vec3(to_world[3]);
+    direction = glm::normalize(glm::vec3(to_world * glm::vec4(local, 0.f)));
+    // The near plane is at depth znear: `local` (depth 1) scaled by znear, |local| · znear away.
+    return znear * glm::length(local);
+  }
+};
+
 }  // namespace dacrt

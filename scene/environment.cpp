@@ -81,6 +81,12 @@ EnvironmentMap::EnvironmentMap(Image image, const std::string& what) : image_(st
   average_ = glm::vec3(integral / (4.0 * glm::pi<double>()));
   for (double r : row_sum) total_ += r;
   if (total_ <= 0.0) return;
+  const float* first = image_.pixel(0, 0);
+  constant_ = true;
+  for (size_t i = 0; i < image_.rgb.size() && constant_; i += 3)
+    constant_ = image_.rgb[i] == first[0] && image_.rgb[i + 1] == first[1] &&
+                image_.rgb[i + 2] == first[2];
+  if (constant_) average_ = glm::vec3(first[0], first[1], first[2]);
   rows_ = AliasTable(row_sum);
   columns_.reserve(size_t(h));
   for (int y = 0; y < h; ++y)
@@ -96,11 +102,13 @@ int EnvironmentMap::pixel_index(const glm::vec3& direction) const {
 }
 
 glm::vec3 EnvironmentMap::radiance(const glm::vec3& direction) const {
+  if (constant_) return average_;
   const float* p = &image_.rgb[3 * size_t(pixel_index(direction))];
   return {p[0], p[1], p[2]};
 }
 
 float EnvironmentMap::pdf(const glm::vec3& direction) const {
+  if (constant_) return glm::one_over_pi<float>() * 0.25f;
   const float sin_theta = std::sqrt(std::max(0.f, 1.f - direction.y * direction.y));
   if (!(sin_theta > 0.f) || total_ <= 0.0) return 0.f;
   // Constant density in (u, v) over the pixel, and dω = 2π² sin θ du dv. The pixel's probability
@@ -115,6 +123,11 @@ float EnvironmentMap::pdf(const glm::vec3& direction) const {
 
 EnvironmentMap::Sample EnvironmentMap::sample(const glm::vec4& u) const {
   if (total_ <= 0.0) return {glm::vec3(0.f, 1.f, 0.f), glm::vec3(0.f), 0.f};
+  if (constant_) {
+    const float y = 1.f - 2.f * u.x, r = std::sqrt(std::max(0.f, 1.f - y * y));
+    const float phi = glm::two_pi<float>() * u.y;
+    return {{r * std::sin(phi), y, -r * std::cos(phi)}, average_, pdf({})};
+  }
   const int w = image_.width, h = image_.height;
   const uint32_t y = rows_.sample(u.x), x = columns_[y].sample(u.y);
   const glm::vec3 d = from_uv({(float(x) + u.z) / float(w), (float(y) + u.w) / float(h)});

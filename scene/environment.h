@@ -7,7 +7,11 @@
 // radiance is constant over it (nearest lookup), which is exactly what the sampling distribution
 // assumes, so sample(), radiance() and pdf() agree. The row is chosen by an alias table over rows
 // (the marginal), the column by the row's own alias table (the conditional), so pdf() is the
-// probability the sampling realises (util/alias_table.h), not a rounded cdf's.
+// probability the sampling realises (util/alias_table.h), not a rounded cdf's. A constant map (a
+// uniform sky, or dacrt's own stand-in for one) is sampled uniformly over the sphere instead, from
+// u.x and u.y alone by inversion: its pdf is 1/4π, where the pixel grid's is 1/sin θ (crowding the
+// poles), and the pattern's 2D stratification survives, which the alias tables' discrete choice
+// breaks.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -36,6 +40,7 @@ class EnvironmentMap {
   float pdf(const glm::vec3& direction) const;
 
   bool black() const { return total_ <= 0.0; }
+  bool constant() const { return constant_; }
   glm::vec3 average() const { return average_; }  // over the sphere (solid-angle weighted)
   const Image& image() const { return image_; }
 
@@ -51,6 +56,7 @@ class EnvironmentMap {
   std::vector<AliasTable> columns_;  // per row, the conditional (empty for a black row)
   double total_ = 0.0;
   glm::vec3 average_{0.f};
+  bool constant_ = false;  // every pixel the same, not black: radiance average_ everywhere
 };
 
 }  // namespace dacrt

@@ -2,6 +2,7 @@
 // ceiling), whose answers are known, and the command end to end on a tiny glTF.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
@@ -13,6 +14,7 @@
 #include "bench/args.h"
 #include "bench/command.h"
 #include "bench/rays.h"
+#include "bench/report.h"
 #include "bench/run.h"
 #include "gltf_writer.h"
 #include "tracer/backend.h"
@@ -380,6 +382,63 @@ TEST_CASE("bench: end to end on a glTF, with JSON") {
     CHECK_MESSAGE(table.find("| " + std::string(ray)) != std::string::npos, ray);
 }
 
+TEST_CASE("bench: a discarded warm-up, every timed run kept, medians with intervals, speed-ups") {
+  TempDir dir("bench-runs");
+  const std::string scene = write_box_gltf(dir), json = dir / "runs.json";
+  CHECK(parse_bench_args({scene}).repeat == 5);
+  std::ostringstream out;
+  REQUIRE(bench_command({scene, "--count", "1024", "--repeat", "6", "--rays", "primary,shadow",
+                         "--backends", "dacrt,dacrt-naive", "--json", json, "--quiet"},
+                        out) == 0);
+  const nlohmann::json j = read_json(json);
+  CHECK(j["repeat"] == 6);
+  CHECK(j["warmup_runs"] == 1);
+  CHECK(j["method"].get<std::string>().find("1 discarded warm-up run") != std::string::npos);
+  REQUIRE(j["results"].size() == 2 * 2);
+  auto sorted = [](const nlohmann::json& runs) {
+    std::vector<double> v = runs.get<std::vector<double>>();
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  for (const auto& r : j["results"]) {
+    INFO(r["rays"].get<std::string>() << " " << r["backend"].get<std::string>());
+    // The warm-up ran (the runner counts it) and none of its figures is among the six.
+    CHECK(r["warmups"] == 1);
+    const auto& in = r["intervals"];
+    for (const char* figure :
+         {"build_s", "trace_s", "total_s", "mrays_per_s", "mrays_per_s_with_build", "speedup"}) {
+      INFO(figure);
+      const std::vector<double> v = sorted(in[figure]["runs"]);
+      REQUIRE(v.size() == 6);
+      // Six runs: the median between the 3rd and 4th, the interval the range (96.9 %).
+      CHECK(in[figure]["median"].get<double>() == doctest::Approx(0.5 * (v[2] + v[3])));
+      CHECK(in[figure]["low"].get<double>() == v.front());
+      CHECK(in[figure]["high"].get<double>() == v.back());
+      CHECK(in[figure]["coverage"].get<double>() == doctest::Approx(1 - 2.0 / 64));
+      if (std::string(figure) != "total_s")
+        CHECK(r[figure].get<double>() == in[figure]["median"].get<double>());
+    }
+    // Speed-up: the baseline's trace seconds over the row's, repeat by repeat.
+    for (const auto& b : j["results"]) {
+      if (b["backend"] != "dacrt-naive" || b["rays"] != r["rays"]) continue;
+      for (size_t i = 0; i < 6; ++i)
+        CHECK(in["speedup"]["runs"][i].get<double>() ==
+              doctest::Approx(b["intervals"]["trace_s"]["runs"][i].get<double>() /
+                              in["trace_s"]["runs"][i].get<double>()));
+    }
+  }
+  // The table names the convention and the method, and gives each figure its interval.
+  const std::string table = out.str();
+  CHECK(table.find("| speed-up vs dacrt-naive, higher is faster |") != std::string::npos);
+  CHECK(table.find("after 1 discarded warm-up run per backend and ray type") != std::string::npos);
+  CHECK(table.find("97 % confidence interval (runs 1 and 6 of the 6 sorted)") != std::string::npos);
+  CHECK(table.find(" [") != std::string::npos);
+  // Fewer than six runs cannot reach 95 %: the range, with the coverage it has.
+  CHECK(method_text(5).find("their range (n=5: range, 94 % coverage") != std::string::npos);
+  CHECK(method_text(9).find("its 96 % confidence interval (runs 2 and 8") != std::string::npos);
+  CHECK(method_text(1).find("without an interval") != std::string::npos);
+}
+
 TEST_CASE("bench: triangle sweep and ray subsets") {
   TempDir dir("bench-sweep");
   const std::string scene = write_box_gltf(dir), json = dir / "sweep.json";
@@ -395,7 +454,7 @@ TEST_CASE("bench: triangle sweep and ray subsets") {
   std::set<size_t> triangles;
   for (const auto& r : j["results"]) {
     triangles.insert(r["triangles"].get<size_t>());
-    CHECK(r["trace_s_runs"].size() == 2);
+    CHECK(r["intervals"]["trace_s"]["runs"].size() == 2);
   }
   CHECK(triangles == std::set<size_t>{12, 6, 3, 2, 1});
 }

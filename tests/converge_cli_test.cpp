@@ -137,7 +137,8 @@ TEST_CASE("converge: a tiny run writes the CSV, the script, the reference and th
   CHECK(script.find("set logscale xy") != std::string::npos);
   CHECK(r.out.find("equal error: RMSE") != std::string::npos);
   CHECK(r.out.find("equal time: ") != std::string::npos);
-  std::vector<std::string> expected = {"convergence.csv", "convergence.gp", "reference.exr"};
+  std::vector<std::string> expected = {"convergence.csv", "convergence.gp", "index.html",
+                                       "reference.exr"};
   if (have_gnuplot()) {
     const std::string svg = slurp(out + "/convergence.svg"), png = slurp(out + "/convergence.png");
     CHECK(svg.find("<svg") != std::string::npos);
@@ -145,7 +146,7 @@ TEST_CASE("converge: a tiny run writes the CSV, the script, the reference and th
     REQUIRE(png.size() > 8);
     CHECK(png.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
     expected = {"convergence.csv", "convergence.gp", "convergence.png", "convergence.svg",
-                "reference.exr"};
+                "index.html", "reference.exr"};
   } else {
     MESSAGE("gnuplot is not installed: the plot is not checked");
   }
@@ -205,7 +206,7 @@ TEST_CASE("converge: without a reference, the noise between two seeds is the err
   }
   CHECK(std::stod(rows[1].metrics[4]) < std::stod(rows[0].metrics[4]));
   CHECK(r.out.find("equal error: noise") != std::string::npos);
-  CHECK(files(dir / "out") == std::vector<std::string>{"convergence.csv", "convergence.gp"});
+  CHECK(files(dir / "out") == std::vector<std::string>{"convergence.csv", "convergence.gp", "index.html"});
 }
 
 TEST_CASE("converge: without gnuplot the CSV and the script are written, with a warning") {
@@ -217,7 +218,7 @@ TEST_CASE("converge: without gnuplot the CSV and the script are written, with a 
   CHECK(r.code == 0);
   CHECK(r.err.find("warning: gnuplot is not on PATH") != std::string::npos);
   CHECK(r.err.find("gnuplot convergence.gp") != std::string::npos);
-  CHECK(files(dir / "out") == std::vector<std::string>{"convergence.csv", "convergence.gp"});
+  CHECK(files(dir / "out") == std::vector<std::string>{"convergence.csv", "convergence.gp", "index.html"});
 }
 
 TEST_CASE("converge: bad input is one line, a non-zero exit, and nothing written") {
@@ -297,7 +298,7 @@ TEST_CASE("converge: SIGTERM stops at the next wavefront and writes the points f
   const std::vector<Row> rows = read_csv(out + "/convergence.csv");
   CHECK(rows.size() >= 3);
   CHECK(rows.size() < 16);  // stopped long before the budget
-  CHECK(files(out) == std::vector<std::string>{"convergence.csv", "convergence.gp"});
+  CHECK(files(out) == std::vector<std::string>{"convergence.csv", "convergence.gp", "index.html"});
 }
 
 TEST_CASE("converge: --adaptive is a configuration's flag, compared with uniform sampling") {

@@ -126,3 +126,31 @@ TEST_CASE("environment map: bad images are errors naming the file") {
   CHECK(black.black());
   CHECK(black.pdf(glm::vec3(0, 0, -1)) == 0.f);
 }
+
+TEST_CASE("environment map: a constant map is sampled uniformly over the sphere, from u.x and u.y") {
+  Image sky(16, 8);
+  for (int y = 0; y < sky.height; ++y)
+    for (int x = 0; x < sky.width; ++x) {
+      float* p = sky.pixel(x, y);
+      p[0] = 0.5f, p[1] = 1.f, p[2] = 2.f;
+    }
+  const EnvironmentMap map(sky, "sky");
+  REQUIRE(map.constant());
+  const double p = dacrt::test::chi2_p_value(
+      [&](Pcg32& rng) -> std::optional<glm::vec3> { return map.sample(uniforms(rng)).direction; },
+      [&](const glm::vec3& d) { return map.pdf(d); }, 5, 200000, /*sub=*/16);
+  CHECK(p > 0.01);
+  Pcg32 rng(3);
+  for (int k = 0; k < 1000; ++k) {
+    const glm::vec4 u = uniforms(rng);
+    const auto s = map.sample(u);
+    CHECK(s.pdf == doctest::Approx(0.25 / glm::pi<double>()).epsilon(1e-6));
+    CHECK(s.radiance == glm::vec3(0.5f, 1.f, 2.f));
+    CHECK(s.direction.y == doctest::Approx(1.f - 2.f * u.x).epsilon(1e-5));
+    // The point inside a pixel (u.z, u.w) plays no part: the pair (u.x, u.y) alone, as the
+    // sampler's 2D pattern draws it, keeps its stratification.
+    CHECK(map.sample({u.x, u.y, 1.f - u.z, 0.5f}).direction == s.direction);
+  }
+  sky.pixel(3, 5)[1] = 1.5f;
+  CHECK_FALSE(EnvironmentMap(sky, "sky").constant());
+}

@@ -1,0 +1,147 @@
+// `dacrt render --backend a,b --report DIR`: the page holds every backend's image and the table,
+// needs nothing from elsewhere, and renders in a browser (headless Chromium, when installed:
+// `make test` installs it) without errors and not blank.
+#include <doctest/doctest.h>
+#include <stb_image.h>
+
+#include <cstdlib>
+#include <memory>
+
+#include "bench/html_page.h"
+#include "cli.h"
+
+using namespace dacrt;
+using namespace dacrt::test;
+
+namespace {
+
+const std::string cornell = DACRT_SOURCE_DIR "/scenes/cornell-box.gltf";
+
+// Headless Chromium's screenshot of a page, its log beside it. Empty when Chromium is missing.
+std::string screenshot(const TempDir& dir, const std::string& page, std::string& log) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!fs::exists(chromium)) return "";
+  const std::string png = dir / "screenshot.png";
+  const std::string cmd = std::string(chromium) +
+                          " --headless=new --no-sandbox --disable-gpu --no-first-run"
+                          " --user-data-dir=" + (dir / "profile") +
+                          " --enable-logging=stderr --v=0 --window-size=1100,1600"
+                          " --screenshot=" + png + " file://" + page + " >" + (dir / "log.txt") +
+                          " 2>&1 </dev/null";
+  const int status = std::system(("timeout 120 " + cmd).c_str());
+  log = slurp(dir / "log.txt");
+  REQUIRE_MESSAGE(WIFEXITED(status), log);
+  REQUIRE_MESSAGE(WEXITSTATUS(status) == 0, log);
+  return png;
+}
+
+// A page that a browser shows without a console or load error, and not blank.
+void check_in_browser(const TempDir& dir, const std::string& page) {
+  std::string log;
+  const std::string shot = screenshot(dir, page, log);
+  if (shot.empty()) {
+    MESSAGE("skipped the browser check: /usr/bin/chromium is not installed (`make test` installs it)");
+    return;
+  }
+  for (const char* error : {"ERROR:CONSOLE", "Uncaught", "Failed to load", "net::ERR"})
+    CHECK_MESSAGE(log.find(error) == std::string::npos, log);
+  int w = 0, h = 0, n = 0;
+  std::unique_ptr<unsigned char, void (*)(void*)> pixels(stbi_load(shot.c_str(), &w, &h, &n, 3),
+                                                         stbi_image_free);
+  REQUIRE(pixels);
+  CHECK(w == 1100);
+  // Not blank: the page's images and plots put many colours on the white.
+  size_t coloured = 0;
+  for (int i = 0; i < w * h; ++i) {
+    const unsigned char* p = pixels.get() + 3 * i;
+    coloured += !(p[0] == p[1] && p[1] == p[2]);
+  }
+  CHECK(coloured > size_t(w * h / 500));
+}
+
+void check_self_contained(const std::string& html) {
+  for (const char* remote : {"<script", "<link", "@import", "url(", "src=\"http"})
+    CHECK_MESSAGE(html.find(remote) == std::string::npos, remote);
+  // Links only inside the page (gnuplot's SVG reuses its point symbols: href='#gpPt4').
+  for (size_t at = html.find("href="); at != std::string::npos; at = html.find("href=", at + 1))
+    CHECK_MESSAGE(html.compare(at + 6, 1, "#") == 0, html.substr(at, 40));
+}
+
+}  // namespace
+
+TEST_CASE("render --report: one self-contained page with each backend's image, and a browser shows it") {
+  TempDir dir("report");
+  const std::string report = dir / "study";
+  const Run r = run(dir, "render " + cornell + " --width 48 --height 32 --spp 2 --quiet -o " +
+                             (dir / "cb.exr") + " --backend dacrt,brute --report " + report);
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string html = slurp(fs::path(report) / "index.html");
+  for (const char* backend : {"dacrt", "brute"}) {
+    const std::string png = slurp(fs::path(report) / (std::string(backend) + ".png"));
+    REQUIRE(png.size() > 8);
+    const std::string embedded =
+        base64({reinterpret_cast<const uint8_t*>(png.data()), png.size()});
+    CHECK_MESSAGE(html.find("src=\"data:image/png;base64," + embedded + "\"") != std::string::npos,
+                  backend);
+  }
+  CHECK(html.find("cornell-box.gltf, 48×32, 2 spp") != std::string::npos);
+  CHECK(html.find("<td>triangle tests</td>") != std::string::npos);
+  CHECK(html.find("Mrays/s per ray type") != std::string::npos);
+  check_self_contained(html);
+
+  // --report is an output: refused with --frames, and a directory that cannot be made is named.
+  const Run frames = run(dir, "render " + cornell + " --spp 1 --frames 0:1 --report " + report);
+  CHECK(frames.code == 2);
+  CHECK(frames.err.find("--report") != std::string::npos);
+  const Run blocked = run(dir, "render " + cornell + " --spp 1 -o " + (dir / "x.exr") +
+                                   " --report " + (dir / "cb.dacrt.exr/sub"));
+  CHECK(blocked.code == 1);
+  CHECK(blocked.err.find("cb.dacrt.exr/sub") != std::string::npos);
+
+  check_in_browser(dir, fs::path(report) / "index.html");
+}
+
+TEST_CASE("bench --report: the table and the Mrays/s with their intervals, on one page") {
+  TempDir dir("bench-report");
+  const std::string report = dir / "bench";
+  const Run r = run(dir, "bench " + cornell + " --width 16 --height 16 --rays primary,bounce --repeat 3 "
+                             "--backends dacrt,brute --quiet --report " + report);
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string html = slurp(fs::path(report) / "index.html");
+  CHECK(html.find("Mrays/s per ray type") != std::string::npos);
+  CHECK(html.find("after 1 discarded warm-up run") != std::string::npos);
+  // Four bars (two ray types, two backends), each with its interval's whisker.
+  size_t whiskers = 0;
+  for (size_t at = html.find("<path"); at != std::string::npos; at = html.find("<path", at + 1))
+    ++whiskers;
+  CHECK(whiskers == 4);
+  for (const char* cell : {"<td>primary</td>", "<td>bounce</td>", "<td>dacrt</td>", "<td>brute</td>"})
+    CHECK_MESSAGE(html.find(cell) != std::string::npos, cell);
+  check_self_contained(html);
+  const Run blocked = run(dir, "bench " + cornell + " --width 16 --height 16 --report " + (dir / "bench/index.html/x"));
+  CHECK(blocked.code == 1);
+  CHECK(blocked.err.find("index.html/x") != std::string::npos);
+  check_in_browser(dir, fs::path(report) / "index.html");
+}
+
+TEST_CASE("converge -o DIR: the plot, the tables and every point with its band on one page") {
+  TempDir dir("converge-report");
+  const std::string out = dir / "study";
+  const Run r = run(dir, "converge " + cornell + " --width 12 --height 12 --reference-spp 16 "
+                             "--max-spp 4 --repeats 2 --config \"\" --config sampler=independent "
+                             "--quiet -o " + out);
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string html = slurp(fs::path(out) / "index.html");
+  // The summary printed on stdout is in the page as it is.
+  const size_t equal_time = r.out.find("equal time:");
+  REQUIRE(equal_time != std::string::npos);
+  CHECK(html.find(html_escape(r.out.substr(equal_time, 40))) != std::string::npos);
+  CHECK(html.find("<td>sampler=independent</td><td>4</td><td>2</td>") != std::string::npos);
+  CHECK(html.find("[95 % band]") != std::string::npos);
+  if (fs::exists(fs::path(out) / "convergence.svg"))
+    CHECK(html.find("<svg") != std::string::npos);
+  else
+    CHECK(html.find("No plot: gnuplot was not found") != std::string::npos);
+  check_self_contained(html);
+  check_in_browser(dir, fs::path(out) / "index.html");
+}
