@@ -288,10 +288,9 @@ void print_reference(std::FILE* out, const std::string& path,
 }
 
 void warn_short_runs(const std::vector<Curve>& curves) {
-  constexpr double noisy_below = 0.1;  // seconds
   for (const Curve& c : curves) {
     const double seconds = seconds_of(c.points.back()).mean;
-    if (seconds < noisy_below)
+    if (too_short_to_time(seconds))
       std::fprintf(stderr,
                    "dacrt converge: warning: --config \"%s\" ran %.3g s in all: times under "
                    "0.1 s are noisy (a larger --time-budget, --max-spp or image runs longer)\n",

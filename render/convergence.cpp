@@ -143,6 +143,10 @@ Interval mean_interval95(const std::vector<double>& values) {
   return {mean, mean - half, mean + half};
 }
 
+bool too_short_to_time(double seconds) {
+  return seconds < 0.1;
+}
+
 LogLogFit fit_log_log(const std::vector<double>& x, const std::vector<double>& y) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int n = 0;

@@ -80,6 +80,10 @@ Interval mean_interval95(const std::vector<double>& values);
 // 1.96 in the limit.
 double student_t975(int dof);
 
+// Whether a run of `seconds` is too short to time: under 0.1 s a run is a few scheduler slices,
+// and its time is mostly the timer's, the caches' and the other processes' noise.
+bool too_short_to_time(double seconds);
+
 // The least-squares line y = intercept + slope·x through the points (log x, log y) for which both
 // are positive and finite; `points` says how many. With fewer than two usable points (or all at
 // one x) the slope and intercept are NaN.

@@ -345,10 +345,18 @@ TEST_CASE("converge: --repeats gives every point a mean and a 95 % band") {
   if (have_gnuplot()) CHECK(slurp(out + "/convergence.svg").find("<svg") != std::string::npos);
   CHECK(slurp(out + "/convergence.gp").find("using 1:4:5 with filledcurves") != std::string::npos);
   CHECK(r.out.find("95 % confidence interval") != std::string::npos);
-  // The equal-time line: "RMSE <mean> [<low>, <high>]".
-  const size_t equal_time = r.out.find("equal time: ");
-  REQUIRE(equal_time != std::string::npos);
-  CHECK(r.out.find("RMSE ", equal_time) < r.out.find(" [", equal_time));
+  // The configuration's line in the summary, the equal-error and the equal-time tables, each
+  // with its "[low, high]".
+  for (const char* table : {"config ", "equal error: ", "equal time: "}) {
+    INFO(table);
+    const size_t from = r.out.find(table);
+    REQUIRE(from != std::string::npos);
+    const size_t row = r.out.find("sampler=independent  ", from);
+    REQUIRE(row != std::string::npos);
+    const std::string line = r.out.substr(row, r.out.find('\n', row) - row);
+    CHECK_MESSAGE(line.find(" [") != std::string::npos, line);
+    CHECK_MESSAGE(line.find("]") != std::string::npos, line);
+  }
 }
 
 TEST_CASE("converge: the reference's own MSE, from its halves, is subtracted and kept") {
@@ -367,11 +375,11 @@ TEST_CASE("converge: the reference's own MSE, from its halves, is subtracted and
   REQUIRE(rows.size() == 5);
   for (const Row& row : rows) {
     INFO(row.spp);
-    CHECK(row.number("reference_mse") == doctest::Approx(mse).epsilon(1e-6));
+    CHECK(row.number("reference_mse") == doctest::Approx(mse).epsilon(1e-6).scale(0));
     const double raw = row.number("rmse_raw"), rmse = row.number("rmse");
     // RMSE² = raw RMSE² − the reference's MSE, clamped at 0: an 8-spp reference is as noisy as
     // the 8-spp render, and past it the render's error is mostly the reference's.
-    CHECK(rmse * rmse == doctest::Approx(std::max(0.0, raw * raw - mse)).epsilon(1e-5));
+    CHECK(rmse * rmse == doctest::Approx(std::max(0.0, raw * raw - mse)).epsilon(1e-5).scale(0));
     CHECK(row.number("relmse") <= row.number("relmse_raw"));
   }
   CHECK(rows[0].number("rmse") > 0);
@@ -381,7 +389,7 @@ TEST_CASE("converge: the reference's own MSE, from its halves, is subtracted and
                                  "/reference.exr -o " + (dir / "again") + " --config ''");
   REQUIRE(again.code == 0);
   CHECK(read_csv(dir / "again/convergence.csv")[0].number("reference_mse") ==
-        doctest::Approx(mse).epsilon(1e-6));
+        doctest::Approx(mse).epsilon(1e-6).scale(0));
   const std::string plain = dir / "plain.exr";
   REQUIRE(run(dir, "render " + tiny + " --spp 8 -o " + plain).code == 0);
   const Run other = run(dir, "converge " + tiny + " --max-spp 2 --no-plot --reference " + plain +

@@ -55,6 +55,23 @@ TEST_CASE("converge untrusted: a reference with a NaN or an infinite pixel is re
 }
 
 TEST_CASE(
+    "converge untrusted: a reference's own MSE that is not a non-negative number is refused") {
+  TempDir dir("converge-reference-mse");
+  const std::string out = dir / "out", ref = dir / "ref.exr";
+  Image image(12, 12);
+  for (float& v : image.rgb) v = 0.5f;
+  for (const char* bad : {"nan", "-1e-5", "inf", "0.1x", ""}) {
+    INFO(bad);
+    ExrMetadata meta;
+    meta.extra = {{"referenceMse", bad}, {"referenceRelmse", "0.001"}};
+    write_exr(ref, image, meta);
+    const Run r = run(dir, "converge " + cornell + tiny + "--reference " + ref + " -o " + out);
+    check_refused(r, 1, {ref, "referenceMse", "not a non-negative number"});
+    CHECK(!fs::exists(out));
+  }
+}
+
+TEST_CASE(
     "converge untrusted: a configuration that cannot run is a usage error before any render") {
   TempDir dir("converge-config");
   const std::string out = dir / "out";
