@@ -78,7 +78,14 @@ std::string bar_chart_svg(const std::string& title, const std::string& axis,
   const double step = tick_step(top);
   top = std::ceil(top / step) * step;
   const int left = 64, right = 16, plot_top = 40, plot_height = 220, label_height = 40;
-  const int bar_width = 18, gap = 24;
+  // Bars 18 pixels wide 24 apart, narrower when many would make the chart wider than a page's
+  // 880 pixels (then scaled down, its text with it, past legibility).
+  const int bars = std::max<int>(1, int(groups.size() * std::max<size_t>(series.size(), 1)));
+  int bar_width = 18, gap = 24;
+  if (bars * bar_width + (int(groups.size()) + 1) * gap > 880) {
+    gap = 8;
+    bar_width = std::max(3, (880 - (int(groups.size()) + 1) * gap) / bars);
+  }
   const int cluster = int(series.size()) * bar_width;
   const int plot_width = std::max(240, int(groups.size()) * (cluster + gap) + gap);
   const int legend_columns = int(std::min<size_t>(series.size(), 4));
@@ -110,16 +117,17 @@ std::string bar_chart_svg(const std::string& title, const std::string& axis,
       const int x = x0 + int(k) * bar_width;
       const double y = y_of(b.value);
       s += "<rect x=\"" + std::to_string(x) + "\" y=\"" + number(y, "%.1f") + "\" width=\"" +
-           std::to_string(bar_width - 2) + "\" height=\"" +
+           std::to_string(std::max(1, bar_width - 2)) + "\" height=\"" +
            number(plot_top + plot_height - y, "%.1f") + "\" fill=\"" + palette[k % 8] +
            "\"><title>" + html_escape(series[k] + ", " + groups[g].label + ": " + number(b.value)) +
            "</title></rect>\n";
       if (!std::isfinite(b.low) || !std::isfinite(b.high)) continue;
       const std::string cx = std::to_string(x + bar_width / 2 - 1);
       const std::string lo = number(y_of(b.low), "%.1f"), hi = number(y_of(b.high), "%.1f");
-      s += "<path d=\"M" + cx + " " + lo + "V" + hi + "M" + std::to_string(x + 3) + " " + lo +
-           "h" + std::to_string(bar_width - 8) + "M" + std::to_string(x + 3) + " " + hi + "h" +
-           std::to_string(bar_width - 8) + "\" stroke=\"#000\" fill=\"none\"/>\n";
+      const int cap = std::max(2, bar_width - 8), cap_x = x + bar_width / 2 - 1 - cap / 2;
+      s += "<path d=\"M" + cx + " " + lo + "V" + hi + "M" + std::to_string(cap_x) + " " + lo +
+           "h" + std::to_string(cap) + "M" + std::to_string(cap_x) + " " + hi + "h" +
+           std::to_string(cap) + "\" stroke=\"#000\" fill=\"none\"/>\n";
     }
     s += "<text x=\"" + std::to_string(x0 + cluster / 2) + "\" y=\"" +
          std::to_string(plot_top + plot_height + 16) + "\" text-anchor=\"middle\">" +
@@ -205,7 +213,7 @@ std::string HtmlPage::html() const {
          "figure { margin: 0.5em 0; }\n"
          "figcaption { font-size: small; color: #444; }\n"
          "pre { white-space: pre-wrap; }\n"
-         "img { image-rendering: pixelated; height: 16em; width: auto; }\n"
+         "img { image-rendering: pixelated; height: 16em; width: auto; border: 1px solid #ccc; }\n"
          "figure svg { max-width: 100%; height: auto; }\n"
          "</style>\n</head>\n<body>\n<h1>" +
          html_escape(title_) + "</h1>\n" + body_ + "</body>\n</html>\n";

@@ -92,3 +92,21 @@ TEST_CASE("html page: self-contained (no script, no style sheet, no file from el
                        doctest::Contains("missing.png"), Error);
   fs::remove_all(dir);
 }
+
+TEST_CASE("html page: many bars get narrower rather than the chart wider than a page") {
+  std::vector<BarGroup> groups;
+  for (int g = 0; g < 30; ++g) groups.push_back({std::to_string(g + 1), {{1.0}, {2.0}, {3.0, 2.5, 3.5}}});
+  const std::string svg = bar_chart_svg("per bounce", "Mrays/s", {"a", "b", "c"}, groups);
+  const std::smatch width = [&] {
+    std::smatch m;
+    std::regex_search(svg, m, std::regex("<svg [^>]*width=\"([0-9]+)\""));
+    return m;
+  }();
+  REQUIRE(width.size() == 2);
+  CHECK(std::stoi(width[1]) <= 64 + 880 + 16);
+  const std::vector<double> h = bar_heights(svg);
+  REQUIRE(h.size() == 90 + 3);
+  CHECK(h[1] == doctest::Approx(2.0 * h[0]).epsilon(0.01));
+  // Whiskers keep a cap on bars a few pixels wide.
+  CHECK(svg.find("h-") == std::string::npos);
+}
