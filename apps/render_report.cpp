@@ -57,6 +57,13 @@ void write_render_report(const std::string& dir, const std::string& what,
                 "The bounce rays of each depth (1: the first bounce off the camera rays' hits): "
                 "rays grow less coherent and batches smaller with depth.");
 
+  // The rays of each depth are the same for every backend (the same paths): the first run's.
+  std::vector<BarGroup> rays_by_depth;
+  for (size_t k = 0; k < runs[0].stats.by_bounce.size(); ++k)
+    rays_by_depth.push_back({std::to_string(k + 1), {{double(runs[0].stats.by_bounce[k].rays)}}});
+  if (!rays_by_depth.empty())
+    page.figure(bar_chart_svg("Bounce rays per depth", "rays", {"bounce rays"}, rays_by_depth),
+                "How many bounce rays each depth has: the work the Mrays/s above weigh.");
   // The batches are the wavefront's, the same for every backend: the first run's.
   const std::vector<uint32_t>& batches = runs[0].stats.bounce_batches;
   if (!batches.empty()) {

@@ -87,6 +87,7 @@ TEST_CASE("render --report: one self-contained page with each backend's image, a
   CHECK(html.find("cornell-box.gltf, 48×32, 2 spp") != std::string::npos);
   CHECK(html.find("<td>triangle tests</td>") != std::string::npos);
   CHECK(html.find("Mrays/s per ray type") != std::string::npos);
+  CHECK(html.find("Bounce rays per depth") != std::string::npos);
   check_self_contained(html);
 
   // --report is an output: refused with --frames, and a directory that cannot be made is named.
