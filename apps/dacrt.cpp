@@ -95,6 +95,9 @@ Progress
 Image
   --width W, --height H      resolution (default 512 × 512, or the camera's aspect ratio)
   --spp N                    samples per pixel (default 64)
+  --samples FIRST:LAST       only sample indices [FIRST, LAST) of every pixel of the --spp
+                             render (its numbers are the whole render's: the header's sampleRange
+                             says which; not with --adaptive)
   --adaptive REL             adaptive sampling (default off): after the minimum, a pixel stops
                              taking samples once the relative error of its mean, and of its 3×3
                              neighbours' means, is below REL (in (0, 1), e.g. 0.01); the others go
@@ -190,6 +193,8 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
       {"sampler", sampler_name(s.sampler)},
       {"seed", std::to_string(s.seed)},
       {"sppRequested", std::to_string(s.spp)},
+      {"sampleRange", std::to_string(r.samples ? r.samples->first : 0) + ":" +
+                          std::to_string(r.samples ? r.samples->second : uint32_t(s.spp))},
       {"samplesPerPixel", least == most ? "every pixel " + std::to_string(least)
                                         : "from " + std::to_string(least) + " to " +
                                               std::to_string(most) + " (the samples channel)"},
@@ -326,6 +331,9 @@ int render(const std::vector<std::string>& args) {
         for (const std::string& note : shot.notes) print_message(note);
     }
     std::vector<BackendRun> runs_now = frame_runs(frame);
+    // The samples rendered: every one of the --spp render's, or the --samples range of them.
+    const uint32_t first = r.samples ? r.samples->first : 0,
+                   last = r.samples ? r.samples->second : uint32_t(s.spp);
     size_t rendered = 0;  // the runs begun: a stop skips the backends after it
     for (BackendRun& run : runs_now) {
       ++rendered;
@@ -336,8 +344,8 @@ int render(const std::vector<std::string>& args) {
       RenderJob job(scene, *backend, s, shot);
       Film film = job.film();
       Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
-                        shot.pixels() * uint64_t(s.spp), !r.quiet);
-      const RenderOutcome outcome = job.run(film, 0, uint32_t(s.spp), progress, r.passes,
+                        shot.pixels() * uint64_t(last - first), !r.quiet);
+      const RenderOutcome outcome = job.run(film, first, last, progress, r.passes,
                                             [&](const Film& so_far, const RenderOutcome& o) {
                                               write_outputs(r, scene, shot, run, so_far, o);
                                             });

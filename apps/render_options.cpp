@@ -164,6 +164,15 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     if (last - first >= 100000)
       throw UsageError("--frames " + v + ": more than 100000 frames");
     r.frames = std::pair{int(first), int(last)};
+  } else if (a == "--samples") {
+    const std::string v = value();
+    const size_t colon = v.find(':');
+    if (colon == std::string::npos)
+      throw UsageError("--samples wants FIRST:LAST (sample indices, LAST excluded), got '" + v + "'");
+    const long first = parse_int(a + " FIRST", v.substr(0, colon), 0, 1 << 20);
+    const long last = parse_int(a + " LAST", v.substr(colon + 1), 1, 1 << 20);
+    if (last <= first) throw UsageError("--samples " + v + ": LAST must be after FIRST");
+    r.samples = std::pair{uint32_t(first), uint32_t(last)};
   } else if (a == "--fps") {
     r.fps = parse_seconds(a, value());
     r.fps_given = true;
@@ -251,6 +260,13 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
     throw UsageError(r.display_flag + " needs --preview (it changes only the PNG preview)");
   if (r.output.empty()) r.output = fs::path(r.scene).stem().string() + ".exr";
   if (r.fps_given && !r.frames) throw UsageError("--fps needs --frames");
+  if (r.samples && r.samples->second > uint32_t(r.settings.spp))
+    throw UsageError("--samples " + std::to_string(r.samples->first) + ":" +
+                     std::to_string(r.samples->second) + " goes past --spp " +
+                     std::to_string(r.settings.spp) + " (the render the samples belong to)");
+  if (r.samples && r.settings.adaptive > 0)
+    throw UsageError("--samples and --adaptive: an adaptive pixel's samples depend on all those "
+                     "before them; render it whole");
   if (!r.report.empty() && r.frames) throw UsageError("--report is for one frame, not --frames");
   check_adaptive(r.settings);
   if (r.frames && r.gltf.time)

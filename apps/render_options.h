@@ -34,6 +34,9 @@ struct RenderArgs {
   int threads = 0;
   // --frames FIRST:LAST: the frames rendered, each at time frame / fps (--fps, default 24).
   std::optional<std::pair<int, int>> frames;
+  // --samples FIRST:LAST: sample indices [FIRST, LAST) of every pixel of the --spp render (the
+  // numbers of those samples are the whole render's: parts merge into it).
+  std::optional<std::pair<uint32_t, uint32_t>> samples;
   double fps = 24.0;
   bool fps_given = false;
   bool quiet = false, help = false;

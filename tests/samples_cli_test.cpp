@@ -1,0 +1,71 @@
+// `dacrt render --samples FIRST:LAST`: a range of the --spp render's sample indices, the same
+// numbers the whole render draws for them, said in the header; bad ranges are usage errors.
+#include <doctest/doctest.h>
+
+#include "cli.h"
+#include "io/exr.h"
+
+using namespace dacrt;
+using namespace dacrt::test;
+
+namespace {
+
+const std::string cornell = DACRT_SOURCE_DIR "/scenes/cornell-box.gltf";
+
+ExrFile render_part(const TempDir& dir, const std::string& name, const std::string& args) {
+  const Run r = run(dir, "render " + cornell + " --width 24 --height 16 --spp 8 --seed 5 --quiet " +
+                             args + " -o " + (dir / name));
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  return read_exr_file(dir / name);
+}
+
+const Channel& channel(const ExrFile& f, const std::string& name) {
+  for (const Channel& c : f.channels)
+    if (c.name == name) return c;
+  FAIL("no channel " << name);
+  return f.channels.front();
+}
+
+}  // namespace
+
+TEST_CASE("render --samples: a range of the whole render's samples, said in the header") {
+  TempDir dir("samples");
+  const ExrFile whole = render_part(dir, "whole.exr", "");
+  const ExrFile all = render_part(dir, "all.exr", "--samples 0:8");
+  const ExrFile head = render_part(dir, "head.exr", "--samples 0:5");
+  const ExrFile tail = render_part(dir, "tail.exr", "--samples 3:8");
+  CHECK(whole.attributes.at("sampleRange") == "0:8");
+  CHECK(tail.attributes.at("sampleRange") == "3:8");
+  CHECK(tail.attributes.at("sppRequested") == "8");
+  CHECK(tail.attributes.at("spp") == "5");
+  // 0:8 is the whole render, bit for bit.
+  for (const char* c : {"R", "G", "B"}) CHECK(channel(all, c).values == channel(whole, c).values);
+  // 3:8 draws samples 3 to 7, not 0 to 4: the same count as 0:5, other numbers, another image;
+  // with 0:3 (weighed by the counts) it makes the whole image.
+  const ExrFile first = render_part(dir, "first.exr", "--samples 0:3");
+  size_t differ = 0, off = 0;
+  for (const char* c : {"R", "G", "B"}) {
+    const std::vector<float>&t = channel(tail, c).values, &h = channel(head, c).values,
+                          &f = channel(first, c).values, &w = channel(whole, c).values;
+    for (size_t p = 0; p < t.size(); ++p) {
+      differ += t[p] != h[p];
+      const double merged = (3.0 * f[p] + 5.0 * t[p]) / 8.0;
+      off += std::abs(merged - w[p]) > 1e-5 * std::max(1.0, std::abs(double(w[p])));
+    }
+  }
+  CHECK(differ > 100);
+  CHECK(off == 0);
+}
+
+TEST_CASE("render --samples: ranges that are not part of the render are usage errors") {
+  TempDir dir("samples-usage");
+  for (const char* bad : {"--samples 3", "--samples 3:3", "--samples 5:2", "--samples 0:9",
+                          "--samples -1:4", "--samples a:4", "--samples 0:4 --adaptive 0.1"}) {
+    INFO(bad);
+    const Run r = run(dir, "render " + cornell + " --spp 8 -o " + (dir / "x.exr") + " " + bad);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("--samples") != std::string::npos);
+    CHECK(lines(r.err) == 1);
+  }
+  check_no_outputs(dir);
+}
