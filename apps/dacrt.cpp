@@ -38,6 +38,7 @@
 #include "tracer/backend.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/file_hash.h"
 #include "util/interrupt.h"
 #include "util/memory.h"
 #include "util/paths.h"
@@ -170,11 +171,63 @@ void check_memory(const RenderArgs& r, const Shot& shot) {
               format_bytes(available) + " of memory available");
 }
 
+// A float exactly, as C's %a writes it.
+std::string format_hex(float v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%a", double(v));
+  return text;
+}
+
+// What parts of one render (--samples ranges) must share to be merged, as EXR attributes
+// "match.NAME": the scene's files, the image, the view, the light, how samples are drawn and
+// kept. Everything that changes a sample's value is here; the backend, the threads, the wavefront
+// and the passes are not (they never change a pixel).
+std::vector<std::pair<std::string, std::string>> match_keys(const RenderArgs& r, const Shot& shot,
+                                                            const std::string& camera,
+                                                            const std::string& inputs_hash) {
+  const RenderSettings& s = r.settings;
+  auto real = [](double v) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.17g", v);
+    return std::string(text);
+  };
+  std::string environment = "default";
+  if (!s.environment_file.empty())
+    environment = "map " + s.environment_file;
+  else if (s.environment)
+    environment = real(s.environment->x) + "," + real(s.environment->y) + "," +
+                  real(s.environment->z);
+  std::string lights;
+  for (const PunctualLight& l : s.lights) lights += (lights.empty() ? "" : "; ") + l.name;
+  std::string aovs;
+  for (Aov a : {Aov::albedo, Aov::normal, Aov::depth, Aov::position, Aov::variance, Aov::samples})
+    if (s.aovs.has(a)) aovs += (aovs.empty() ? "" : ",") + std::string(AovSet::name(a));
+  const char* sample_environment[] = {"auto", "on", "off"};
+  return {{"match.inputs", inputs_hash},
+          {"match.gltfScene", std::to_string(r.gltf.scene)},
+          {"match.variant", r.gltf.variant},
+          {"match.time", r.gltf.time ? real(*r.gltf.time) : "rest pose"},
+          {"match.size", std::to_string(shot.width) + "x" + std::to_string(shot.height)},
+          {"match.camera", camera},
+          {"match.integrator", s.integrator},
+          {"match.sampler", sampler_name(s.sampler)},
+          {"match.seed", std::to_string(s.seed)},
+          {"match.spp", std::to_string(s.spp)},
+          {"match.maxDepth", std::to_string(s.max_depth)},
+          {"match.rouletteDepth", std::to_string(s.roulette_depth)},
+          {"match.environment", environment},
+          {"match.sampleEnvironment", sample_environment[int(s.sample_environment)]},
+          {"match.lights", lights},
+          {"match.aoDistance", real(s.ao_distance)},
+          {"match.lambertLanes", s.lambert_lanes ? "on" : "off"},
+          {"match.aovs", aovs}};
+}
+
 // The EXR (every channel asked, and the per-pixel counts when they differ: a pass cut short, or
 // samples dropped as NaN) and the preview of a film, with the header saying what it holds: `spp`
 // is the count every pixel has.
 void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, const BackendRun& run,
-                   const Film& film, const RenderOutcome& outcome) {
+                   const Film& film, const RenderOutcome& outcome, const std::string& inputs_hash) {
   const RenderSettings& s = r.settings;
   const uint32_t least = film.min_count(), most = film.max_count();
   const std::vector<Channel> channels = film.channels(least != most);
@@ -211,6 +264,13 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
     meta.extra.push_back({"adaptiveMinSpp", min});
   }
   if (!run.stopped.empty()) meta.extra.push_back({"stoppedBy", run.stopped});
+  // The view exactly (hexadecimal floats): the flags above are rounded for reading.
+  std::string view;
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 4; ++k) view += format_hex(camera.to_world[c][k]) + " ";
+  view += format_hex(camera.yfov) + " " + format_hex(camera.ymag) + " " + format_hex(camera.znear) +
+          (camera.orthographic ? " orthographic" : " perspective");
+  for (auto& key : match_keys(r, shot, view, inputs_hash)) meta.extra.push_back(std::move(key));
   write_exr(run.output, shot.width, shot.height, channels, meta);
   if (!run.preview.empty()) write_preview_png(run.preview, film.resolve(), r.display);
 }
@@ -303,6 +363,11 @@ int render(const std::vector<std::string>& args) {
   double load_seconds = seconds_since(t_load);
   for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
   check_outputs(outputs, inputs);
+  // The fingerprint of what the image is made from, for merging parts (match.inputs).
+  std::vector<std::string> input_files = {r.scene};
+  input_files.insert(input_files.end(), scene.files.begin(), scene.files.end());
+  if (!r.settings.environment_file.empty()) input_files.push_back(r.settings.environment_file);
+  const std::string inputs_hash = hash_text(hash_files(input_files));
 
   const RenderSettings& s = r.settings;
   // From here on SIGINT and SIGTERM stop the render and write what it has.
@@ -347,7 +412,7 @@ int render(const std::vector<std::string>& args) {
                         shot.pixels() * uint64_t(last - first), !r.quiet);
       const RenderOutcome outcome = job.run(film, first, last, progress, r.passes,
                                             [&](const Film& so_far, const RenderOutcome& o) {
-                                              write_outputs(r, scene, shot, run, so_far, o);
+                                              write_outputs(r, scene, shot, run, so_far, o, inputs_hash);
                                             });
       run.stats = job.stats();
       run.backend_stats = backend->stats();
@@ -359,7 +424,7 @@ int render(const std::vector<std::string>& args) {
       if (outcome.timed_out) run.stopped = "the time limit";
       // A render stopped before its first sample leaves the previous outputs as they were.
       if (film.max_count() == 0 && outcome.stopped) break;
-      write_outputs(r, scene, shot, run, film, outcome);
+      write_outputs(r, scene, shot, run, film, outcome, inputs_hash);
       if (!r.report.empty())
         write_preview_png(report_preview(r.report, run.backend), film.resolve(), r.display);
       if (!r.quiet) print_summary(run, shot, s);

@@ -69,3 +69,37 @@ TEST_CASE("render --samples: ranges that are not part of the render are usage er
   }
   check_no_outputs(dir);
 }
+
+TEST_CASE("render: the header's match.* keys, what parts of one render share") {
+  TempDir dir("samples-match");
+  const ExrFile a = render_part(dir, "a.exr", "--samples 0:3");
+  const ExrFile b = render_part(dir, "b.exr", "--samples 3:8 --backend embree --threads 1");
+  const ExrFile seed = render_part(dir, "seed.exr", "--samples 3:8 --seed 6");
+  auto keys = [](const ExrFile& f) {
+    std::map<std::string, std::string> m;
+    for (const auto& [k, v] : f.attributes)
+      if (k.rfind("match.", 0) == 0) m[k] = v;
+    return m;
+  };
+  CHECK(keys(a).size() >= 15);
+  CHECK(keys(a) == keys(b));  // the backend and the threads never change a pixel
+  std::map<std::string, std::string> other = keys(seed);
+  CHECK(other.at("match.seed") == "6");
+  other["match.seed"] = "5";
+  CHECK(other == keys(a));
+  CHECK(a.attributes.at("match.inputs").rfind("fnv1a64:", 0) == 0);
+  CHECK(a.attributes.at("match.size") == "24x16");
+  // Another scene file, the same size (the JSON with a space of its layout made a tab): another
+  // fingerprint.
+  std::string text = slurp(cornell);
+  const size_t space = text.find("\n ");
+  REQUIRE(space != std::string::npos);
+  text[space + 1] = '\t';
+  std::ofstream(dir / "cb.gltf") << text;
+  const Run r = run(dir, "render " + (dir / "cb.gltf") +
+                             " --width 24 --height 16 --spp 8 --seed 5 --quiet -o " + (dir / "c.exr"));
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const ExrFile c = read_exr_file(dir / "c.exr");
+  CHECK(c.attributes.at("match.inputs") != a.attributes.at("match.inputs"));
+  CHECK(c.attributes.at("match.camera") == a.attributes.at("match.camera"));
+}

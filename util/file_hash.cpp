@@ -1,0 +1,53 @@
+#include "util/file_hash.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+#include "util/error.h"
+
+namespace dacrt {
+namespace {
+
+constexpr uint64_t fnv_offset = 0xcbf29ce484222325ull, fnv_prime = 0x100000001b3ull;
+
+void mix(uint64_t& h, const unsigned char* bytes, size_t n) {
+  for (size_t i = 0; i < n; ++i) h = (h ^ bytes[i]) * fnv_prime;
+}
+
+}  // namespace
+
+uint64_t hash_files(const std::vector<std::string>& paths) {
+  uint64_t h = fnv_offset;
+  std::vector<char> buffer(size_t(1) << 20);
+  for (const std::string& path : paths) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path + ": cannot be read: " + std::strerror(errno));
+    in.seekg(0, std::ios::end);
+    const uint64_t size = uint64_t(std::streamoff(in.tellg()));
+    in.seekg(0);
+    unsigned char length[8];
+    for (int k = 0; k < 8; ++k) length[k] = (unsigned char)(size >> (8 * k));
+    mix(h, length, 8);
+    uint64_t read = 0;
+    while (read < size) {
+      in.read(buffer.data(), std::streamsize(std::min<uint64_t>(buffer.size(), size - read)));
+      const std::streamsize got = in.gcount();
+      if (got <= 0) throw Error(path + ": cannot be read to its end (it changed while read?)");
+      mix(h, reinterpret_cast<const unsigned char*>(buffer.data()), size_t(got));
+      read += uint64_t(got);
+    }
+  }
+  return h;
+}
+
+std::string hash_text(uint64_t hash) {
+  char text[32];
+  std::snprintf(text, sizeof text, "fnv1a64:%016llx", (unsigned long long)hash);
+  return text;
+}
+
+}  // namespace dacrt
