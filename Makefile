@@ -23,9 +23,9 @@ render: build
 	$(BUILD)/dacrt render $(SCENE) -o out/$(basename $(notdir $(SCENE))).exr \
 	  --preview out/$(basename $(notdir $(SCENE))).png --stats out/$(basename $(notdir $(SCENE))).json $(RENDER_ARGS)
 
-# The report's browser test needs Chromium (headless); nothing else does.
+# The reports' tests need Chromium (headless) and HTML Tidy; nothing else does.
 test: build
-	@bash tools/install-deps.sh chromium
+	@bash tools/install-deps.sh chromium tidy
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 # The numerical stress suite in full: the short checks (also in `make test`), then the sweep of
@@ -35,7 +35,7 @@ stress: build
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build in its own directory.
 test-sanitize: deps
-	@bash tools/install-deps.sh chromium
+	@bash tools/install-deps.sh chromium tidy
 	cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDACRT_SANITIZE=ON
 	cmake --build build-sanitize -j $(JOBS)
 	cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)

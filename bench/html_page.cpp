@@ -96,7 +96,7 @@ std::string bar_chart_svg(const std::string& title, const std::string& axis,
   std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(width) +
                   "\" height=\"" + std::to_string(height) + "\" viewBox=\"0 0 " +
                   std::to_string(width) + " " + std::to_string(height) +
-                  "\" font-family=\"sans-serif\" font-size=\"11\">\n";
+                  "\" style=\"font-family: sans-serif; font-size: 11px\">\n";
   s += "<title>" + html_escape(title) + "</title>\n";
   s += "<text x=\"" + std::to_string(width / 2) + "\" y=\"16\" text-anchor=\"middle\" " +
        "font-size=\"13\">" + html_escape(title) + "</text>\n";

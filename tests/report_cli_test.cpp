@@ -59,6 +59,21 @@ void check_in_browser(const TempDir& dir, const std::string& page) {
   CHECK(coloured > size_t(w * h / 500));
 }
 
+// HTML Tidy (Debian `tidy`, which `make test` installs) finds nothing to say about the page: no
+// error (exit status 2) and no warning (1: a tag left open or closed twice, an attribute it does
+// not know).
+void check_valid(const TempDir& dir, const std::string& page) {
+  if (!fs::exists("/usr/bin/tidy")) {
+    MESSAGE("skipped the HTML check: /usr/bin/tidy is not installed (`make test` installs it)");
+    return;
+  }
+  const int status = std::system(("/usr/bin/tidy -errors -q " + page + " >" + (dir / "tidy.txt") +
+                                  " 2>&1").c_str());
+  INFO(slurp(dir / "tidy.txt"));
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+}
+
 void check_self_contained(const std::string& html) {
   for (const char* remote : {"<script", "<link", "@import", "url(", "src=\"http"})
     CHECK_MESSAGE(html.find(remote) == std::string::npos, remote);
@@ -99,6 +114,7 @@ TEST_CASE("render --report: one self-contained page with each backend's image, a
   CHECK(blocked.code == 1);
   CHECK(blocked.err.find("cb.dacrt.exr/sub") != std::string::npos);
 
+  check_valid(dir, fs::path(report) / "index.html");
   check_in_browser(dir, fs::path(report) / "index.html");
 }
 
@@ -122,6 +138,7 @@ TEST_CASE("bench --report: the table and the Mrays/s with their intervals, on on
   const Run blocked = run(dir, "bench " + cornell + " --width 16 --height 16 --report " + (dir / "bench/index.html/x"));
   CHECK(blocked.code == 1);
   CHECK(blocked.err.find("index.html/x") != std::string::npos);
+  check_valid(dir, fs::path(report) / "index.html");
   check_in_browser(dir, fs::path(report) / "index.html");
 }
 
@@ -144,5 +161,6 @@ TEST_CASE("converge -o DIR: the plot, the tables and every point with its band o
   else
     CHECK(html.find("No plot: gnuplot was not found") != std::string::npos);
   check_self_contained(html);
+  check_valid(dir, fs::path(out) / "index.html");
   check_in_browser(dir, fs::path(out) / "index.html");
 }
