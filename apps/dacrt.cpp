@@ -246,8 +246,8 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
       {"sampler", sampler_name(s.sampler)},
       {"seed", std::to_string(s.seed)},
       {"sppRequested", std::to_string(s.spp)},
-      {"sampleRange", std::to_string(r.samples ? r.samples->first : 0) + ":" +
-                          std::to_string(r.samples ? r.samples->second : uint32_t(s.spp))},
+      // The samples every pixel has (fewer than asked when a stop or the time limit came first).
+      {"sampleRange", std::to_string(outcome.first) + ":" + std::to_string(outcome.complete)},
       {"samplesPerPixel", least == most ? "every pixel " + std::to_string(least)
                                         : "from " + std::to_string(least) + " to " +
                                               std::to_string(most) + " (the samples channel)"},
@@ -264,6 +264,9 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
     meta.extra.push_back({"adaptiveMinSpp", min});
   }
   if (!run.stopped.empty()) meta.extra.push_back({"stoppedBy", run.stopped});
+  if (!outcome.uniform())  // a pass cut short: some pixels have more
+    meta.extra.push_back({"sampleRangeMost", std::to_string(outcome.first) + ":" +
+                                                 std::to_string(outcome.most)});
   // The view exactly (hexadecimal floats): the flags above are rounded for reading.
   std::string view;
   for (int c = 0; c < 4; ++c)

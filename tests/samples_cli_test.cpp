@@ -103,3 +103,17 @@ TEST_CASE("render: the header's match.* keys, what parts of one render share") {
   CHECK(c.attributes.at("match.inputs") != a.attributes.at("match.inputs"));
   CHECK(c.attributes.at("match.camera") == a.attributes.at("match.camera"));
 }
+
+TEST_CASE("render --samples: a render stopped by its time limit says the range it has") {
+  TempDir dir("samples-time-limit");
+  const Run r = run(dir, "render " + cornell + " --width 128 --height 128 --spp 4096 --samples 2:4096 "
+                             "--pass-spp 1 --time-limit 0.3 --quiet -o " + (dir / "t.exr"));
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const ExrFile t = read_exr_file(dir / "t.exr");
+  const std::string range = t.attributes.at("sampleRange");
+  REQUIRE(range.rfind("2:", 0) == 0);
+  const int last = std::stoi(range.substr(2));
+  CHECK(last > 2);
+  CHECK(last < 4096);
+  CHECK(t.attributes.at("spp") == std::to_string(last - 2));
+}
