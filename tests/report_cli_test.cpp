@@ -82,6 +82,20 @@ void check_self_contained(const std::string& html) {
     CHECK_MESSAGE(html.compare(at + 6, 1, "#") == 0, html.substr(at, 40));
 }
 
+// The page needs nothing from elsewhere, Tidy finds nothing in it, and a browser shows it.
+void check_page(const TempDir& dir, const std::string& page) {
+  check_self_contained(slurp(page));
+  check_valid(dir, page);
+  check_in_browser(dir, page);
+}
+
+// `command --report DIR` with a DIR that cannot be made: exit 1, the line names it.
+void check_uncreatable(const TempDir& dir, const std::string& command, const std::string& report) {
+  const Run r = run(dir, command + " --report " + report);
+  CHECK(r.code == 1);
+  CHECK(r.err.find(fs::path(report).filename().string()) != std::string::npos);
+}
+
 }  // namespace
 
 TEST_CASE("render --report: one self-contained page with each backend's image, and a browser shows it") {
@@ -103,19 +117,14 @@ TEST_CASE("render --report: one self-contained page with each backend's image, a
   CHECK(html.find("<td>triangle tests</td>") != std::string::npos);
   CHECK(html.find("Mrays/s per ray type") != std::string::npos);
   CHECK(html.find("Bounce rays per depth") != std::string::npos);
-  check_self_contained(html);
 
   // --report is an output: refused with --frames, and a directory that cannot be made is named.
   const Run frames = run(dir, "render " + cornell + " --spp 1 --frames 0:1 --report " + report);
   CHECK(frames.code == 2);
   CHECK(frames.err.find("--report") != std::string::npos);
-  const Run blocked = run(dir, "render " + cornell + " --spp 1 -o " + (dir / "x.exr") +
-                                   " --report " + (dir / "cb.dacrt.exr/sub"));
-  CHECK(blocked.code == 1);
-  CHECK(blocked.err.find("cb.dacrt.exr/sub") != std::string::npos);
-
-  check_valid(dir, fs::path(report) / "index.html");
-  check_in_browser(dir, fs::path(report) / "index.html");
+  check_uncreatable(dir, "render " + cornell + " --spp 1 -o " + (dir / "x.exr"),
+                    dir / "cb.dacrt.exr/sub");
+  check_page(dir, fs::path(report) / "index.html");
 }
 
 TEST_CASE("bench --report: the table and the Mrays/s with their intervals, on one page") {
@@ -134,12 +143,9 @@ TEST_CASE("bench --report: the table and the Mrays/s with their intervals, on on
   CHECK(whiskers == 4);
   for (const char* cell : {"<td>primary</td>", "<td>bounce</td>", "<td>dacrt</td>", "<td>brute</td>"})
     CHECK_MESSAGE(html.find(cell) != std::string::npos, cell);
-  check_self_contained(html);
-  const Run blocked = run(dir, "bench " + cornell + " --width 16 --height 16 --report " + (dir / "bench/index.html/x"));
-  CHECK(blocked.code == 1);
-  CHECK(blocked.err.find("index.html/x") != std::string::npos);
-  check_valid(dir, fs::path(report) / "index.html");
-  check_in_browser(dir, fs::path(report) / "index.html");
+  check_uncreatable(dir, "bench " + cornell + " --width 16 --height 16",
+                    dir / "bench/index.html/x");
+  check_page(dir, fs::path(report) / "index.html");
 }
 
 TEST_CASE("converge -o DIR: the plot, the tables and every point with its band on one page") {
@@ -160,7 +166,5 @@ TEST_CASE("converge -o DIR: the plot, the tables and every point with its band o
     CHECK(html.find("<svg") != std::string::npos);
   else
     CHECK(html.find("No plot: gnuplot was not found") != std::string::npos);
-  check_self_contained(html);
-  check_valid(dir, fs::path(out) / "index.html");
-  check_in_browser(dir, fs::path(out) / "index.html");
+  check_page(dir, fs::path(out) / "index.html");
 }
