@@ -29,6 +29,7 @@
 #include "apps/converge_report.h"
 #include "apps/render_options.h"
 #include "apps/report.h"
+#include "bench/html_page.h"
 #include "io/exr.h"
 #include "io/gltf.h"
 #include "render/convergence.h"
@@ -436,7 +437,7 @@ int converge_main(const std::vector<std::string>& args) {
                     svg = (outdir / "convergence.svg").string(),
                     png = (outdir / "convergence.png").string(),
                     reference_out = (outdir / "reference.exr").string(),
-                    page = (outdir / "index.html").string();
+                    page = HtmlPage::file_in(a.outdir);
   const bool render_reference = a.reference.empty() && !a.no_reference;
   if (outdir_exists) {
     for (const std::string& out : {csv, script, svg, png, page}) check_writable(out);

@@ -30,6 +30,7 @@
 #include "apps/render_report.h"
 #include "apps/report.h"
 #include "bench/bench.h"
+#include "bench/html_page.h"
 #include "integrators/integrator.h"
 #include "io/color.h"
 #include "io/exr.h"
@@ -332,10 +333,7 @@ int render(const std::vector<std::string>& args) {
       outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
   outputs.push_back({"--stats", r.stats});
   if (!r.report.empty()) {
-    std::error_code ec;
-    fs::create_directories(r.report, ec);
-    if (ec) throw Error("--report: cannot create " + r.report + ": " + ec.message());
-    outputs.push_back({"--report", (fs::path(r.report) / "index.html").string()});
+    outputs.push_back({"--report", HtmlPage::make_directory(r.report)});
     for (const BackendRun& run : runs)
       outputs.push_back({"--report", report_preview(r.report, run.backend)});
   }

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <glm/glm.hpp>
-#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -14,6 +13,7 @@
 #include <stdexcept>
 
 #include "bench/args.h"
+#include "bench/html_page.h"
 #include "bench/report.h"
 #include "bench/run.h"
 #include "io/gltf.h"
@@ -81,12 +81,7 @@ int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
   }
   check_backend_options(a);
   std::vector<NamedFile> outputs = {{"--json", a.json}};
-  if (!a.report.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(a.report, ec);
-    if (ec) throw Error("--report: cannot create " + a.report + ": " + ec.message());
-    outputs.push_back({"--report", report_page(a.report)});
-  }
+  if (!a.report.empty()) outputs.push_back({"--report", HtmlPage::make_directory(a.report)});
   for (const NamedFile& o : outputs) check_writable(o.path);
   check_outputs(outputs, {{"the scene", a.scene}});
 

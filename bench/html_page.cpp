@@ -219,13 +219,20 @@ std::string HtmlPage::html() const {
          html_escape(title_) + "</h1>\n" + body_ + "</body>\n</html>\n";
 }
 
-void HtmlPage::write(const std::string& dir) const {
+std::string HtmlPage::file_in(const std::string& dir) {
+  return (fs::path(dir) / "index.html").string();
+}
+
+std::string HtmlPage::make_directory(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec) throw Error("cannot create the report directory " + dir + ": " + ec.message());
-  const std::string page = html();
-  write_atomically((fs::path(dir) / "index.html").string(), "report",
-                   [&](std::ostream& out) { out << page; });
+  if (ec) throw Error("--report: cannot create " + dir + ": " + ec.message());
+  return file_in(dir);
+}
+
+void HtmlPage::write(const std::string& dir) const {
+  const std::string path = make_directory(dir), page = html();
+  write_atomically(path, "report", [&](std::ostream& out) { out << page; });
 }
 
 }  // namespace dacrt

@@ -57,6 +57,12 @@ class HtmlPage {
   // Writes DIR/index.html (DIR created when missing), atomically; throws Error on failure.
   void write(const std::string& dir) const;
 
+  // DIR/index.html: the file write(DIR) writes.
+  static std::string file_in(const std::string& dir);
+  // Makes DIR and its parents (a --report directory, before any work is done) and returns
+  // file_in(DIR); throws Error naming DIR when it cannot.
+  static std::string make_directory(const std::string& dir);
+
  private:
   std::string title_, body_;
 };

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string_view>
@@ -214,10 +213,6 @@ nlohmann::ordered_json to_json(const BenchReport& report) {
       {"reference", report.reference},
       {"baseline", report.baseline.empty() ? json(nullptr) : json(report.baseline)},
       {"results", results}};
-}
-
-std::string report_page(const std::string& dir) {
-  return (std::filesystem::path(dir) / "index.html").string();
 }
 
 void write_report(const std::string& dir, const BenchReport& report) {

@@ -48,9 +48,8 @@ std::string speedup_title(const std::string& baseline);
 std::vector<std::vector<std::string>> table_rows(const BenchReport& report);
 void print_table(std::ostream& out, const BenchReport& report);
 
-// `bench --report DIR`: DIR/index.html (report_page), a self-contained page (bench/html_page.h)
-// with the table and bar charts of Mrays/s and of the speed-up per ray type, with intervals.
-std::string report_page(const std::string& dir);
+// `bench --report DIR`: DIR/index.html, a self-contained page (bench/html_page.h) with the table
+// and bar charts of Mrays/s and of the speed-up per ray type, with intervals.
 void write_report(const std::string& dir, const BenchReport& report);
 
 // The contract: {"scene", "triangles", "threads", "results": [{"backend", "rays", "count",
