@@ -96,15 +96,29 @@ void check_uncreatable(const TempDir& dir, const std::string& command, const std
   CHECK(r.err.find(fs::path(report).filename().string()) != std::string::npos);
 }
 
+// `command`, which must succeed, and the page it wrote into `dir`.
+struct Report {
+  Run run;
+  std::string html;
+};
+Report report_of(const TempDir& temp, const std::string& command, const std::string& dir) {
+  Report r{run(temp, command), ""};
+  REQUIRE_MESSAGE(r.run.code == 0, r.run.err);
+  r.html = slurp(fs::path(dir) / "index.html");
+  return r;
+}
+
 }  // namespace
 
 TEST_CASE("render --report: one self-contained page with each backend's image, and a browser shows it") {
   TempDir dir("report");
   const std::string report = dir / "study";
-  const Run r = run(dir, "render " + cornell + " --width 48 --height 32 --spp 2 --quiet -o " +
-                             (dir / "cb.exr") + " --backend dacrt,brute --report " + report);
-  REQUIRE_MESSAGE(r.code == 0, r.err);
-  const std::string html = slurp(fs::path(report) / "index.html");
+  const std::string html = report_of(dir,
+                                     "render " + cornell + " --width 48 --height 32 --spp 2 "
+                                     "--quiet -o " + (dir / "cb.exr") +
+                                         " --backend dacrt,brute --report " + report,
+                                     report)
+                               .html;
   for (const char* backend : {"dacrt", "brute"}) {
     const std::string png = slurp(fs::path(report) / (std::string(backend) + ".png"));
     REQUIRE(png.size() > 8);
@@ -130,10 +144,12 @@ TEST_CASE("render --report: one self-contained page with each backend's image, a
 TEST_CASE("bench --report: the table and the Mrays/s with their intervals, on one page") {
   TempDir dir("bench-report");
   const std::string report = dir / "bench";
-  const Run r = run(dir, "bench " + cornell + " --width 16 --height 16 --rays primary,bounce --repeat 3 "
-                             "--backends dacrt,brute --quiet --report " + report);
-  REQUIRE_MESSAGE(r.code == 0, r.err);
-  const std::string html = slurp(fs::path(report) / "index.html");
+  const std::string html = report_of(dir,
+                                     "bench " + cornell + " --width 16 --height 16 --rays "
+                                     "primary,bounce --repeat 3 --backends dacrt,brute --quiet "
+                                     "--report " + report,
+                                     report)
+                               .html;
   CHECK(html.find("Mrays/s per ray type") != std::string::npos);
   CHECK(html.find("after 1 discarded warm-up run") != std::string::npos);
   // Four bars (two ray types, two backends), each with its interval's whisker.
@@ -151,11 +167,11 @@ TEST_CASE("bench --report: the table and the Mrays/s with their intervals, on on
 TEST_CASE("converge -o DIR: the plot, the tables and every point with its band on one page") {
   TempDir dir("converge-report");
   const std::string out = dir / "study";
-  const Run r = run(dir, "converge " + cornell + " --width 12 --height 12 --reference-spp 16 "
-                             "--max-spp 4 --repeats 2 --config \"\" --config sampler=independent "
-                             "--quiet -o " + out);
-  REQUIRE_MESSAGE(r.code == 0, r.err);
-  const std::string html = slurp(fs::path(out) / "index.html");
+  const auto [r, html] = report_of(dir,
+                                   "converge " + cornell + " --width 12 --height 12 "
+                                   "--reference-spp 16 --max-spp 4 --repeats 2 --config \"\" "
+                                   "--config sampler=independent --quiet -o " + out,
+                                   out);
   // The summary printed on stdout is in the page as it is.
   const size_t equal_time = r.out.find("equal time:");
   REQUIRE(equal_time != std::string::npos);
