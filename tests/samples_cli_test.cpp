@@ -87,7 +87,7 @@ TEST_CASE("render: the header's match.* keys, what parts of one render share") {
   CHECK(other.at("match.seed") == "6");
   other["match.seed"] = "5";
   CHECK(other == keys(a));
-  CHECK(a.attributes.at("match.inputs").rfind("fnv1a64:", 0) == 0);
+  CHECK(a.attributes.at("match.inputs").rfind("fnv1a64w:", 0) == 0);
   CHECK(a.attributes.at("match.size") == "24x16");
   // Another scene file, the same size (the JSON with a space of its layout made a tab): another
   // fingerprint.

@@ -14,8 +14,15 @@ namespace {
 
 constexpr uint64_t fnv_offset = 0xcbf29ce484222325ull, fnv_prime = 0x100000001b3ull;
 
+// Whole words, then the bytes left over (only at a file's end: the chunks are whole MiB).
 void mix(uint64_t& h, const unsigned char* bytes, size_t n) {
-  for (size_t i = 0; i < n; ++i) h = (h ^ bytes[i]) * fnv_prime;
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8) {
+    uint64_t word = 0;
+    for (int k = 0; k < 8; ++k) word |= uint64_t(bytes[i + size_t(k)]) << (8 * k);
+    h = (h ^ word) * fnv_prime;
+  }
+  for (; i < n; ++i) h = (h ^ bytes[i]) * fnv_prime;
 }
 
 }  // namespace
@@ -46,7 +53,7 @@ uint64_t hash_files(const std::vector<std::string>& paths) {
 
 std::string hash_text(uint64_t hash) {
   char text[32];
-  std::snprintf(text, sizeof text, "fnv1a64:%016llx", (unsigned long long)hash);
+  std::snprintf(text, sizeof text, "fnv1a64w:%016llx", (unsigned long long)hash);
   return text;
 }
 
