@@ -201,8 +201,8 @@ std::vector<std::pair<std::string, std::string>> match_keys(const RenderArgs& r,
   std::string lights;
   for (const PunctualLight& l : s.lights) lights += (lights.empty() ? "" : "; ") + l.name;
   std::string aovs;
-  for (Aov a : {Aov::albedo, Aov::normal, Aov::depth, Aov::position, Aov::variance, Aov::samples})
-    if (s.aovs.has(a)) aovs += (aovs.empty() ? "" : ",") + std::string(AovSet::name(a));
+  for (int a = 0; a < aov_count; ++a)
+    if (s.aovs.has(Aov(a))) aovs += (aovs.empty() ? "" : ",") + std::string(AovSet::name(Aov(a)));
   const char* sample_environment[] = {"auto", "on", "off"};
   return {{"match.inputs", inputs_hash},
           {"match.gltfScene", std::to_string(r.gltf.scene)},

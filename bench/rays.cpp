@@ -45,10 +45,10 @@ RayBatch primary_rays(const Camera& camera, int width, int height) {
   RayBatch b;
   b.type = RayType::primary;
   b.resize(size_t(width) * size_t(height));
+  const CameraProjection projection(camera, width, height);
   for_each_index(b.size(), [&](size_t i) {
     glm::vec3 o, d;
-    camera_ray(camera, width, height, float(i % size_t(width)) + 0.5f,
-               float(i / size_t(width)) + 0.5f, o, d);
+    projection.ray(float(i % size_t(width)) + 0.5f, float(i / size_t(width)) + 0.5f, o, d);
     b.set(i, o, d, 0.f, infinity, uint32_t(i));
   });
   return b;

@@ -37,12 +37,13 @@ double escaping_share(const Geometry& g, const Shot& shot, Backend& backend) {
   constexpr int grid = 32;
   RayBatch rays;
   rays.type = RayType::primary;
+  const CameraProjection camera(shot.camera, shot.width, shot.height);
   for (int j = 0; j < grid; ++j)
     for (int i = 0; i < grid; ++i) {
       glm::vec3 o, d;
       const float x = (float(i) + 0.5f) * float(shot.width) / grid;
       const float y = (float(j) + 0.5f) * float(shot.height) / grid;
-      const float tmin = camera_ray(shot.camera, shot.width, shot.height, x, y, o, d);
+      const float tmin = camera.ray(x, y, o, d);
       rays.push(o, d, tmin, INFINITY, uint32_t(rays.size()));
     }
   HitBatch hits;
