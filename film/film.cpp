@@ -37,19 +37,19 @@ Film::Film(int width, int height, AovSet aovs)
     : width_(width),
       height_(height),
       aovs_(aovs),
-      sum_(size_t(3) * width * height, 0.0),
-      sum_sq_(size_t(3) * width * height, 0.0),
-      mean_sq_(size_t(width) * height, 0.0),
+      sum_(size_t(3) * width * height, 0),
+      sum_sq_(size_t(3) * width * height, 0),
+      mean_sq_(size_t(width) * height, 0),
       count_(size_t(width) * height, 0) {
   if (aovs.first_hit()) {
-    first_.assign(first_stride * pixels(), 0.0);
+    first_.assign(first_stride * pixels(), 0);
     hits_.assign(pixels(), 0);
   }
 }
 
 uint64_t Film::bytes(int width, int height, AovSet aovs) {
-  const uint64_t per_pixel = 7 * sizeof(double) + sizeof(uint32_t) +
-                             (aovs.first_hit() ? first_stride * sizeof(double) + 4 : 0);
+  const uint64_t per_pixel = 7 * sizeof(Fixed) + sizeof(uint32_t) +
+                             (aovs.first_hit() ? first_stride * sizeof(Fixed) + 4 : 0);
   return uint64_t(width) * uint64_t(height) * per_pixel;
 }
 
@@ -68,6 +68,19 @@ void Film::merge(const Film& other) {
   add(first_, other.first_);
   add(hits_, other.hits_);
   dropped_ += other.dropped_;
+  clamped_ += other.clamped_;
+}
+
+std::vector<Film::FixedArray> Film::fixed_arrays() {
+  std::vector<FixedArray> out = {{"sum", &sum_, 3}, {"square", &sum_sq_, 3}, {"meanSquare", &mean_sq_, 1}};
+  if (!first_.empty()) out.push_back({"firstHit", &first_, int(first_stride)});
+  return out;
+}
+
+std::vector<Film::CountArray> Film::count_arrays() {
+  std::vector<CountArray> out = {{"count", &count_}};
+  if (!hits_.empty()) out.push_back({"hits", &hits_});
+  return out;
 }
 
 uint32_t Film::min_count() const {
@@ -88,7 +101,7 @@ Image Film::resolve() const {
   Image img(width_, height_);
   tbb::parallel_for(size_t(0), pixels(), [&](size_t p) {
     for (int c = 0; c < 3; ++c)
-      img.rgb[3 * p + c] = count_[p] ? float(sum_[3 * p + c] / count_[p]) : 0.f;
+      img.rgb[3 * p + c] = count_[p] ? float(from_fixed<value_bits>(sum_[3 * p + c]) / count_[p]) : 0.f;
   });
   return img;
 }
@@ -96,16 +109,20 @@ Image Film::resolve() const {
 glm::dvec2 Film::mean_and_error(size_t pixel) const {
   const double n = count_[pixel];
   if (n < 1) return {0.0, 0.0};
-  const double mean = (sum_[3 * pixel] + sum_[3 * pixel + 1] + sum_[3 * pixel + 2]) / (3.0 * n);
-  const double var = n > 1 ? std::max(0.0, (mean_sq_[pixel] - n * mean * mean) / (n - 1)) : 0.0;
+  const double mean =
+      from_fixed<value_bits>(sum_[3 * pixel] + sum_[3 * pixel + 1] + sum_[3 * pixel + 2]) / (3.0 * n);
+  const double var =
+      n > 1 ? std::max(0.0, (from_fixed<square_bits>(mean_sq_[pixel]) - n * mean * mean) / (n - 1))
+            : 0.0;
   return {mean, std::sqrt(var / n)};
 }
 
 double Film::variance_of_mean(size_t pixel, int c) const {
   const double n = count_[pixel];
   if (n < 2) return 0.0;
-  const double sum = sum_[3 * pixel + c];
-  const double s2 = std::max(0.0, (sum_sq_[3 * pixel + c] - sum * sum / n) / (n - 1));
+  const double sum = from_fixed<value_bits>(sum_[3 * pixel + c]);
+  const double s2 =
+      std::max(0.0, (from_fixed<square_bits>(sum_sq_[3 * pixel + c]) - sum * sum / n) / (n - 1));
   return s2 / n;
 }
 
@@ -123,13 +140,15 @@ std::vector<Channel> Film::channels(bool counts) const {
     tbb::parallel_for(size_t(0), n, [&](size_t p) { ch.values[p] = float(value(p)); });
     out.push_back(std::move(ch));
   };
-  auto mean = [&](size_t p, double sum) { return count_[p] ? sum / count_[p] : 0.0; };
+  auto mean = [&](size_t p, Fixed sum) {
+    return count_[p] ? from_fixed<value_bits>(sum) / count_[p] : 0.0;
+  };
   const char* rgb[3] = {"R", "G", "B"};
   const char* xyz[3] = {"X", "Y", "Z"};
   for (int c = 0; c < 3; ++c) channel(rgb[c], [&](size_t p) { return mean(p, sum_[3 * p + c]); });
   auto first = [&](size_t p, int k) { return first_[first_stride * p + k]; };
   auto over_hits = [&](size_t p, int k, double none) {
-    return hits_[p] ? first(p, k) / hits_[p] : none;
+    return hits_[p] ? from_fixed<value_bits>(first(p, k)) / hits_[p] : none;
   };
   if (aovs_.has(Aov::albedo))
     for (int c = 0; c < 3; ++c)

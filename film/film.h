@@ -1,8 +1,10 @@
 // Film: per-pixel sums of a render's samples, in named channels. The colour (radiance) is always
 // kept, with its sums of squares for error and variance estimates; the first-hit values (AOVs:
 // albedo, normal, depth, position) only when asked. Samples that are not finite are dropped and
-// counted, never averaged in. Films of the same size and channels merge by adding their sums, so
-// samples [0, a) and [a, b) rendered apart (other processes, other machines) make [0, b).
+// counted, never averaged in; values beyond ±value_limit are clamped and counted. The sums are
+// fixed point (film/fixed.h), exact: films of the same size and channels merge by adding their
+// sums, so samples [0, a) and [a, b) rendered apart (other processes, other machines, a resumed
+// render) make the film of [0, b) bit for bit.
 #pragma once
 
 #include <tbb/parallel_for.h>
@@ -16,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "film/fixed.h"
 #include "util/image.h"
 
 namespace dacrt {
@@ -65,13 +68,13 @@ class Film {
   AovSet aovs() const { return aovs_; }
 
   void add(size_t pixel, const glm::vec3& radiance, const FirstHit* first = nullptr) {
-    dropped_ += !accumulate(pixel, radiance, first);
+    const Added a = accumulate(pixel, radiance, first);
+    dropped_ += a == Added::dropped, clamped_ += a == Added::clamped;
   }
 
-  // add(pixel_of(i), radiance_of(i), first_of(i)) for i in [0, n), in parallel, with every
-  // pixel's samples added in the order of i, so the sums are the same bit for bit for any number
-  // of threads. The samples are sorted into ranges of pixels (a counting sort, stable), one task
-  // per range. first_of returns a const FirstHit* (null when the film keeps no first-hit values).
+  // add(pixel_of(i), radiance_of(i), first_of(i)) for i in [0, n), in parallel: the samples are
+  // sorted into ranges of pixels (a counting sort), one task per range, so no two tasks add to
+  // one pixel (the sums are exact, so the order they add in never shows). first_of returns a const FirstHit* (null when the film keeps no first-hit values).
   template <class PixelOf, class RadianceOf, class FirstOf>
   void add_in_order(size_t n, PixelOf pixel_of, RadianceOf radiance_of, FirstOf first_of) {
     constexpr size_t block = 8192;
@@ -93,22 +96,39 @@ class Film {
       for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i)
         order_[next[range_of(i)]++] = uint32_t(i);
     });
-    std::atomic<uint64_t> dropped{0};
+    std::atomic<uint64_t> dropped_now{0}, clamped_now{0};
     tbb::parallel_for(size_t(0), ranges, [&](size_t r) {
-      uint64_t own = 0;
+      uint64_t own[3] = {};
       for (uint32_t k = start[r * blocks], end = start[(r + 1) * blocks]; k < end; ++k) {
         const size_t i = order_[k];
-        own += !accumulate(pixel_of(i), radiance_of(i), first_of(i));
+        ++own[int(accumulate(pixel_of(i), radiance_of(i), first_of(i)))];
       }
-      dropped += own;
+      dropped_now += own[int(Added::dropped)], clamped_now += own[int(Added::clamped)];
     });
-    dropped_ += dropped;
+    dropped_ += dropped_now, clamped_ += clamped_now;
   }
 
   // Adds another film's samples (same size and outputs, else Error).
   void merge(const Film& other);
 
+  // The film's state as arrays, to send or store it exactly and add it back (merge, MPI, parts
+  // in EXR files): the fixed-point sums, then the counts, each with a name.
+  struct FixedArray {
+    const char* name;
+    std::vector<Fixed>* values;
+    int per_pixel;
+  };
+  struct CountArray {
+    const char* name;
+    std::vector<uint32_t>* values;
+  };
+  std::vector<FixedArray> fixed_arrays();
+  std::vector<CountArray> count_arrays();
+  // The samples dropped (not finite) and clamped, set when a film is read back.
+  void set_tallies(uint64_t dropped, uint64_t clamped) { dropped_ = dropped, clamped_ = clamped; }
+
   uint64_t dropped() const { return dropped_; }
+  uint64_t clamped() const { return clamped_; }
   uint32_t count(size_t pixel) const { return count_[pixel]; }
   // The fewest and most samples any pixel has, and all pixels' samples.
   uint32_t min_count() const;
@@ -134,27 +154,38 @@ class Film {
   static int channel_count(AovSet aovs);
 
  private:
-  // False (and nothing added) for a sample that is not finite.
-  bool accumulate(size_t pixel, const glm::vec3& radiance, const FirstHit* first) {
+  // Adds a sample: added, clamped (added with values clamped) or dropped (not finite, nothing
+  // added).
+  enum class Added { dropped, added, clamped };
+  Added accumulate(size_t pixel, const glm::vec3& radiance, const FirstHit* first) {
     if (!std::isfinite(radiance.x) || !std::isfinite(radiance.y) || !std::isfinite(radiance.z))
-      return false;
+      return Added::dropped;
+    bool cut = false;
+    auto value = [&](float v) {
+      const double c = std::clamp(double(v), -value_limit, value_limit);
+      cut |= c != double(v);
+      return c;
+    };
+    const glm::dvec3 r(value(radiance.x), value(radiance.y), value(radiance.z));
     for (int c = 0; c < 3; ++c) {
-      sum_[3 * pixel + c] += radiance[c];
-      sum_sq_[3 * pixel + c] += double(radiance[c]) * radiance[c];
+      sum_[3 * pixel + c] += to_fixed<value_bits>(r[c]);
+      sum_sq_[3 * pixel + c] += to_fixed<square_bits>(r[c] * r[c]);
     }
-    const double m = (double(radiance.x) + radiance.y + radiance.z) / 3.0;
-    mean_sq_[pixel] += m * m;
+    const double m = (r.x + r.y + r.z) / 3.0;
+    mean_sq_[pixel] += to_fixed<square_bits>(m * m);
     ++count_[pixel];
     if (first && !first_.empty()) {
-      double* f = &first_[first_stride * pixel];
-      for (int c = 0; c < 3; ++c) f[c] += first->albedo[c], f[3 + c] += first->normal[c];
+      Fixed* f = &first_[first_stride * pixel];
+      for (int c = 0; c < 3; ++c)
+        f[c] += to_fixed<value_bits>(value(first->albedo[c])),
+            f[3 + c] += to_fixed<value_bits>(value(first->normal[c]));
       if (first->hit) {
-        f[6] += first->depth;
-        for (int c = 0; c < 3; ++c) f[7 + c] += first->position[c];
+        f[6] += to_fixed<value_bits>(value(first->depth));
+        for (int c = 0; c < 3; ++c) f[7 + c] += to_fixed<value_bits>(value(first->position[c]));
         ++hits_[pixel];
       }
     }
-    return true;
+    return cut ? Added::clamped : Added::added;
   }
 
   // Per pixel: albedo (3), normal (3), depth (1), position (3).
@@ -163,12 +194,12 @@ class Film {
   int width_, height_;
   AovSet aovs_;
   std::vector<uint32_t> order_, start_;  // add_in_order's scratch
-  std::vector<double> sum_, sum_sq_;     // per colour channel
-  std::vector<double> mean_sq_;          // squares of the channel average
+  std::vector<Fixed> sum_, sum_sq_;      // per colour channel
+  std::vector<Fixed> mean_sq_;           // squares of the channel average
   std::vector<uint32_t> count_;
-  std::vector<double> first_;   // first-hit sums, first_stride per pixel (empty: none kept)
+  std::vector<Fixed> first_;    // first-hit sums, first_stride per pixel (empty: none kept)
   std::vector<uint32_t> hits_;  // samples whose camera ray hit something (with first_)
-  uint64_t dropped_ = 0;
+  uint64_t dropped_ = 0, clamped_ = 0;
 };
 
 }  // namespace dacrt

@@ -1,0 +1,72 @@
+// The film's fixed-point sums (film/fixed.h): each value is rounded once, on its own, so sums
+// are the same in any order; values beyond the limit are clamped and counted, never silently.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "film/film.h"
+#include "film/fixed.h"
+
+using namespace dacrt;
+
+TEST_CASE("fixed point: values convert down to the step, whole and fraction apart") {
+  CHECK(to_fixed<value_bits>(1.0) == Fixed(1) << 64);
+  CHECK(to_fixed<value_bits>(-1.0) == -(Fixed(1) << 64));
+  CHECK(to_fixed<value_bits>(0.75) == Fixed(3) << 62);
+  CHECK(to_fixed<value_bits>(-0.75) == -(Fixed(3) << 62));
+  CHECK(to_fixed<value_bits>(0x1p-64) == 1);
+  CHECK(to_fixed<value_bits>(0x1p-66) == 0);    // below the step: down
+  CHECK(to_fixed<value_bits>(-0x1p-66) == -1);  // down, not toward zero
+  CHECK(to_fixed<square_bits>(0x1p60) == Fixed(1) << 106);
+  CHECK(to_fixed<value_bits>(-value_limit) == -(Fixed(1) << 94));
+  // Every float in the range converts exactly when it is a multiple of the step, and back.
+  std::mt19937 rng(3);
+  for (int i = 0; i < 10000; ++i) {
+    const int shift = int(rng() % 48) - 40;
+    const float v = std::ldexp(float(rng() % (1u << 24)) - float(1 << 23), shift);
+    CAPTURE(v);
+    REQUIRE(from_fixed<value_bits>(to_fixed<value_bits>(v)) == double(v));
+    if (shift >= -square_bits / 2)  // the square's lowest bit is a step or more
+      REQUIRE(from_fixed<square_bits>(to_fixed<square_bits>(double(v) * v)) == double(v) * v);
+  }
+}
+
+TEST_CASE("film: sums are the same bit for bit in any order; values past the limit are clamped") {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-2.f, 8.f);
+  std::vector<glm::vec3> samples;
+  for (int i = 0; i < 500; ++i)
+    samples.push_back(glm::vec3(std::exp2(u(rng) * 3), u(rng) * 1e-6f, u(rng)));
+  Film forward(1, 1), backward(1, 1), shuffled(1, 1);
+  for (const glm::vec3& s : samples) forward.add(0, s);
+  for (size_t i = samples.size(); i-- > 0;) backward.add(0, samples[i]);
+  std::shuffle(samples.begin(), samples.end(), rng);
+  for (const glm::vec3& s : samples) shuffled.add(0, s);
+  for (int c = 0; c < 3; ++c) {
+    CHECK(forward.variance_of_mean(0, c) == backward.variance_of_mean(0, c));
+    CHECK(forward.variance_of_mean(0, c) == shuffled.variance_of_mean(0, c));
+  }
+  CHECK(forward.resolve().rgb == backward.resolve().rgb);
+  CHECK(forward.resolve().rgb == shuffled.resolve().rgb);
+  CHECK(forward.mean_and_error(0) == shuffled.mean_and_error(0));
+  CHECK(forward.clamped() == 0);
+
+  Film bright(2, 1);
+  bright.add(0, glm::vec3(1e12f, 1.f, 1.f));
+  bright.add(0, glm::vec3(1.f, -1e10f, 1.f));
+  bright.add(1, glm::vec3(float(value_limit), 1.f, 1.f));  // at the limit: kept as it is
+  bright.add(1, glm::vec3(NAN, 1.f, 1.f));
+  CHECK(bright.clamped() == 2);
+  CHECK(bright.dropped() == 1);
+  const Image img = bright.resolve();
+  CHECK(img.rgb[0] == doctest::Approx((value_limit + 1) / 2));
+  CHECK(img.rgb[1] == doctest::Approx((1 - value_limit) / 2));
+  CHECK(img.rgb[3] == float(value_limit));
+  Film other(2, 1);
+  other.add(0, glm::vec3(2e9f, 0.f, 0.f));
+  bright.merge(other);
+  CHECK(bright.clamped() == 3);
+}
