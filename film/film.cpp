@@ -83,6 +83,34 @@ std::vector<Film::CountArray> Film::count_arrays() {
   return out;
 }
 
+std::string Film::check_sums(uint32_t most) const {
+  most = std::min(most, max_samples);
+  // The largest sum n samples can make, in each scale.
+  const Fixed value_most = Fixed(1) << (64 + 30), square_most = Fixed(1) << (46 + 60);
+  for (size_t p = 0; p < pixels(); ++p) {
+    const uint32_t n = count_[p];
+    auto where = [&] {
+      return "pixel (" + std::to_string(p % size_t(width_)) + ", " +
+             std::to_string(p / size_t(width_)) + ")";
+    };
+    if (n > most)
+      return where() + " holds " + std::to_string(n) + " samples, more than " +
+             std::to_string(most);
+    if (!hits_.empty() && hits_[p] > n)
+      return where() + " has more first hits than samples";
+    auto within = [&](Fixed v, Fixed limit) { return v <= n * limit && v >= -(n * limit); };
+    bool ok = true;
+    for (int c = 0; c < 3; ++c)
+      ok = ok && within(sum_[3 * p + c], value_most) && sum_sq_[3 * p + c] >= 0 &&
+           within(sum_sq_[3 * p + c], square_most);
+    ok = ok && mean_sq_[p] >= 0 && within(mean_sq_[p], square_most);
+    for (size_t k = 0; k < (first_.empty() ? 0 : first_stride); ++k)
+      ok = ok && within(first_[first_stride * p + k], value_most);
+    if (!ok) return where() + " has sums its " + std::to_string(n) + " samples cannot add up to";
+  }
+  return "";
+}
+
 uint32_t Film::min_count() const {
   return count_.empty() ? 0 : *std::min_element(count_.begin(), count_.end());
 }

@@ -124,6 +124,10 @@ class Film {
   };
   std::vector<FixedArray> fixed_arrays();
   std::vector<CountArray> count_arrays();
+  // "" when every pixel holds at most `most` samples, no more hits than samples, and sums its
+  // samples can add up to (so that adding films cannot overflow); else what is wrong, naming
+  // the pixel. For films read from files.
+  std::string check_sums(uint32_t most) const;
   // The samples dropped (not finite) and clamped, set when a film is read back.
   void set_tallies(uint64_t dropped, uint64_t clamped) { dropped_ = dropped, clamped_ = clamped; }
 

@@ -46,7 +46,8 @@ Error write_error(const std::string& path, const std::string& reason) {
 }
 
 Imf::Header make_header(const std::string& path, int width, int height,
-                        const std::vector<Channel>& channels, const ExrMetadata& metadata) {
+                        const std::vector<Channel>& channels, const ExrMetadata& metadata,
+                        const std::vector<WordChannel>& words) {
   Imf::Header header(width, height, 1.f, Imath::V2f(0, 0), 1.f, Imf::INCREASING_Y,
                      Imf::ZIP_COMPRESSION);
   for (const Channel& c : channels) {
@@ -57,6 +58,11 @@ Imf::Header make_header(const std::string& path, int width, int height,
                                   " values for " + std::to_string(width) + "x" +
                                   std::to_string(height) + " pixels");
     header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
+  }
+  for (const WordChannel& c : words) {
+    if (c.name.empty() || header.channels().findChannel(c.name))
+      throw write_error(path, "channel name '" + c.name + "' is empty or repeated");
+    header.channels().insert(c.name, Imf::Channel(Imf::UINT));
   }
   Imf::addChromaticities(header, Imf::Chromaticities());  // the default is Rec.709 with D65 white
   header.insert("spp", Imf::IntAttribute(metadata.spp));
@@ -91,13 +97,17 @@ class StreamOut : public Imf::OStream {
 };
 
 void write_scanlines(std::ostream& stream, const std::string& path, const Imf::Header& header,
-                     int width, const std::vector<Channel>& channels) {
+                     int width, const std::vector<Channel>& channels,
+                     const std::vector<WordChannel>& words) {
   StreamOut exr_stream(stream, path);
   Imf::OutputFile file(exr_stream, header);
   Imf::FrameBuffer frame;
   for (const Channel& c : channels)
     frame.insert(c.name, Imf::Slice::Make(Imf::FLOAT, c.values.data(), header.dataWindow(),
                                           sizeof(float), sizeof(float) * size_t(width)));
+  for (const WordChannel& c : words)
+    frame.insert(c.name, Imf::Slice::Make(Imf::UINT, c.base, header.dataWindow(), c.stride,
+                                          c.stride * size_t(width)));
   file.setFrameBuffer(frame);
   file.writePixels(header.dataWindow().max.y + 1);
 }
@@ -403,12 +413,12 @@ void write_exr(const std::string& path, const Image& image, const ExrMetadata& m
 }
 
 void write_exr(const std::string& path, int width, int height, const std::vector<Channel>& channels,
-               const ExrMetadata& metadata) {
+               const ExrMetadata& metadata, const std::vector<WordChannel>& words) {
   if (width <= 0 || height <= 0) throw write_error(path, "the image is empty");
-  const Imf::Header header = make_header(path, width, height, channels, metadata);
+  const Imf::Header header = make_header(path, width, height, channels, metadata, words);
   // OutputFile's destructor writes the line offsets; the stream is checked after that.
   write_atomically(path, "EXR", [&](std::ostream& stream) {
-    write_scanlines(stream, path, header, width, channels);
+    write_scanlines(stream, path, header, width, channels, words);
   });
 }
 
@@ -462,7 +472,12 @@ const Channel* ExrFile::find(const std::string& name) const {
   return nullptr;
 }
 
-ExrFile read_exr_file(const std::string& path) {
+namespace {
+
+// Opens a checked file (scan_header first) and hands OpenEXR's reader to `use`, turning every
+// failure into one Error naming the file.
+template <class Use>
+auto with_exr(const std::string& path, Use use) {
   check_input_file(path, "EXR image");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read EXR '" + path + "': " + std::strerror(errno));
@@ -472,6 +487,35 @@ ExrFile read_exr_file(const std::string& path) {
     in.seekg(0);
     StreamIn stream(in, path.c_str());
     Imf::InputFile file(stream);
+    return use(file);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error("cannot read EXR '" + path + "': " + one_line(e.what()));
+  } catch (...) {
+    throw Error("cannot read EXR '" + path + "': OpenEXR failed without a message");
+  }
+}
+
+// The header's string, int and double attributes as text.
+std::map<std::string, std::string> attributes_of(const Imf::Header& header) {
+  std::map<std::string, std::string> out;
+  for (auto it = header.begin(); it != header.end(); ++it) {
+    const Imf::Attribute& a = it.attribute();
+    if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&a))
+      out[it.name()] = s->value();
+    else if (const auto* n = dynamic_cast<const Imf::IntAttribute*>(&a))
+      out[it.name()] = std::to_string(n->value());
+    else if (const auto* d = dynamic_cast<const Imf::DoubleAttribute*>(&a))
+      out[it.name()] = std::to_string(d->value());
+  }
+  return out;
+}
+
+}  // namespace
+
+ExrFile read_exr_file(const std::string& path) {
+  return with_exr(path, [&](Imf::InputFile& file) {
     const Imf::Header& header = file.header();
     const Imath::Box2i window = header.dataWindow();
     const int64_t width = int64_t(window.max.x) - window.min.x + 1,
@@ -493,23 +537,46 @@ ExrFile read_exr_file(const std::string& path) {
     }
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
-    for (auto it = header.begin(); it != header.end(); ++it) {
-      const Imf::Attribute& a = it.attribute();
-      if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&a))
-        out.attributes[it.name()] = s->value();
-      else if (const auto* n = dynamic_cast<const Imf::IntAttribute*>(&a))
-        out.attributes[it.name()] = std::to_string(n->value());
-      else if (const auto* d = dynamic_cast<const Imf::DoubleAttribute*>(&a))
-        out.attributes[it.name()] = std::to_string(d->value());
-    }
+    out.attributes = attributes_of(header);
     return out;
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw Error("cannot read EXR '" + path + "': " + one_line(e.what()));
-  } catch (...) {
-    throw Error("cannot read EXR '" + path + "': OpenEXR failed without a message");
-  }
+  });
+}
+
+ExrHeader read_exr_header(const std::string& path) {
+  return with_exr(path, [&](Imf::InputFile& file) {
+    const Imf::Header& header = file.header();
+    const Imath::Box2i window = header.dataWindow();
+    ExrHeader out;
+    out.width = window.max.x - window.min.x + 1, out.height = window.max.y - window.min.y + 1;
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+      const Imf::PixelType type = it.channel().type;
+      out.channels[it.name()] = type == Imf::UINT ? "UINT" : type == Imf::HALF ? "HALF" : "FLOAT";
+    }
+    out.attributes = attributes_of(header);
+    return out;
+  });
+}
+
+void read_exr_words(const std::string& path, int width, int height,
+                    const std::vector<WordChannel>& words) {
+  with_exr(path, [&](Imf::InputFile& file) {
+    const Imath::Box2i window = file.header().dataWindow();
+    if (window.max.x - window.min.x + 1 != width || window.max.y - window.min.y + 1 != height)
+      throw Error("cannot read EXR '" + path + "': it is not " + std::to_string(width) + " x " +
+                  std::to_string(height) + " pixels");
+    Imf::FrameBuffer frame;
+    for (const WordChannel& c : words) {
+      const Imf::Channel* channel = file.header().channels().findChannel(c.name);
+      if (!channel || channel->type != Imf::UINT)
+        throw Error("cannot read EXR '" + path + "': it has no 32-bit integer channel " + c.name);
+      // Slice::Make places the data window's first pixel at `base`.
+      frame.insert(c.name, Imf::Slice::Make(Imf::UINT, c.base, window, c.stride,
+                                            c.stride * size_t(width)));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    return 0;
+  });
 }
 
 }  // namespace dacrt

@@ -3,6 +3,7 @@
 // beside the target and renamed, so no half-written file is left.
 #pragma once
 
+#include <cstdint>
 #include <istream>
 #include <map>
 #include <string>
@@ -21,10 +22,19 @@ struct ExrMetadata {
   std::vector<std::pair<std::string, std::string>> extra;  // more string attributes
 };
 
+// A 32-bit unsigned integer channel (OpenEXR's UINT) read or written in place: pixel p's word is
+// at base + p × stride (a film's fixed-point sums, a word of each at a time: io/film_exr.h).
+struct WordChannel {
+  std::string name;
+  char* base = nullptr;
+  size_t stride = sizeof(uint32_t);
+};
+
 void write_exr(const std::string& path, const Image& image, const ExrMetadata& metadata);
-// Any channels of width × height pixels (each `values` of that size, names distinct).
+// Any channels of width × height pixels (each `values` of that size, names distinct), and any
+// word channels after them.
 void write_exr(const std::string& path, int width, int height, const std::vector<Channel>& channels,
-               const ExrMetadata& metadata);
+               const ExrMetadata& metadata, const std::vector<WordChannel>& words = {});
 
 // RGB channels as float: environment maps, references, tests. The header is checked before
 // OpenEXR reads it: every size it declares must fit in the file, the pixels in memory, and the
@@ -42,5 +52,18 @@ struct ExrFile {
   const Channel* find(const std::string& name) const;
 };
 ExrFile read_exr_file(const std::string& path);
+
+// A file's size, its string, int and double attributes as text and its channels with their
+// types ("UINT", "HALF", "FLOAT"), without reading a pixel.
+struct ExrHeader {
+  int width = 0, height = 0;
+  std::map<std::string, std::string> attributes;
+  std::map<std::string, std::string> channels;
+};
+ExrHeader read_exr_header(const std::string& path);
+// Reads the word channels of a file of width × height pixels into place; Error naming the file
+// and the channel when one is missing, is not UINT, or the size differs.
+void read_exr_words(const std::string& path, int width, int height,
+                    const std::vector<WordChannel>& words);
 
 }  // namespace dacrt

@@ -6,7 +6,8 @@ set -euo pipefail
 
 packages=(cmake g++ make pkg-config libtinygltf-dev nlohmann-json3-dev libstb-dev libopenexr-dev
           libglm-dev libopencolorio-dev doctest-dev libtbb-dev libembree-dev libpng-dev
-          libjpeg62-turbo-dev libwebp-dev libmeshoptimizer-dev libdraco-dev gnuplot-nox)
+          libjpeg62-turbo-dev libwebp-dev libmeshoptimizer-dev libdraco-dev gnuplot-nox
+          libopenmpi-dev openmpi-bin)
 packages+=("$@")  # extra packages a target needs (make fuzz: clang and its runtime)
 
 missing=()

@@ -1,0 +1,28 @@
+// A film's exact state (film/film.h: its fixed-point sums and counts) in EXR channels beside the
+// image, so that a render's output can be merged with other parts of the render (`dacrt merge`)
+// or continued (`render --resume`) bit for bit. Each 128-bit sum is four 32-bit integer (UINT)
+// channels, lowest word first: "exact.sum.0.w0" … "exact.sum.0.w3" is the red sum; the counts
+// are "exact.count" and "exact.hits". The header's exactSums names the format.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "film/film.h"
+#include "io/exr.h"
+
+namespace dacrt {
+
+// The exactSums attribute of files this version writes; files with another are refused.
+inline constexpr const char* exact_sums_format =
+    "fixed128 v1: values in 2^-64, squares in 2^-46, clamped at 2^30";
+
+// The film's word channels, pointing into it (valid while the film lives and is not resized).
+std::vector<WordChannel> film_words(const Film& film);
+
+// Reads a file's word channels into `film` (empty, of the file's size and outputs) and checks
+// them: no pixel may hold more samples than `most`, more hits than samples, or sums its samples
+// cannot add up to. Error naming the file (and the pixel) otherwise.
+void read_film_words(const std::string& path, Film& film, uint32_t most);
+
+}  // namespace dacrt
