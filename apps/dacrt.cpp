@@ -26,6 +26,7 @@
 
 #include "apps/converge.h"
 #include "apps/diff.h"
+#include "apps/merge.h"
 #include "apps/render_options.h"
 #include "apps/render_report.h"
 #include "apps/report.h"
@@ -34,7 +35,9 @@
 #include "integrators/integrator.h"
 #include "io/color.h"
 #include "io/exr.h"
+#include "io/film_exr.h"
 #include "io/gltf.h"
+#include "render/part_plan.h"
 #include "render/render_job.h"
 #include "tracer/backend.h"
 #include "util/atomic_file.h"
@@ -68,6 +71,8 @@ Usage:
   dacrt diff A.exr B.exr         how far image A is from B (the reference): RMSE, relMSE,
                                  MAE, SMAPE, max |A-B| per channel; error maps as EXR and
                                  false-colour PNG (`dacrt diff --help`)
+  dacrt merge PART.exr... -o OUT  add the parts of one render (`render --samples FIRST:LAST`)
+                                 into its image, exactly (`dacrt merge --help`)
   dacrt --help                   this text; `dacrt render --help` lists the render options
 )";
 
@@ -99,7 +104,14 @@ Image
   --spp N                    samples per pixel (default 64)
   --samples FIRST:LAST       only sample indices [FIRST, LAST) of every pixel of the --spp
                              render (its numbers are the whole render's: the header's sampleRange
-                             says which; not with --adaptive)
+                             says which; not with --adaptive). The EXR keeps the exact sums of its
+                             samples: `dacrt merge` adds such parts into the whole render, bit
+                             for bit
+  --keep-sums                keep the exact sums in a complete render's EXR too (a render cut
+                             short by a stop or --time-limit, and its checkpoints, always keep them)
+  --resume                   continue the render the -o file holds (same scene and settings, its
+                             exact sums kept) up to --spp, or its --samples range; the image is
+                             the uninterrupted render's bit for bit. Without the file: from the start
   --adaptive REL             adaptive sampling (default off): after the minimum, a pixel stops
                              taking samples once the relative error of its mean, and of its 3×3
                              neighbours' means, is below REL (in (0, 1), e.g. 0.01); the others go
@@ -181,11 +193,14 @@ std::string format_hex(float v) {
 
 // What parts of one render (--samples ranges) must share to be merged, as EXR attributes
 // "match.NAME": the scene's files, the image, the view, the light, how samples are drawn and
-// kept. Everything that changes a sample's value is here; the backend, the threads, the wavefront
-// and the passes are not (they never change a pixel).
+// kept. Everything that changes a sample's value is here; the threads, the wavefront and the
+// passes are not (they never change a pixel), nor is the backend, but for its intersection test:
+// dacrt, dacrt-naive and brute share one and find the same hits bit for bit, Embree's differ in
+// the last bits.
 std::vector<std::pair<std::string, std::string>> match_keys(const RenderArgs& r, const Shot& shot,
                                                             const std::string& camera,
-                                                            const std::string& inputs_hash) {
+                                                            const std::string& inputs_hash,
+                                                            const std::string& backend) {
   const RenderSettings& s = r.settings;
   auto real = [](double v) {
     char text[40];
@@ -221,17 +236,28 @@ std::vector<std::pair<std::string, std::string>> match_keys(const RenderArgs& r,
           {"match.lights", lights},
           {"match.aoDistance", real(s.ao_distance)},
           {"match.lambertLanes", s.lambert_lanes ? "on" : "off"},
-          {"match.aovs", aovs}};
+          {"match.aovs", aovs},
+          {"match.intersection", backend == "embree" ? "embree" : "dacrt"}};
+}
+
+// The view exactly (hexadecimal floats): the camera flags of the header are rounded for reading.
+std::string view_text(const Camera& camera) {
+  std::string view;
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 4; ++k) view += format_hex(camera.to_world[c][k]) + " ";
+  return view + format_hex(camera.yfov) + " " + format_hex(camera.ymag) + " " +
+         format_hex(camera.znear) + (camera.orthographic ? " orthographic" : " perspective");
 }
 
 // The EXR (every channel asked, and the per-pixel counts when they differ: a pass cut short, or
 // samples dropped as NaN) and the preview of a film, with the header saying what it holds: `spp`
-// is the count every pixel has.
+// is the count every pixel has. The exact sums go with it when it is a part (--samples), is not
+// the whole of its range yet (a stop, the time limit, a checkpoint), or --keep-sums asks.
 void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, const BackendRun& run,
-                   const Film& film, const RenderOutcome& outcome, const std::string& inputs_hash) {
+                   const Film& film, const RenderOutcome& outcome,
+                   const std::vector<std::pair<std::string, std::string>>& keys, uint32_t last) {
   const RenderSettings& s = r.settings;
   const uint32_t least = film.min_count(), most = film.max_count();
-  const std::vector<Channel> channels = film.channels(least != most);
   ExrMetadata meta;
   meta.spp = int(least);
   meta.backend = run.backend;
@@ -268,15 +294,43 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
   if (!outcome.uniform())  // a pass cut short: some pixels have more
     meta.extra.push_back({"sampleRangeMost", std::to_string(outcome.first) + ":" +
                                                  std::to_string(outcome.most)});
-  // The view exactly (hexadecimal floats): the flags above are rounded for reading.
-  std::string view;
-  for (int c = 0; c < 4; ++c)
-    for (int k = 0; k < 4; ++k) view += format_hex(camera.to_world[c][k]) + " ";
-  view += format_hex(camera.yfov) + " " + format_hex(camera.ymag) + " " + format_hex(camera.znear) +
-          (camera.orthographic ? " orthographic" : " perspective");
-  for (auto& key : match_keys(r, shot, view, inputs_hash)) meta.extra.push_back(std::move(key));
-  write_exr(run.output, shot.width, shot.height, channels, meta);
+  for (const auto& key : keys) meta.extra.push_back(key);
+  const bool exact = r.samples || r.keep_sums || outcome.complete < last;
+  write_film_exr(run.output, film, meta, exact);
   if (!run.preview.empty()) write_preview_png(run.preview, film.resolve(), r.display);
+}
+
+// With --resume, the film in the output `file` if there is one: its exact sums, checked to be an
+// earlier run of the render that `keys` and samples [first, last) describe. Empty (a render from
+// the start) when the file does not exist.
+std::optional<Film> film_to_resume(const std::string& file, const RenderJob& job,
+                                   const std::vector<std::pair<std::string, std::string>>& keys,
+                                   uint32_t first, uint32_t last, bool quiet) {
+  if (!fs::exists(file)) {
+    if (!quiet) print_message(file + ": nothing to resume yet: rendering from the start");
+    return std::nullopt;
+  }
+  const ExrHeader header = read_exr_header(file);
+  const auto format = header.attributes.find("exactSums");
+  if (format == header.attributes.end())
+    throw Error(file + " holds no exact sums to resume from (a render keeps them with --samples, "
+                       "--keep-sums, or when it is cut short)");
+  if (format->second != exact_sums_format)
+    throw Error(file + ": its exact sums are of another format (" + format->second + ")");
+  const PartHeader part = part_from_attributes(file, header.attributes);
+  check_same_render(part, std::map<std::string, std::string>(keys.begin(), keys.end()));
+  if (part.first != first)
+    throw Error(file + " holds samples from " + std::to_string(part.first) +
+                ", this render's start at " + std::to_string(first));
+  Film film = job.film();
+  read_film_words(file, film, last - first);
+  auto tally = [&](const char* name) {
+    const auto it = header.attributes.find(name);
+    return it == header.attributes.end() ? uint64_t(0)
+                                         : uint64_t(std::strtoull(it->second.c_str(), nullptr, 10));
+  };
+  film.set_tallies(tally("samplesDropped"), tally("samplesClamped"));
+  return film;
 }
 
 int render(const std::vector<std::string>& args) {
@@ -286,6 +340,8 @@ int render(const std::vector<std::string>& args) {
   // writable and distinct output files that are not inputs, the display transform of a preview.
   const std::vector<std::string> backends = split_list(r.backend);
   if (backends.empty()) throw UsageError("--backend needs at least one backend name");
+  if (r.resume && backends.size() > 1)
+    throw UsageError("--resume continues one output: one --backend at a time");
   check_integrator(r.settings.integrator);
   std::vector<BackendRun> runs;
   const std::vector<std::string> known = Backend::names();
@@ -408,13 +464,21 @@ int render(const std::vector<std::string>& args) {
           Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
       run.build_seconds = seconds_since(t0);
       RenderJob job(scene, *backend, s, shot);
-      Film film = job.film();
+      const auto keys = match_keys(r, shot, view_text(shot.camera), inputs_hash, run.backend);
+      std::optional<Film> earlier;
+      if (r.resume) earlier = film_to_resume(run.output, job, keys, first, last, r.quiet);
+      const bool resuming = earlier.has_value();
+      Film film = resuming ? std::move(*earlier) : job.film();
+      uint64_t taken = 0;
+      for (size_t p = 0; p < film.pixels(); ++p) taken += film.taken(p);
       Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
-                        shot.pixels() * uint64_t(last - first), !r.quiet);
-      const RenderOutcome outcome = job.run(film, first, last, progress, r.passes,
-                                            [&](const Film& so_far, const RenderOutcome& o) {
-                                              write_outputs(r, scene, shot, run, so_far, o, inputs_hash);
-                                            });
+                        shot.pixels() * uint64_t(last - first) - taken, !r.quiet);
+      const auto checkpoint = [&](const Film& so_far, const RenderOutcome& o) {
+        write_outputs(r, scene, shot, run, so_far, o, keys, last);
+      };
+      const RenderOutcome outcome =
+          resuming ? job.resume(film, first, last, progress, r.passes, checkpoint)
+                  : job.run(film, first, last, progress, r.passes, checkpoint);
       run.stats = job.stats();
       run.backend_stats = backend->stats();
       run.seconds = seconds_since(t0);
@@ -425,7 +489,7 @@ int render(const std::vector<std::string>& args) {
       if (outcome.timed_out) run.stopped = "the time limit";
       // A render stopped before its first sample leaves the previous outputs as they were.
       if (film.max_count() == 0 && outcome.stopped) break;
-      write_outputs(r, scene, shot, run, film, outcome, inputs_hash);
+      write_outputs(r, scene, shot, run, film, outcome, keys, last);
       if (!r.report.empty())
         write_preview_png(report_preview(r.report, run.backend), film.resolve(), r.display);
       if (!r.quiet) print_summary(run, shot, s);
@@ -670,6 +734,7 @@ int run(std::vector<std::string> args) {
   if (command == "bench") return bench_main(args);
   if (command == "converge") return converge_main(args);
   if (command == "diff") return diff_main(args);
+  if (command == "merge") return merge_main(args);
   throw UsageError("unknown command '" + command + "'");
 }
 

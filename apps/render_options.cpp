@@ -74,6 +74,29 @@ double parse_seconds(const std::string& flag, const std::string& text) {
   return *v;
 }
 
+bool parse_display_option(const std::vector<std::string>& args, size_t& i,
+                          DisplayOptions& display, std::string& flag) {
+  const std::string& a = args[i];
+  auto value = [&]() -> const std::string& {
+    if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
+    return args[++i];
+  };
+  if (a == "--view") {
+    display.view = value();
+    if (display.view.empty()) throw UsageError("--view needs a name (see dacrt views)");
+  } else if (a == "--exposure") {
+    const std::string v = value();
+    const std::optional<double> stops = parse_real(v);
+    if (!stops || !std::isfinite(*stops))
+      throw UsageError("--exposure wants a finite number of stops, got '" + v + "'");
+    display.exposure = *stops;
+  } else {
+    return false;
+  }
+  flag = a;
+  return true;
+}
+
 bool parse_render_option(const std::vector<std::string>& args, size_t& i, RenderArgs& r) {
   const std::string& a = args[i];
   auto value = [&]() -> const std::string& {
@@ -84,18 +107,9 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     r.output = value();
   else if (a == "--preview")
     r.preview = value();
-  else if (a == "--view") {
-    r.display.view = value();
-    if (r.display.view.empty()) throw UsageError("--view needs a name (see dacrt views)");
-    r.display_flag = a;
-  } else if (a == "--exposure") {
-    const std::string v = value();
-    const std::optional<double> stops = parse_real(v);
-    if (!stops || !std::isfinite(*stops))
-      throw UsageError("--exposure wants a finite number of stops, got '" + v + "'");
-    r.display.exposure = *stops;
-    r.display_flag = a;
-  } else if (a == "--stats")
+  else if (parse_display_option(args, i, r.display, r.display_flag))
+    return true;
+  else if (a == "--stats")
     r.stats = value();
   else if (a == "--report")
     r.report = value();
@@ -248,6 +262,10 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
       return r;
     } else if (parse_render_option(args, i, r))
       continue;
+    else if (a == "--keep-sums")  // about the output file: render's own
+      r.keep_sums = true;
+    else if (a == "--resume")
+      r.resume = true;
     else if (!a.empty() && a[0] == '-')
       throw UsageError("unknown option " + a);
     else if (r.scene.empty())
@@ -268,6 +286,10 @@ RenderArgs parse_render(const std::vector<std::string>& args) {
     throw UsageError("--samples and --adaptive: an adaptive pixel's samples depend on all those "
                      "before them; render it whole");
   if (!r.report.empty() && r.frames) throw UsageError("--report is for one frame, not --frames");
+  if (r.resume && r.frames) throw UsageError("--resume is for one frame, not --frames");
+  if (r.resume && r.settings.adaptive > 0)
+    throw UsageError("--resume and --adaptive: where an adaptive render stopped sampling a pixel "
+                     "depends on its passes; render it whole");
   check_adaptive(r.settings);
   if (r.frames && r.gltf.time)
     throw UsageError("--time and --frames both give the time: use one (a frame's is frame / fps)");

@@ -37,6 +37,9 @@ struct RenderArgs {
   // --samples FIRST:LAST: sample indices [FIRST, LAST) of every pixel of the --spp render (the
   // numbers of those samples are the whole render's: parts merge into it).
   std::optional<std::pair<uint32_t, uint32_t>> samples;
+  // --keep-sums: the output keeps the film's exact sums (io/film_exr.h) even when it is complete;
+  // --resume: continue the render its output holds (the exact sums of an earlier run).
+  bool keep_sums = false, resume = false;
   double fps = 24.0;
   bool fps_given = false;
   bool quiet = false, help = false;
@@ -49,6 +52,11 @@ struct RenderArgs {
 // positional argument, an unknown flag: the caller's business). Throws UsageError for a bad or
 // missing value.
 bool parse_render_option(const std::vector<std::string>& args, size_t& i, RenderArgs& r);
+
+// --view NAME and --exposure STOPS (args[i] and its value, advancing i) into `display`, the flag
+// into `flag`; false, nothing changed, for another argument. UsageError for a bad value.
+bool parse_display_option(const std::vector<std::string>& args, size_t& i,
+                          DisplayOptions& display, std::string& flag);
 
 // `dacrt render`'s arguments: SCENE and render options.
 RenderArgs parse_render(const std::vector<std::string>& args);

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "bench/report.h"
+#include "film/fixed.h"
 #include "tracer/stats_json.h"
 #include "util/text.h"
 
@@ -70,6 +71,7 @@ nlohmann::json to_json(const BackendRun& run) {
       {"paths", stats.paths},
       {"wavefront", stats.wavefront},
       {"dropped_samples", stats.dropped_samples},
+      {"clamped_samples", stats.clamped_samples},
       {"skipped", stats.skipped},
       {"bounce_calls", stats.bounce_calls},
       {"bounce_batch", {{"min", batches.min}, {"median", batches.median}, {"max", batches.max}}},
@@ -108,6 +110,9 @@ void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings
   if (stats.dropped_samples)
     std::fprintf(stderr, "  warning: %llu samples were NaN or inf and were dropped\n",
                  (unsigned long long)stats.dropped_samples);
+  if (stats.clamped_samples)
+    std::fprintf(stderr, "  warning: %llu samples had values beyond ±%.3g and were clamped to it\n",
+                 (unsigned long long)stats.clamped_samples, value_limit);
 }
 
 std::vector<std::vector<std::string>> comparison_rows(const std::vector<BackendRun>& runs) {

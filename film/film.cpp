@@ -40,7 +40,8 @@ Film::Film(int width, int height, AovSet aovs)
       sum_(size_t(3) * width * height, 0),
       sum_sq_(size_t(3) * width * height, 0),
       mean_sq_(size_t(width) * height, 0),
-      count_(size_t(width) * height, 0) {
+      count_(size_t(width) * height, 0),
+      taken_(size_t(width) * height, 0) {
   if (aovs.first_hit()) {
     first_.assign(first_stride * pixels(), 0);
     hits_.assign(pixels(), 0);
@@ -48,7 +49,7 @@ Film::Film(int width, int height, AovSet aovs)
 }
 
 uint64_t Film::bytes(int width, int height, AovSet aovs) {
-  const uint64_t per_pixel = 7 * sizeof(Fixed) + sizeof(uint32_t) +
+  const uint64_t per_pixel = 7 * sizeof(Fixed) + 2 * sizeof(uint32_t) +
                              (aovs.first_hit() ? first_stride * sizeof(Fixed) + 4 : 0);
   return uint64_t(width) * uint64_t(height) * per_pixel;
 }
@@ -65,6 +66,7 @@ void Film::merge(const Film& other) {
   add(sum_sq_, other.sum_sq_);
   add(mean_sq_, other.mean_sq_);
   add(count_, other.count_);
+  add(taken_, other.taken_);
   add(first_, other.first_);
   add(hits_, other.hits_);
   dropped_ += other.dropped_;
@@ -78,7 +80,7 @@ std::vector<Film::FixedArray> Film::fixed_arrays() {
 }
 
 std::vector<Film::CountArray> Film::count_arrays() {
-  std::vector<CountArray> out = {{"count", &count_}};
+  std::vector<CountArray> out = {{"count", &count_}, {"taken", &taken_}};
   if (!hits_.empty()) out.push_back({"hits", &hits_});
   return out;
 }
@@ -88,14 +90,14 @@ std::string Film::check_sums(uint32_t most) const {
   // The largest sum n samples can make, in each scale.
   const Fixed value_most = Fixed(1) << (64 + 30), square_most = Fixed(1) << (46 + 60);
   for (size_t p = 0; p < pixels(); ++p) {
-    const uint32_t n = count_[p];
+    const uint32_t n = count_[p], took = taken_[p];
     auto where = [&] {
       return "pixel (" + std::to_string(p % size_t(width_)) + ", " +
              std::to_string(p / size_t(width_)) + ")";
     };
-    if (n > most)
-      return where() + " holds " + std::to_string(n) + " samples, more than " +
-             std::to_string(most);
+    if (took > most || n > took)
+      return where() + " took " + std::to_string(took) + " samples and kept " +
+             std::to_string(n) + " (at most " + std::to_string(most) + ")";
     if (!hits_.empty() && hits_[p] > n)
       return where() + " has more first hits than samples";
     auto within = [&](Fixed v, Fixed limit) { return v <= n * limit && v >= -(n * limit); };

@@ -124,7 +124,8 @@ class Film {
   };
   std::vector<FixedArray> fixed_arrays();
   std::vector<CountArray> count_arrays();
-  // "" when every pixel holds at most `most` samples, no more hits than samples, and sums its
+  // "" when every pixel took at most `most` samples, added no more than it took, has no more hits
+  // than samples, and sums its
   // samples can add up to (so that adding films cannot overflow); else what is wrong, naming
   // the pixel. For films read from files.
   std::string check_sums(uint32_t most) const;
@@ -134,6 +135,9 @@ class Film {
   uint64_t dropped() const { return dropped_; }
   uint64_t clamped() const { return clamped_; }
   uint32_t count(size_t pixel) const { return count_[pixel]; }
+  // The samples the pixel took, dropped ones included: it has the render's samples
+  // [first, first + taken) of whatever range the film holds.
+  uint32_t taken(size_t pixel) const { return taken_[pixel]; }
   // The fewest and most samples any pixel has, and all pixels' samples.
   uint32_t min_count() const;
   uint32_t max_count() const;
@@ -162,6 +166,7 @@ class Film {
   // added).
   enum class Added { dropped, added, clamped };
   Added accumulate(size_t pixel, const glm::vec3& radiance, const FirstHit* first) {
+    ++taken_[pixel];
     if (!std::isfinite(radiance.x) || !std::isfinite(radiance.y) || !std::isfinite(radiance.z))
       return Added::dropped;
     bool cut = false;
@@ -200,7 +205,7 @@ class Film {
   std::vector<uint32_t> order_, start_;  // add_in_order's scratch
   std::vector<Fixed> sum_, sum_sq_;      // per colour channel
   std::vector<Fixed> mean_sq_;           // squares of the channel average
-  std::vector<uint32_t> count_;
+  std::vector<uint32_t> count_, taken_;  // samples added, samples taken (dropped ones too)
   std::vector<Fixed> first_;    // first-hit sums, first_stride per pixel (empty: none kept)
   std::vector<uint32_t> hits_;  // samples whose camera ray hit something (with first_)
   uint64_t dropped_ = 0, clamped_ = 0;

@@ -97,6 +97,7 @@ struct RenderStats {
   uint64_t bounce_calls = 0;             // backend calls with bounce rays
   std::vector<uint32_t> bounce_batches;  // the bounce rays of each of those calls, in order
   uint64_t dropped_samples = 0;          // NaN or inf radiance, never averaged in
+  uint64_t clamped_samples = 0;          // with values beyond ±value_limit (film/fixed.h)
   double seconds = 0.0;                  // whole render
   std::vector<std::string> skipped;      // work the scene did not need, in words
 

@@ -141,6 +141,7 @@ uint64_t Wavefront::render(Film& film, uint32_t first, uint32_t last,
   call_pixels_ = {};
   stats_.paths += finished;
   stats_.dropped_samples = film.dropped();
+  stats_.clamped_samples = film.clamped();
   stats_.seconds += std::chrono::duration<double>(Clock::now() - start_time).count();
   return next_id - begin;
 }

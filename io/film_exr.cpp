@@ -21,6 +21,14 @@ std::vector<WordChannel> film_words(const Film& film) {
   return out;
 }
 
+void write_film_exr(const std::string& path, const Film& film, ExrMetadata metadata, bool exact) {
+  metadata.extra.push_back({"samplesDropped", std::to_string(film.dropped())});
+  metadata.extra.push_back({"samplesClamped", std::to_string(film.clamped())});
+  if (exact) metadata.extra.push_back({"exactSums", exact_sums_format});
+  write_exr(path, film.width(), film.height(), film.channels(film.min_count() != film.max_count()),
+            metadata, exact ? film_words(film) : std::vector<WordChannel>{});
+}
+
 void read_film_words(const std::string& path, Film& film, uint32_t most) {
   read_exr_words(path, film.width(), film.height(), film_words(film));
   const std::string bad = film.check_sums(most);

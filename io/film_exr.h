@@ -20,6 +20,11 @@ inline constexpr const char* exact_sums_format =
 // The film's word channels, pointing into it (valid while the film lives and is not resized).
 std::vector<WordChannel> film_words(const Film& film);
 
+// Writes a film as renders and merges do: its channels (Film::channels, with the samples channel
+// when pixels have different counts), the metadata with the tallies (samplesDropped,
+// samplesClamped) added, and with `exact` the word channels and exactSums.
+void write_film_exr(const std::string& path, const Film& film, ExrMetadata metadata, bool exact);
+
 // Reads a file's word channels into `film` (empty, of the file's size and outputs) and checks
 // them: no pixel may hold more samples than `most`, more hits than samples, or sums its samples
 // cannot add up to. Error naming the file (and the pixel) otherwise.

@@ -22,12 +22,49 @@ std::string first_difference(const std::map<std::string, std::string>& a,
   return "";
 }
 
-std::string value_in(const PartHeader& p, const std::string& key) {
-  const auto it = p.match.find(key);
-  return it == p.match.end() ? "missing" : it->second;
+std::string value_in(const std::map<std::string, std::string>& match, const std::string& key) {
+  const auto it = match.find(key);
+  return it == match.end() ? "missing" : it->second;
+}
+
+// A decimal count in [0, 2^20], or −1.
+int64_t count_in(const std::string& text) {
+  if (text.empty() || text.size() > 7 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return -1;
+  const int64_t n = std::stoll(text);
+  return n <= (1 << 20) ? n : -1;
 }
 
 }  // namespace
+
+PartHeader part_from_attributes(const std::string& file,
+                                const std::map<std::string, std::string>& attributes) {
+  PartHeader part;
+  part.file = file;
+  for (const auto& [key, value] : attributes)
+    if (key.rfind("match.", 0) == 0) part.match[key] = value;
+  if (part.match.empty())
+    throw Error(file + " has no match.* attributes: it was not written by dacrt render");
+  const auto range = attributes.find("sampleRange");
+  const size_t colon = range == attributes.end() ? std::string::npos : range->second.find(':');
+  const int64_t first = colon == std::string::npos ? -1 : count_in(range->second.substr(0, colon));
+  const int64_t last = colon == std::string::npos ? -1 : count_in(range->second.substr(colon + 1));
+  const int64_t spp = count_in(value_in(part.match, "match.spp"));
+  if (first < 0 || last < first)
+    throw Error(file + ": its sampleRange attribute is missing or not FIRST:LAST");
+  if (spp <= 0) throw Error(file + ": its match.spp attribute is missing or not a count");
+  part.first = uint32_t(first), part.last = uint32_t(last), part.spp = uint32_t(spp);
+  return part;
+}
+
+void check_same_render(const PartHeader& file, const std::map<std::string, std::string>& now) {
+  const std::string key = first_difference(file.match, now);
+  if (!key.empty())
+    throw Error(file.file + " is not an earlier run of this render: " + key + " is " +
+                value_in(file.match, key) + " in " + file.file + ", " + value_in(now, key) +
+                " here");
+}
 
 std::string ranges_text(const std::vector<std::pair<uint32_t, uint32_t>>& ranges) {
   std::string text;
@@ -47,8 +84,8 @@ PartPlan plan_merge(const std::vector<PartHeader>& parts, bool allow_gaps) {
     const std::string key = first_difference(base.match, p.match);
     if (!key.empty())
       throw Error(p.file + " and " + base.file + " are not parts of one render: " + key + " is " +
-                  value_in(p, key) + " in " + p.file + ", " + value_in(base, key) + " in " +
-                  base.file);
+                  value_in(p.match, key) + " in " + p.file + ", " + value_in(base.match, key) +
+                  " in " + base.file);
     if (!(p.first < p.last) || p.last > p.spp)
       throw Error(p.file + ": its samples " + range(p.first, p.last) + " are not part of a " +
                   std::to_string(p.spp) + "-spp render");

@@ -30,6 +30,15 @@ struct PartPlan {
 // render's spp; two parts that share samples; samples in no part (unless allow_gaps).
 PartPlan plan_merge(const std::vector<PartHeader>& parts, bool allow_gaps);
 
+// The part a file's header attributes describe: sampleRange FIRST:LAST, match.spp and every
+// match.* attribute. Error naming the file when one is missing or malformed.
+PartHeader part_from_attributes(const std::string& file,
+                                const std::map<std::string, std::string>& attributes);
+
+// For continuing a render from its output: Error unless the file's match.* attributes are
+// `now`'s ("out.exr is not an earlier run of this render: match.seed is 6 in out.exr, 5 here").
+void check_same_render(const PartHeader& file, const std::map<std::string, std::string>& now);
+
 // "0:4, 6:8": ranges as text.
 std::string ranges_text(const std::vector<std::pair<uint32_t, uint32_t>>& ranges);
 

@@ -154,4 +154,44 @@ RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress
   return out;
 }
 
+RenderOutcome RenderJob::resume(Film& film, uint32_t first, uint32_t last, Progress& progress,
+                                const PassOptions& options, const Checkpoint& checkpoint) {
+  if (adaptive_) throw Error("a render with adaptive sampling cannot be resumed");
+  const auto start = Clock::now();
+  RenderOutcome out;
+  out.first = first;
+  std::vector<uint32_t> behind;
+  uint32_t least = 0, most = 0;
+  auto levels = [&] {
+    least = UINT32_MAX, most = 0;
+    for (size_t p = 0; p < film.pixels(); ++p)
+      least = std::min(least, film.taken(p)), most = std::max(most, film.taken(p));
+    out.complete = first + least, out.most = first + most;
+  };
+  for (levels(); least < most; levels()) {
+    // The pixels at the lowest level take the samples up to the next level.
+    uint32_t next = most;
+    behind.clear();
+    for (size_t p = 0; p < film.pixels(); ++p) {
+      const uint32_t taken = film.taken(p);
+      if (taken == least)
+        behind.push_back(uint32_t(p));
+      else
+        next = std::min(next, taken);
+    }
+    integrator_->render(film, first + least, first + next, behind, options.stop, progress);
+    if (options.stop && options.stop->load()) {
+      out.stopped = true;
+      levels();
+      out.seconds = seconds_since(start);
+      progress.finish();
+      return out;
+    }
+  }
+  RenderOutcome rest = run(film, std::min(out.complete, last), last, progress, options, checkpoint);
+  rest.first = first;
+  rest.seconds = seconds_since(start);
+  return rest;
+}
+
 }  // namespace dacrt

@@ -87,6 +87,13 @@ class RenderJob {
   RenderOutcome run(Film& film, uint32_t first, uint32_t last, Progress& progress,
                     const PassOptions& options = {}, const Checkpoint& checkpoint = {});
 
+  // Continues a film of samples [first, …) of this render, stopped anywhere (each pixel has
+  // [first, first + film.taken(pixel))), up to `last`: first the pixels a stop left behind take
+  // the samples the others have, level by level, then passes go on as run's. The film ends the
+  // same bit for bit as one run(first, last) would have made it. Not with adaptive sampling.
+  RenderOutcome resume(Film& film, uint32_t first, uint32_t last, Progress& progress,
+                       const PassOptions& options = {}, const Checkpoint& checkpoint = {});
+
  private:
   const RenderSettings settings_;
   const Shot shot_;

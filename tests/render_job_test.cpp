@@ -338,6 +338,19 @@ TEST_CASE("render job: `direct` is `path` with max depth 1, bit for bit in every
   CHECK(deeper > sum);
 }
 
+namespace {
+// A film's state, exactly: the fixed-point sums and the counts.
+std::pair<std::vector<Fixed>, std::vector<uint32_t>> film_state(Film& f) {
+  std::vector<Fixed> sums;
+  std::vector<uint32_t> counts;
+  for (const Film::FixedArray& a : f.fixed_arrays())
+    sums.insert(sums.end(), a.values->begin(), a.values->end());
+  for (const Film::CountArray& a : f.count_arrays())
+    counts.insert(counts.end(), a.values->begin(), a.values->end());
+  return {sums, counts};
+}
+}  // namespace
+
 TEST_CASE("render job: samples 0 to a and a to b, merged, are samples 0 to b") {
   const Scene scene = lit_scene();
   RenderSettings s = lit_settings();
@@ -347,16 +360,6 @@ TEST_CASE("render job: samples 0 to a and a to b, merged, are samples 0 to b") {
   Progress quiet("test", 1, false);
   Film whole = job.film();
   job.run(whole, 0, 7, quiet);
-  // Every film's state, exactly: the fixed-point sums and the counts.
-  auto state = [](Film& f) {
-    std::vector<Fixed> sums;
-    std::vector<uint32_t> counts;
-    for (const Film::FixedArray& a : f.fixed_arrays())
-      sums.insert(sums.end(), a.values->begin(), a.values->end());
-    for (const Film::CountArray& a : f.count_arrays())
-      counts.insert(counts.end(), a.values->begin(), a.values->end());
-    return std::pair(sums, counts);
-  };
   // Several splits, merged in any order: the sums are exact, so each is the whole bit for bit.
   const std::vector<std::vector<uint32_t>> splits = {{0, 3, 7}, {0, 1, 2, 6, 7}, {0, 5, 6, 7}};
   for (const auto& split : splits) {
@@ -370,7 +373,7 @@ TEST_CASE("render job: samples 0 to a and a to b, merged, are samples 0 to b") {
         job.run(part, split[i], split[i + 1], quiet);
         merged.merge(part);
       }
-      CHECK(state(merged) == state(whole));
+      CHECK(film_state(merged) == film_state(whole));
       const std::vector<Channel> a = merged.channels(), b = whole.channels();
       REQUIRE(a.size() == b.size());
       for (size_t c = 0; c < a.size(); ++c) {
@@ -503,6 +506,59 @@ TEST_CASE("render job: passes end at a time limit, a stop token, or a stop from 
     CHECK(total == job.stats().paths);
     CHECK(total > uint64_t(out.complete - out.first) * film.pixels());
   }
+}
+
+TEST_CASE("render job: a render stopped in the middle of passes, resumed, is the whole render") {
+  const Scene scene = lit_scene();
+  RenderSettings s = lit_settings();
+  s.width = 24, s.height = 16, s.spp = 10, s.seed = 4, s.aovs = all_aovs;
+  s.wavefront = 64;  // a pass of 4 × 384 samples takes many wavefronts
+  Progress quiet("test", 1, false);
+  PassOptions o;
+  o.spp_per_pass = 4;
+  auto backend = Backend::create("dacrt", scene.geometry);
+  RenderJob whole_job(scene, *backend, s);
+  Film whole = whole_job.film();
+  whole_job.run(whole, 2, 10, quiet, o);
+  // Stopped twice at odd places (a stop inside the resume's levelling too), then resumed to the
+  // end, each time by a new job as a new process would.
+  for (int calls : {5, 23}) {
+    CAPTURE(calls);
+    Film film = whole_job.film();
+    std::atomic<bool> stop{false};
+    {
+      StopAfter stopping(scene.geometry, calls, stop);
+      RenderJob job(scene, stopping, s);
+      PassOptions stoppable = o;
+      stoppable.stop = &stop;
+      const RenderOutcome out = job.run(film, 2, 10, quiet, stoppable);
+      REQUIRE(out.stopped);
+      REQUIRE(film.min_count() < film.max_count());  // some pixels are ahead of others
+    }
+    {
+      stop = false;
+      StopAfter stopping(scene.geometry, 3, stop);
+      RenderJob job(scene, stopping, s);
+      PassOptions stoppable = o;
+      stoppable.stop = &stop;
+      const RenderOutcome out = job.resume(film, 2, 10, quiet, stoppable);
+      CHECK(out.stopped);
+      CHECK(out.complete < 10u);
+    }
+    RenderJob job(scene, *backend, s);
+    const RenderOutcome out = job.resume(film, 2, 10, quiet, o);
+    CHECK(!out.stopped);
+    CHECK(out.first == 2u);
+    CHECK(out.complete == 10u);
+    CHECK(out.most == 10u);
+    CHECK(film_state(film) == film_state(whole));
+  }
+  // Adaptive sampling's pixels stop by what the others have: not resumable.
+  RenderSettings adaptive = s;
+  adaptive.adaptive = 0.1;
+  RenderJob job(scene, *backend, adaptive);
+  Film film = job.film();
+  CHECK_THROWS_AS(job.resume(film, 0, 10, quiet, o), Error);
 }
 
 TEST_CASE("sample order: every sample of the call once, pixels by tiles, and the counts a stop leaves") {

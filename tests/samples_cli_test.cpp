@@ -73,7 +73,8 @@ TEST_CASE("render --samples: ranges that are not part of the render are usage er
 TEST_CASE("render: the header's match.* keys, what parts of one render share") {
   TempDir dir("samples-match");
   const ExrFile a = render_part(dir, "a.exr", "--samples 0:3");
-  const ExrFile b = render_part(dir, "b.exr", "--samples 3:8 --backend embree --threads 1");
+  const ExrFile b = render_part(dir, "b.exr", "--samples 3:8 --backend dacrt-naive --threads 1");
+  const ExrFile e = render_part(dir, "e.exr", "--samples 3:8 --backend embree");
   const ExrFile seed = render_part(dir, "seed.exr", "--samples 3:8 --seed 6");
   auto keys = [](const ExrFile& f) {
     std::map<std::string, std::string> m;
@@ -83,6 +84,12 @@ TEST_CASE("render: the header's match.* keys, what parts of one render share") {
   };
   CHECK(keys(a).size() >= 15);
   CHECK(keys(a) == keys(b));  // the backend and the threads never change a pixel
+  CHECK(keys(a).at("match.intersection") == "dacrt");
+  // ... but for Embree's intersection test, whose hits differ in the last bits.
+  std::map<std::string, std::string> embree = keys(e);
+  CHECK(embree.at("match.intersection") == "embree");
+  embree["match.intersection"] = "dacrt";
+  CHECK(embree == keys(a));
   std::map<std::string, std::string> other = keys(seed);
   CHECK(other.at("match.seed") == "6");
   other["match.seed"] = "5";
