@@ -229,7 +229,8 @@ struct Help {
 std::vector<Help> helps() {
   TempDir dir("docs-help");
   std::vector<Help> out;
-  for (const std::string command : {"", "render", "bench", "converge", "diff", "info", "views"}) {
+  for (const std::string command :
+       {"", "render", "bench", "converge", "diff", "merge", "info", "views"}) {
     const Run r = run(dir, command.empty() ? "--help" : command + " --help");
     INFO("dacrt " << command << " --help");
     REQUIRE(r.code == 0);
