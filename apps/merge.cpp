@@ -16,6 +16,7 @@
 #include "render/render_job.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/memory.h"
 #include "util/paths.h"
 #include "util/progress.h"
 #include "util/text.h"
@@ -148,6 +149,13 @@ int merge_main(const std::vector<std::string>& args) {
     throw Error(m.parts.front() + ": its match.aovs attribute is missing or names unknown outputs");
   }
 
+  // The merged film and one part's beside it, with the image channels and preview made from them.
+  const uint64_t need = 2 * Film::bytes(width, height, aovs) +
+                        uint64_t(width) * uint64_t(height) * (4 * Film::channel_count(aovs) + 15);
+  if (need > available_memory())
+    throw Error(m.parts.front() + ": merging " + std::to_string(width) + " x " +
+                std::to_string(height) + " parts needs about " + format_bytes(need) +
+                ", more than the " + format_bytes(available_memory()) + " of memory available");
   Film film(width, height, aovs);
   Progress progress("merge", parts.size(), !m.quiet);
   double seconds = 0.0;
