@@ -70,3 +70,28 @@ TEST_CASE("film: sums are the same bit for bit in any order; values past the lim
   bright.merge(other);
   CHECK(bright.clamped() == 3);
 }
+
+TEST_CASE("film: check_sums refuses counts and sums no samples can make (films read from files)") {
+  Film film(3, 2, AovSet().add(Aov::albedo));
+  film.add(4, glm::vec3(1.f), nullptr);
+  film.add(4, glm::vec3(2.f), nullptr);
+  CHECK(film.check_sums(2) == "");
+  CHECK(film.check_sums(1).find("pixel (1, 1) took 2 samples") != std::string::npos);
+  auto forged = [&](const char* name, size_t index, Fixed value) {
+    Film f = film;
+    for (const Film::FixedArray& a : f.fixed_arrays())
+      if (std::string(a.name) == name) (*a.values)[index] = value;
+    return f.check_sums(8);
+  };
+  const Fixed one = Fixed(1) << 64;
+  CHECK(forged("sum", 12, 2 * (one << 30)) == "");  // two samples at the limit
+  CHECK(forged("sum", 12, 2 * (one << 30) + 1).find("pixel (1, 1) has sums") != std::string::npos);
+  CHECK(forged("sum", 0, 1).find("pixel (0, 0) has sums") != std::string::npos);  // no samples
+  CHECK(forged("square", 13, -1).find("pixel (1, 1)") != std::string::npos);
+  CHECK(forged("meanSquare", 4, -1).find("pixel (1, 1)") != std::string::npos);
+  CHECK(forged("firstHit", 40, 3 * (one << 30)).find("pixel (1, 1)") != std::string::npos);
+  Film more = film;
+  for (const Film::CountArray& a : more.count_arrays())
+    if (std::string(a.name) == "count") (*a.values)[2] = 1;  // kept one of none taken
+  CHECK(more.check_sums(8).find("pixel (2, 0) took 0 samples and kept 1") != std::string::npos);
+}
