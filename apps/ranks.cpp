@@ -1,0 +1,170 @@
+#include "apps/ranks.h"
+
+#include <algorithm>
+#include <climits>
+#include <cstdlib>
+
+#ifdef DACRT_HAVE_MPI
+#include <mpi.h>
+
+#include <array>
+#include <cstring>
+
+#include "util/error.h"
+#endif
+
+namespace dacrt {
+
+std::pair<uint32_t, uint32_t> Ranks::share(uint32_t first, uint32_t last, int rank, int size) {
+  const uint64_t n = last > first ? last - first : 0, r = uint64_t(rank), k = uint64_t(size);
+  // The first n % k ranks take one sample more than the others.
+  const uint64_t base = n / k, extra = n % k;
+  const uint64_t begin = first + r * base + std::min(r, extra);
+  return {uint32_t(begin), uint32_t(begin + base + (r < extra))};
+}
+
+#ifndef DACRT_HAVE_MPI
+
+Ranks::Ranks(int&, char**&) {}
+Ranks::~Ranks() = default;
+void Ranks::reduce(Film&, size_t) const {}
+std::string Ranks::first_error(const std::string& mine) const {
+  return mine;
+}
+bool Ranks::any(bool mine) const {
+  return mine;
+}
+
+#else
+
+namespace {
+
+// Whether a launcher started this process: OpenMPI's mpirun, or a PMIx or PMI (Hydra, Slurm) one.
+bool launched() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "PMI_RANK"})
+    if (std::getenv(name)) return true;
+  return false;
+}
+
+// MPI_User_function: inout[i] += in[i] for 128-bit fixed-point sums, added as unsigned words (the
+// two's complement bits of the signed sum, without signed overflow's undefined behaviour). Read
+// and written with memcpy: MPI's temporary buffers need not be 16-byte aligned.
+static_assert(sizeof(Fixed) == 16);
+void add_fixed(void* in, void* inout, int* len, MPI_Datatype*) {
+  __extension__ using Word = unsigned __int128;
+  const auto* from = static_cast<const unsigned char*>(in);
+  auto* to = static_cast<unsigned char*>(inout);
+  for (int i = 0; i < *len; ++i, from += sizeof(Word), to += sizeof(Word)) {
+    Word a, b;
+    std::memcpy(&a, from, sizeof(Word));
+    std::memcpy(&b, to, sizeof(Word));
+    b += a;
+    std::memcpy(to, &b, sizeof(Word));
+  }
+}
+
+// The 16-byte type and the commutative sum reduce() sends the fixed-point arrays with, freed
+// when the reduction ends.
+struct FixedSum {
+  MPI_Datatype type;
+  MPI_Op op;
+  FixedSum() {
+    MPI_Type_contiguous(2, MPI_UINT64_T, &type);
+    MPI_Type_commit(&type);
+    MPI_Op_create(add_fixed, /*commute=*/1, &op);
+  }
+  ~FixedSum() {
+    MPI_Op_free(&op);
+    MPI_Type_free(&type);
+  }
+  FixedSum(const FixedSum&) = delete;
+  FixedSum& operator=(const FixedSum&) = delete;
+};
+
+// Adds n elements at `data` over the ranks into rank 0's, `chunk` elements per MPI_Reduce.
+template <class T>
+void reduce_array(T* data, size_t n, MPI_Datatype type, MPI_Op op, size_t chunk, bool root) {
+  for (size_t at = 0; at < n; at += chunk) {
+    const int count = int(std::min(chunk, n - at));
+    MPI_Reduce(root ? MPI_IN_PLACE : data + at, root ? data + at : nullptr, count, type, op, 0,
+               MPI_COMM_WORLD);
+  }
+}
+
+}  // namespace
+
+Ranks::Ranks(int& argc, char**& argv) {
+  if (!launched()) return;
+  // Funneled: the render's worker threads never call MPI, only the thread that made the Ranks.
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  mpi_ = true;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+}
+
+Ranks::~Ranks() {
+  if (mpi_) MPI_Finalize();
+}
+
+void Ranks::reduce(Film& film, size_t chunk) const {
+  if (!mpi_ || size_ == 1) return;
+  std::vector<Film::FixedArray> sums = film.fixed_arrays();
+  std::vector<Film::CountArray> counts = film.count_arrays();
+  // Every rank must send arrays of the same lengths, or the reduction would mix up pixels or
+  // wait forever: first the films' shapes, their largest and (as the largest of the bitwise
+  // complements) smallest values over the ranks, so that all ranks agree and all throw.
+  size_t sum_size = 0, count_size = 0;
+  for (const Film::FixedArray& a : sums) sum_size += a.values->size();
+  for (const Film::CountArray& a : counts) count_size += a.values->size();
+  constexpr int fields = 6;
+  const std::array<uint64_t, fields> shape = {uint64_t(film.width()),
+                                              uint64_t(film.height()),
+                                              sums.size(),
+                                              counts.size(),
+                                              sum_size,
+                                              count_size};
+  std::array<uint64_t, 2 * fields> most;
+  for (int i = 0; i < fields; ++i) most[i] = shape[i], most[fields + i] = ~shape[i];
+  MPI_Allreduce(MPI_IN_PLACE, most.data(), 2 * fields, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
+  for (int i = 0; i < fields; ++i)
+    if (most[i] != ~most[fields + i])
+      throw Error("the ranks' films differ in size or outputs (" + std::to_string(~most[fields]) +
+                  " x " + std::to_string(~most[fields + 1]) + " to " + std::to_string(most[0]) +
+                  " x " + std::to_string(most[1]) + ")");
+
+  chunk = std::clamp<size_t>(chunk, 1, INT_MAX);
+  const FixedSum fixed;
+  for (const Film::FixedArray& a : sums)
+    reduce_array(a.values->data(), a.values->size(), fixed.type, fixed.op, chunk, root());
+  for (const Film::CountArray& a : counts)
+    reduce_array(a.values->data(), a.values->size(), MPI_UINT32_T, MPI_SUM, chunk, root());
+  uint64_t tallies[2] = {film.dropped(), film.clamped()};
+  reduce_array(tallies, 2, MPI_UINT64_T, MPI_SUM, chunk, root());
+  if (root()) film.set_tallies(tallies[0], tallies[1]);
+}
+
+std::string Ranks::first_error(const std::string& mine) const {
+  if (!mpi_ || size_ == 1) return mine;
+  int failing = mine.empty() ? size_ : rank_;
+  MPI_Allreduce(MPI_IN_PLACE, &failing, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (failing == size_) return "";
+  // The failing rank's message, cut to a length any count can hold.
+  std::string message = rank_ == failing ? mine.substr(0, 1 << 16) : "";
+  int length = int(message.size());
+  MPI_Bcast(&length, 1, MPI_INT, failing, MPI_COMM_WORLD);
+  message.resize(size_t(length));
+  MPI_Bcast(message.data(), length, MPI_CHAR, failing, MPI_COMM_WORLD);
+  return "rank " + std::to_string(failing) + ": " + message;
+}
+
+bool Ranks::any(bool mine) const {
+  if (!mpi_ || size_ == 1) return mine;
+  int flag = mine;
+  MPI_Allreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
+  return flag != 0;
+}
+
+#endif
+
+}  // namespace dacrt
