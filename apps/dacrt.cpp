@@ -27,6 +27,7 @@
 #include "apps/converge.h"
 #include "apps/diff.h"
 #include "apps/merge.h"
+#include "apps/ranks.h"
 #include "apps/render_options.h"
 #include "apps/render_report.h"
 #include "apps/report.h"
@@ -53,6 +54,40 @@ namespace fs = std::filesystem;
 using namespace dacrt;
 
 namespace {
+
+// The processes of this run: one, or the ranks of `mpirun -np R dacrt render …` (apps/ranks.h).
+const Ranks* ranks = nullptr;
+// Set once a rank has passed the last collective call of the run: a failure after it (rank 0
+// writing the outputs) is its own and ends the run without waiting for the others.
+bool collectives_over = false;
+
+// The whole job fails: another rank's failure (its message, from Ranks::first_error), or a stop.
+struct RanksFailed {
+  int code;
+  std::string message;  // printed by rank 0
+};
+
+// Under mpirun, after each rank rendered its share of samples [first, last) into `film`: every
+// rank waits for the others (a rank that failed before this point takes part in the same
+// collective from main(), so the whole job fails with its message), the job stops without an
+// output when any rank was stopped, and the films add up on rank 0, which then holds every
+// sample and the outcome of one process: true there, false on the others (which are done).
+bool gather_film(Film& film, RenderOutcome& outcome, uint32_t first, uint32_t last) {
+  const std::string failed = ranks->first_error("");
+  if (!failed.empty()) {
+    collectives_over = true;
+    throw RanksFailed{1, failed};  // "rank N: dacrt: error: …"
+  }
+  if (ranks->any(outcome.stopped)) {
+    collectives_over = true;
+    throw RanksFailed{130, "dacrt: stopped: a render under mpirun that is stopped writes nothing "
+                           "(render parts with --samples to keep what is done)"};
+  }
+  ranks->reduce(film);
+  collectives_over = true;
+  outcome.first = first, outcome.complete = outcome.most = last;
+  return ranks->root();
+}
 
 constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer ray tracing
 
@@ -342,6 +377,22 @@ int render(const std::vector<std::string>& args) {
   if (backends.empty()) throw UsageError("--backend needs at least one backend name");
   if (r.resume && backends.size() > 1)
     throw UsageError("--resume continues one output: one --backend at a time");
+  // Under mpirun the ranks split the samples of one image: one frame, one backend, every rank
+  // to the end of its share (a pass cut by the clock would leave the shares uneven).
+  const bool spread = ranks->size() > 1;
+  if (spread) {
+    auto refuse = [](const std::string& what) {
+      throw UsageError(what + " is for one process: under mpirun the ranks split one image's "
+                              "samples (run separate jobs, or parts with --samples)");
+    };
+    if (backends.size() > 1) refuse("several backends");
+    if (r.frames) refuse("--frames");
+    if (r.resume) refuse("--resume");
+    if (r.passes.time_limit > 0) refuse("--time-limit");
+    if (r.passes.checkpoint > 0) refuse("--checkpoint");
+    if (r.settings.adaptive > 0) refuse("--adaptive");
+    if (!ranks->root()) r.quiet = true;  // progress, notes and the summary from rank 0
+  }
   check_integrator(r.settings.integrator);
   std::vector<BackendRun> runs;
   const std::vector<std::string> known = Backend::names();
@@ -471,14 +522,17 @@ int render(const std::vector<std::string>& args) {
       Film film = resuming ? std::move(*earlier) : job.film();
       uint64_t taken = 0;
       for (size_t p = 0; p < film.pixels(); ++p) taken += film.taken(p);
+      // This process's samples: all of them, or its rank's share.
+      const auto [from, to] = spread ? ranks->share(first, last) : std::pair(first, last);
       Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
-                        shot.pixels() * uint64_t(last - first) - taken, !r.quiet);
+                        shot.pixels() * uint64_t(to - from) - taken, !r.quiet);
       const auto checkpoint = [&](const Film& so_far, const RenderOutcome& o) {
         write_outputs(r, scene, shot, run, so_far, o, keys, last);
       };
-      const RenderOutcome outcome =
+      RenderOutcome outcome =
           resuming ? job.resume(film, first, last, progress, r.passes, checkpoint)
-                  : job.run(film, first, last, progress, r.passes, checkpoint);
+                   : job.run(film, from, to, progress, r.passes, checkpoint);
+      if (spread && !gather_film(film, outcome, first, last)) return 0;
       run.stats = job.stats();
       run.backend_stats = backend->stats();
       run.seconds = seconds_since(t0);
@@ -728,6 +782,8 @@ int run(std::vector<std::string> args) {
     std::fputs(main_help, stdout);
     return 0;
   }
+  // Only render's ranks work together; under mpirun any other command runs in every rank alone.
+  collectives_over = command != "render";
   if (command == "render") return render(args);
   if (command == "info") return info(args);
   if (command == "views") return views(args);
@@ -751,19 +807,42 @@ int main(int argc, char** argv) {
   // outputs; a lost standard output is reported by flushed().
   std::signal(SIGXFSZ, SIG_IGN);
   std::signal(SIGPIPE, SIG_IGN);
+  // Under an MPI launcher: MPI_Init (and MPI_Finalize when main returns); else one process.
+  std::optional<Ranks> world;
   try {
-    return flushed(run(std::vector<std::string>(argv + 1, argv + argc)));
-  } catch (const UsageError& e) {
-    return fail(2, "dacrt: ", e.what(), " (see dacrt --help)");
-  } catch (const std::invalid_argument& e) {  // usage errors of `dacrt bench`
-    return fail(2, "dacrt bench: ", e.what(), " (see dacrt bench --help)");
-  } catch (const SettingError& e) {  // a camera override that cannot make a view
-    return fail(2, "dacrt: ", e.what(), " (see dacrt --help)");
-  } catch (const Error& e) {
-    return fail(1, "dacrt: error: ", e.what(), "");
-  } catch (const std::bad_alloc&) {
-    return fail(1, "dacrt: error: ", "out of memory", "");
+    world.emplace(argc, argv);
   } catch (const std::exception& e) {
     return fail(1, "dacrt: error: ", e.what(), "");
   }
+  ranks = &*world;
+  int code = 0;
+  std::string message;
+  try {
+    return flushed(run(std::vector<std::string>(argv + 1, argv + argc)));
+  } catch (const RanksFailed& e) {  // agreed by every rank already
+    if (ranks->root()) print_message(e.message);
+    return e.code;
+  } catch (const UsageError& e) {
+    code = 2, message = "dacrt: " + std::string(e.what()) + " (see dacrt --help)";
+  } catch (const std::invalid_argument& e) {  // usage errors of `dacrt bench`
+    code = 2, message = "dacrt bench: " + std::string(e.what()) + " (see dacrt bench --help)";
+  } catch (const SettingError& e) {  // a camera override that cannot make a view
+    code = 2, message = "dacrt: " + std::string(e.what()) + " (see dacrt --help)";
+  } catch (const Error& e) {
+    code = 1, message = "dacrt: error: " + std::string(e.what());
+  } catch (const std::bad_alloc&) {
+    code = 1, message = "dacrt: error: out of memory";
+  } catch (const std::exception& e) {
+    code = 1, message = "dacrt: error: " + std::string(e.what());
+  }
+  // Under mpirun a failure before the films are gathered is the whole job's: every other rank is
+  // waiting in gather_film's first collective, which this one joins; rank 0 prints the failure
+  // of the lowest failing rank.
+  if (ranks->size() > 1 && !collectives_over) {
+    const std::string first = ranks->first_error(message);
+    if (ranks->root()) print_message(first);
+    return code;
+  }
+  print_message(message);
+  return code;
 }

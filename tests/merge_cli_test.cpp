@@ -17,6 +17,7 @@
 
 #include "cli.h"
 #include "io/exr.h"
+#include "same_image.h"
 
 using namespace dacrt;
 using namespace dacrt::test;
@@ -35,29 +36,6 @@ void render(const TempDir& dir, const std::string& name, const std::string& args
 
 Run merge(const TempDir& dir, const std::string& args) {
   return run(dir, "merge --quiet " + args);
-}
-
-// Every image channel (not the exact sums) of two files the same, bit for bit.
-void check_same_image(const std::string& a, const std::string& b) {
-  const ExrFile x = read_exr_file(a), y = read_exr_file(b);
-  std::map<std::string, const Channel*> image;
-  for (const Channel& c : y.channels)
-    if (c.name.rfind("exact.", 0) != 0) image[c.name] = &c;
-  size_t compared = 0;
-  for (const Channel& c : x.channels) {
-    if (c.name.rfind("exact.", 0) == 0) continue;
-    INFO(a << " and " << b << ", channel " << c.name);
-    REQUIRE(image.count(c.name));
-    CHECK(std::memcmp(c.values.data(), image[c.name]->values.data(),
-                      c.values.size() * sizeof(float)) == 0);
-    ++compared;
-  }
-  CHECK(compared == image.size());
-  CHECK(compared == 17);  // R G B, albedo (3), N (3), Z, P (3), variance (3), samples
-}
-
-bool has_sums(const std::string& file) {
-  return read_exr_header(file).channels.count("exact.sum.0.w0") == 1;
 }
 
 // A copy of `from` with one string attribute set: a forged part.
