@@ -203,6 +203,12 @@ Ray tracing
 Other
   --quiet                    no progress bar or summary on stderr
   -h, --help                 this text
+
+Under mpirun (`mpirun -np R dacrt render SCENE ...`) the ranks split the samples of every pixel
+and rank 0 writes the image, bit for bit one process's; progress and errors come from rank 0, a
+rank that fails fails the job. As root OpenMPI wants --allow-run-as-root, more ranks than cores
+--oversubscribe. Not with --frames, several backends, --resume, --time-limit, --checkpoint or
+--adaptive.
 )help";
 
 // The render's largest allocations, estimated before any is made: the film, the resolved image
