@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -156,23 +157,26 @@ int merge_main(const std::vector<std::string>& args) {
     throw Error(m.parts.front() + ": merging " + std::to_string(width) + " x " +
                 std::to_string(height) + " parts needs about " + format_bytes(need) +
                 ", more than the " + format_bytes(available_memory()) + " of memory available");
+  // The first part is read into the merged film itself, the others into one film beside it.
   Film film(width, height, aovs);
+  std::optional<Film> part;
   Progress progress("merge", parts.size(), !m.quiet);
   double seconds = 0.0;
   std::set<std::string> backends;
   uint64_t dropped = 0, clamped = 0, done = 0;
   for (size_t i : plan.order) {
     const PartHeader& p = parts[i];
-    Film part(width, height, aovs);
-    read_film_words(p.file, part, p.last - p.first);
-    for (size_t px = 0; px < part.pixels(); ++px)
-      if (part.taken(px) != p.last - p.first)
+    if (done > 0 && !part) part.emplace(width, height, aovs);
+    Film& into = done == 0 ? film : *part;
+    read_film_words(p.file, into, p.last - p.first);
+    for (size_t px = 0; px < into.pixels(); ++px)
+      if (into.taken(px) != p.last - p.first)
         throw Error(p.file + ": pixel (" + std::to_string(px % size_t(width)) + ", " +
                     std::to_string(px / size_t(width)) + ") took " +
-                    std::to_string(part.taken(px)) + " samples, its sampleRange " +
+                    std::to_string(into.taken(px)) + " samples, its sampleRange " +
                     std::to_string(p.first) + ":" + std::to_string(p.last) + " says " +
                     std::to_string(p.last - p.first));
-    film.merge(part);
+    if (done > 0) film.merge(*part);
     const auto& attributes = headers[i].attributes;
     dropped += number(attributes, "samplesDropped"), clamped += number(attributes, "samplesClamped");
     seconds += std::strtod(attributes.count("renderSeconds") ? attributes.at("renderSeconds").c_str()

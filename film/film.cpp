@@ -37,46 +37,37 @@ Film::Film(int width, int height, AovSet aovs)
     : width_(width),
       height_(height),
       aovs_(aovs),
-      sum_(size_t(3) * width * height, 0),
-      sum_sq_(size_t(3) * width * height, 0),
-      mean_sq_(size_t(width) * height, 0),
+      stride_(at_first + (aovs.first_hit() ? first_count : 0)),
+      fixed_(stride_ * size_t(width) * height, 0),
       count_(size_t(width) * height, 0),
       taken_(size_t(width) * height, 0) {
-  if (aovs.first_hit()) {
-    first_.assign(first_stride * pixels(), 0);
-    hits_.assign(pixels(), 0);
-  }
+  if (aovs.first_hit()) hits_.assign(pixels(), 0);
 }
 
 uint64_t Film::bytes(int width, int height, AovSet aovs) {
-  const uint64_t per_pixel = 7 * sizeof(Fixed) + 2 * sizeof(uint32_t) +
-                             (aovs.first_hit() ? first_stride * sizeof(Fixed) + 4 : 0);
+  const uint64_t per_pixel = at_first * sizeof(Fixed) + 2 * sizeof(uint32_t) +
+                             (aovs.first_hit() ? first_count * sizeof(Fixed) + 4 : 0);
   return uint64_t(width) * uint64_t(height) * per_pixel;
 }
 
 void Film::merge(const Film& other) {
-  if (other.width_ != width_ || other.height_ != height_ || other.first_.size() != first_.size())
+  if (other.width_ != width_ || other.height_ != height_ || other.stride_ != stride_)
     throw Error("cannot merge a " + std::to_string(other.width_) + " x " +
                 std::to_string(other.height_) + " film into a " + std::to_string(width_) + " x " +
                 std::to_string(height_) + " one with other outputs");
   auto add = [](auto& to, const auto& from) {
     tbb::parallel_for(size_t(0), to.size(), [&](size_t i) { to[i] += from[i]; });
   };
-  add(sum_, other.sum_);
-  add(sum_sq_, other.sum_sq_);
-  add(mean_sq_, other.mean_sq_);
+  add(fixed_, other.fixed_);
   add(count_, other.count_);
   add(taken_, other.taken_);
-  add(first_, other.first_);
   add(hits_, other.hits_);
   dropped_ += other.dropped_;
   clamped_ += other.clamped_;
 }
 
 std::vector<Film::FixedArray> Film::fixed_arrays() {
-  std::vector<FixedArray> out = {{"sum", &sum_, 3}, {"square", &sum_sq_, 3}, {"meanSquare", &mean_sq_, 1}};
-  if (!first_.empty()) out.push_back({"firstHit", &first_, int(first_stride)});
-  return out;
+  return {{"sums", &fixed_, int(stride_)}};
 }
 
 std::vector<Film::CountArray> Film::count_arrays() {
@@ -101,13 +92,13 @@ std::string Film::check_sums(uint32_t most) const {
     if (!hits_.empty() && hits_[p] > n)
       return where() + " has more first hits than samples";
     auto within = [&](Fixed v, Fixed limit) { return v <= n * limit && v >= -(n * limit); };
+    const Fixed* f = &fixed_[stride_ * p];
     bool ok = true;
     for (int c = 0; c < 3; ++c)
-      ok = ok && within(sum_[3 * p + c], value_most) && sum_sq_[3 * p + c] >= 0 &&
-           within(sum_sq_[3 * p + c], square_most);
-    ok = ok && mean_sq_[p] >= 0 && within(mean_sq_[p], square_most);
-    for (size_t k = 0; k < (first_.empty() ? 0 : first_stride); ++k)
-      ok = ok && within(first_[first_stride * p + k], value_most);
+      ok = ok && within(f[at_sum + c], value_most) && f[at_square + c] >= 0 &&
+           within(f[at_square + c], square_most);
+    ok = ok && f[at_mean_square] >= 0 && within(f[at_mean_square], square_most);
+    for (size_t k = at_first; k < stride_; ++k) ok = ok && within(f[k], value_most);
     if (!ok) return where() + " has sums its " + std::to_string(n) + " samples cannot add up to";
   }
   return "";
@@ -131,7 +122,9 @@ Image Film::resolve() const {
   Image img(width_, height_);
   tbb::parallel_for(size_t(0), pixels(), [&](size_t p) {
     for (int c = 0; c < 3; ++c)
-      img.rgb[3 * p + c] = count_[p] ? float(from_fixed<value_bits>(sum_[3 * p + c]) / count_[p]) : 0.f;
+      img.rgb[3 * p + c] =
+          count_[p] ? float(from_fixed<value_bits>(fixed_[stride_ * p + at_sum + c]) / count_[p])
+                    : 0.f;
   });
   return img;
 }
@@ -139,10 +132,10 @@ Image Film::resolve() const {
 glm::dvec2 Film::mean_and_error(size_t pixel) const {
   const double n = count_[pixel];
   if (n < 1) return {0.0, 0.0};
-  const double mean =
-      from_fixed<value_bits>(sum_[3 * pixel] + sum_[3 * pixel + 1] + sum_[3 * pixel + 2]) / (3.0 * n);
+  const Fixed* f = &fixed_[stride_ * pixel];
+  const double mean = from_fixed<value_bits>(f[at_sum] + f[at_sum + 1] + f[at_sum + 2]) / (3.0 * n);
   const double var =
-      n > 1 ? std::max(0.0, (from_fixed<square_bits>(mean_sq_[pixel]) - n * mean * mean) / (n - 1))
+      n > 1 ? std::max(0.0, (from_fixed<square_bits>(f[at_mean_square]) - n * mean * mean) / (n - 1))
             : 0.0;
   return {mean, std::sqrt(var / n)};
 }
@@ -150,9 +143,10 @@ glm::dvec2 Film::mean_and_error(size_t pixel) const {
 double Film::variance_of_mean(size_t pixel, int c) const {
   const double n = count_[pixel];
   if (n < 2) return 0.0;
-  const double sum = from_fixed<value_bits>(sum_[3 * pixel + c]);
+  const Fixed* f = &fixed_[stride_ * pixel];
+  const double sum = from_fixed<value_bits>(f[at_sum + c]);
   const double s2 =
-      std::max(0.0, (from_fixed<square_bits>(sum_sq_[3 * pixel + c]) - sum * sum / n) / (n - 1));
+      std::max(0.0, (from_fixed<square_bits>(f[at_square + c]) - sum * sum / n) / (n - 1));
   return s2 / n;
 }
 
@@ -175,8 +169,9 @@ std::vector<Channel> Film::channels(bool counts) const {
   };
   const char* rgb[3] = {"R", "G", "B"};
   const char* xyz[3] = {"X", "Y", "Z"};
-  for (int c = 0; c < 3; ++c) channel(rgb[c], [&](size_t p) { return mean(p, sum_[3 * p + c]); });
-  auto first = [&](size_t p, int k) { return first_[first_stride * p + k]; };
+  for (int c = 0; c < 3; ++c)
+    channel(rgb[c], [&](size_t p) { return mean(p, fixed_[stride_ * p + at_sum + c]); });
+  auto first = [&](size_t p, int k) { return fixed_[stride_ * p + at_first + k]; };
   auto over_hits = [&](size_t p, int k, double none) {
     return hits_[p] ? from_fixed<value_bits>(first(p, k)) / hits_[p] : none;
   };

@@ -176,38 +176,41 @@ class Film {
       return c;
     };
     const glm::dvec3 r(value(radiance.x), value(radiance.y), value(radiance.z));
+    Fixed* f = &fixed_[stride_ * pixel];
     for (int c = 0; c < 3; ++c) {
-      sum_[3 * pixel + c] += to_fixed<value_bits>(r[c]);
-      sum_sq_[3 * pixel + c] += to_fixed<square_bits>(r[c] * r[c]);
+      f[at_sum + c] += to_fixed<value_bits>(r[c]);
+      f[at_square + c] += to_fixed<square_bits>(r[c] * r[c]);
     }
     const double m = (r.x + r.y + r.z) / 3.0;
-    mean_sq_[pixel] += to_fixed<square_bits>(m * m);
+    f[at_mean_square] += to_fixed<square_bits>(m * m);
     ++count_[pixel];
-    if (first && !first_.empty()) {
-      Fixed* f = &first_[first_stride * pixel];
+    if (first && stride_ > at_first) {
       for (int c = 0; c < 3; ++c)
-        f[c] += to_fixed<value_bits>(value(first->albedo[c])),
-            f[3 + c] += to_fixed<value_bits>(value(first->normal[c]));
+        f[at_first + c] += to_fixed<value_bits>(value(first->albedo[c])),
+            f[at_first + 3 + c] += to_fixed<value_bits>(value(first->normal[c]));
       if (first->hit) {
-        f[6] += to_fixed<value_bits>(value(first->depth));
-        for (int c = 0; c < 3; ++c) f[7 + c] += to_fixed<value_bits>(value(first->position[c]));
+        f[at_first + 6] += to_fixed<value_bits>(value(first->depth));
+        for (int c = 0; c < 3; ++c)
+          f[at_first + 7 + c] += to_fixed<value_bits>(value(first->position[c]));
         ++hits_[pixel];
       }
     }
     return cut ? Added::clamped : Added::added;
   }
 
-  // Per pixel: albedo (3), normal (3), depth (1), position (3).
-  static constexpr size_t first_stride = 10;
+  // A pixel's sums, side by side (a sample touches one run of memory, not one array each): the
+  // colour (3), its squares (3), the square of the channel average (1), then with first-hit
+  // outputs albedo (3), normal (3), depth (1), position (3).
+  static constexpr size_t at_sum = 0, at_square = 3, at_mean_square = 6, at_first = 7,
+                          first_count = 10;
 
   int width_, height_;
   AovSet aovs_;
   std::vector<uint32_t> order_, start_;  // add_in_order's scratch
-  std::vector<Fixed> sum_, sum_sq_;      // per colour channel
-  std::vector<Fixed> mean_sq_;           // squares of the channel average
+  size_t stride_;                        // sums per pixel: at_first, or more with first hits
+  std::vector<Fixed> fixed_;             // stride_ per pixel
   std::vector<uint32_t> count_, taken_;  // samples added, samples taken (dropped ones too)
-  std::vector<Fixed> first_;    // first-hit sums, first_stride per pixel (empty: none kept)
-  std::vector<uint32_t> hits_;  // samples whose camera ray hit something (with first_)
+  std::vector<uint32_t> hits_;  // samples whose camera ray hit something (with first hits)
   uint64_t dropped_ = 0, clamped_ = 0;
 };
 

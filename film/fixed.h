@@ -28,15 +28,23 @@ constexpr double pow2(int e) {
   return p;
 }
 
-// v × 2^F rounded down (v × 2^(F − 64) must be below 2^63 in magnitude): the whole part and
-// the fraction are converted apart, which is exact and much faster than a 128-bit conversion.
+// v × 2^F rounded toward zero, for |v| ≤ 2^M (M = 30 for values, 60 for squares). Two exact
+// double → int64 conversions, no 128-bit one (a library call): the part above a split point
+// S = F + M − 62 bits below the binary point, y = v × 2^(F − S) (below 2^62), then the
+// fraction y − trunc(y) (exact) scaled by 2^S.
+template <int F, int M>
+inline Fixed to_fixed(double v) {
+  constexpr int split = F + M - 62;
+  constexpr double down = pow2(F - split), up = pow2(split);
+  const double y = v * down;  // exact: a power of two
+  const int64_t whole = int64_t(y);
+  const int64_t rest = int64_t((y - double(whole)) * up);
+  return Fixed(whole) * (Fixed(1) << split) + Fixed(rest);
+}
+
 template <int F>
 inline Fixed to_fixed(double v) {
-  constexpr double down = pow2(F - 64), up = pow2(64);
-  const double y = v * down;  // exact: a power of two
-  const double whole = std::floor(y);
-  const uint64_t low = uint64_t((y - whole) * up);  // y − whole is exact, in [0, 1)
-  return Fixed(int64_t(whole)) * (Fixed(1) << 64) + Fixed(low);
+  return to_fixed<F, F == value_bits ? 30 : 60>(v);
 }
 
 template <int F>

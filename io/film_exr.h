@@ -1,8 +1,9 @@
 // A film's exact state (film/film.h: its fixed-point sums and counts) in EXR channels beside the
 // image, so that a render's output can be merged with other parts of the render (`dacrt merge`)
 // or continued (`render --resume`) bit for bit. Each 128-bit sum is four 32-bit integer (UINT)
-// channels, lowest word first: "exact.sum.0.w0" … "exact.sum.0.w3" is the red sum; the counts
-// are "exact.count" and "exact.hits". The header's exactSums names the format.
+// channels, lowest word first: "exact.sums.0.w0" … "exact.sums.0.w3" is the red sum (the order
+// of a pixel's sums is the film's); the counts are "exact.count", "exact.taken" and
+// "exact.hits". The header's exactSums names the format.
 #pragma once
 
 #include <string>
@@ -15,7 +16,7 @@ namespace dacrt {
 
 // The exactSums attribute of files this version writes; files with another are refused.
 inline constexpr const char* exact_sums_format =
-    "fixed128 v1: values in 2^-64, squares in 2^-46, clamped at 2^30";
+    "fixed128 v2: values in 2^-64, squares in 2^-46, clamped at 2^30, toward zero";
 
 // The film's word channels, pointing into it (valid while the film lives and is not resized).
 std::vector<WordChannel> film_words(const Film& film);

@@ -12,14 +12,17 @@
 
 using namespace dacrt;
 
-TEST_CASE("fixed point: values convert down to the step, whole and fraction apart") {
+TEST_CASE("fixed point: values convert toward zero to the step, whole and fraction apart") {
   CHECK(to_fixed<value_bits>(1.0) == Fixed(1) << 64);
   CHECK(to_fixed<value_bits>(-1.0) == -(Fixed(1) << 64));
   CHECK(to_fixed<value_bits>(0.75) == Fixed(3) << 62);
   CHECK(to_fixed<value_bits>(-0.75) == -(Fixed(3) << 62));
   CHECK(to_fixed<value_bits>(0x1p-64) == 1);
-  CHECK(to_fixed<value_bits>(0x1p-66) == 0);    // below the step: down
-  CHECK(to_fixed<value_bits>(-0x1p-66) == -1);  // down, not toward zero
+  CHECK(to_fixed<value_bits>(0x1p-66) == 0);   // below the step: toward zero
+  CHECK(to_fixed<value_bits>(-0x1p-66) == 0);
+  CHECK(to_fixed<value_bits>(-(1 + 0x1p-50)) == -((Fixed(1) << 64) + (Fixed(1) << 14)));
+  CHECK(to_fixed<value_bits>(0x1p-30 + 0x1p-66) == Fixed(1) << 34);  // the fraction's bits cut
+  CHECK(to_fixed<square_bits>(0x1p60 - 0x1p8) == (Fixed(1) << 106) - (Fixed(1) << 54));
   CHECK(to_fixed<square_bits>(0x1p60) == Fixed(1) << 106);
   CHECK(to_fixed<value_bits>(-value_limit) == -(Fixed(1) << 94));
   // Every float in the range converts exactly when it is a multiple of the step, and back.
@@ -77,19 +80,22 @@ TEST_CASE("film: check_sums refuses counts and sums no samples can make (films r
   film.add(4, glm::vec3(2.f), nullptr);
   CHECK(film.check_sums(2) == "");
   CHECK(film.check_sums(1).find("pixel (1, 1) took 2 samples") != std::string::npos);
-  auto forged = [&](const char* name, size_t index, Fixed value) {
+  // The film with sum k of a pixel set (its sums: colour 0-2, squares 3-5, mean square 6, first
+  // hits 7-16).
+  auto forged = [&](size_t pixel, size_t k, Fixed value) {
     Film f = film;
-    for (const Film::FixedArray& a : f.fixed_arrays())
-      if (std::string(a.name) == name) (*a.values)[index] = value;
+    const Film::FixedArray a = f.fixed_arrays().at(0);
+    REQUIRE(a.per_pixel == 17);
+    (*a.values)[17 * pixel + k] = value;
     return f.check_sums(8);
   };
   const Fixed one = Fixed(1) << 64;
-  CHECK(forged("sum", 12, 2 * (one << 30)) == "");  // two samples at the limit
-  CHECK(forged("sum", 12, 2 * (one << 30) + 1).find("pixel (1, 1) has sums") != std::string::npos);
-  CHECK(forged("sum", 0, 1).find("pixel (0, 0) has sums") != std::string::npos);  // no samples
-  CHECK(forged("square", 13, -1).find("pixel (1, 1)") != std::string::npos);
-  CHECK(forged("meanSquare", 4, -1).find("pixel (1, 1)") != std::string::npos);
-  CHECK(forged("firstHit", 40, 3 * (one << 30)).find("pixel (1, 1)") != std::string::npos);
+  CHECK(forged(4, 0, 2 * (one << 30)) == "");  // two samples at the limit
+  CHECK(forged(4, 0, 2 * (one << 30) + 1).find("pixel (1, 1) has sums") != std::string::npos);
+  CHECK(forged(0, 0, 1).find("pixel (0, 0) has sums") != std::string::npos);  // no samples
+  CHECK(forged(4, 4, -1).find("pixel (1, 1)") != std::string::npos);
+  CHECK(forged(4, 6, -1).find("pixel (1, 1)") != std::string::npos);
+  CHECK(forged(4, 7, 3 * (one << 30)).find("pixel (1, 1)") != std::string::npos);
   Film more = film;
   for (const Film::CountArray& a : more.count_arrays())
     if (std::string(a.name) == "count") (*a.values)[2] = 1;  // kept one of none taken

@@ -33,7 +33,7 @@ inline void check_same_image(const std::string& a, const std::string& b, size_t 
 }
 
 inline bool has_sums(const std::string& file) {
-  return read_exr_header(file).channels.count("exact.sum.0.w0") == 1;
+  return read_exr_header(file).channels.count("exact.sums.0.w0") == 1;
 }
 
 }  // namespace dacrt::test
