@@ -15,7 +15,8 @@ SCENE=${1:-scenes/cornell-box.gltf}; W=${2:-512}; SPP=${3:-64}; RUNS=${4:-5}
 BIN=${BIN:-build/dacrt}
 OUT=${OUT:-/tmp/dacrt-mpi-scaling}; mkdir -p "$OUT"
 command -v mpirun >/dev/null || { echo "mpi-scaling: no mpirun (apt-get install openmpi-bin)" >&2; exit 1; }
-MPIRUN="mpirun --allow-run-as-root --oversubscribe"
+# Each rank free to use every core (OpenMPI binds a rank to one core when there are 2 or fewer).
+MPIRUN="mpirun -q --allow-run-as-root --oversubscribe --bind-to none"
 args=("$SCENE" --width "$W" --height "$W" --spp "$SPP" --quiet)
 
 # name | command prefix | threads per rank
@@ -46,7 +47,7 @@ echo "| configuration | threads in all | seconds | speed-up vs 1 thread | image 
 echo "|---|---|---|---|---|"
 for i in "${!configs[@]}"; do
   IFS='|' read -r name prefix threads <<< "${configs[$i]}"
-  ranks=$(echo "$prefix" | grep -o -- '-np [0-9]*' | awk '{print $2}'); ranks=${ranks:-1}
+  ranks=$(echo "$prefix" | { grep -o -- '-np [0-9]*' || true; } | awk '{print $2}'); ranks=${ranks:-1}
   m=$(echo "${times[$i]}" | median)
   printf '| %s | %d | %.2f | %.2f | bit for bit |\n' "$name" $((ranks * threads)) "$m" "$(echo "$base / $m" | bc -l)"
 done
