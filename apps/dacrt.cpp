@@ -207,8 +207,9 @@ Other
 Under mpirun (`mpirun -np R dacrt render SCENE ...`) the ranks split the samples of every pixel
 and rank 0 writes the image, bit for bit one process's; progress and errors come from rank 0, a
 rank that fails fails the job. As root OpenMPI wants --allow-run-as-root, more ranks than cores
---oversubscribe. Not with --frames, several backends, --resume, --time-limit, --checkpoint or
---adaptive.
+--oversubscribe; with 2 ranks or fewer it binds each to one core, so give --bind-to none (or
+--map-by node:PE=T) when ranks use several threads. Not with --frames, several backends,
+--resume, --time-limit, --checkpoint or --adaptive.
 )help";
 
 // The render's largest allocations, estimated before any is made: the film, the resolved image
