@@ -352,26 +352,14 @@ std::optional<Film> film_to_resume(const std::string& file, const RenderJob& job
     if (!quiet) print_message(file + ": nothing to resume yet: rendering from the start");
     return std::nullopt;
   }
-  const ExrHeader header = read_exr_header(file);
-  const auto format = header.attributes.find("exactSums");
-  if (format == header.attributes.end())
-    throw Error(file + " holds no exact sums to resume from (a render keeps them with --samples, "
-                       "--keep-sums, or when it is cut short)");
-  if (format->second != exact_sums_format)
-    throw Error(file + ": its exact sums are of another format (" + format->second + ")");
+  const ExrHeader header = read_sums_header(file, "to resume from");
   const PartHeader part = part_from_attributes(file, header.attributes);
   check_same_render(part, std::map<std::string, std::string>(keys.begin(), keys.end()));
   if (part.first != first)
     throw Error(file + " holds samples from " + std::to_string(part.first) +
                 ", this render's start at " + std::to_string(first));
   Film film = job.film();
-  read_film_words(file, film, last - first);
-  auto tally = [&](const char* name) {
-    const auto it = header.attributes.find(name);
-    return it == header.attributes.end() ? uint64_t(0)
-                                         : uint64_t(std::strtoull(it->second.c_str(), nullptr, 10));
-  };
-  film.set_tallies(tally("samplesDropped"), tally("samplesClamped"));
+  read_film_state(file, header, film, 0, last - first);
   return film;
 }
 

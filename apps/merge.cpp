@@ -95,11 +95,6 @@ const std::set<std::string> recomputed = {
     "exactSums",  "software",       "dacrtVersion",     "mergedFrom",     "samplesMissing",
     "sampleRanges"};
 
-uint64_t number(const std::map<std::string, std::string>& attributes, const char* name) {
-  const auto it = attributes.find(name);
-  return it == attributes.end() ? 0 : uint64_t(std::strtoull(it->second.c_str(), nullptr, 10));
-}
-
 }  // namespace
 
 int merge_main(const std::vector<std::string>& args) {
@@ -124,14 +119,8 @@ int merge_main(const std::vector<std::string>& args) {
   std::vector<ExrHeader> headers;
   std::vector<PartHeader> parts;
   for (const std::string& file : m.parts) {
-    headers.push_back(read_exr_header(file));
+    headers.push_back(read_sums_header(file, "to merge"));
     const auto& attributes = headers.back().attributes;
-    const auto format = attributes.find("exactSums");
-    if (format == attributes.end())
-      throw Error(file + " holds no exact sums: only renders with --samples or --keep-sums (or "
-                         "cut short) can be merged");
-    if (format->second != exact_sums_format)
-      throw Error(file + ": its exact sums are of another format (" + format->second + ")");
     if (const auto most = attributes.find("sampleRangeMost"); most != attributes.end())
       throw Error(file + " was cut short (some pixels have samples up to " + most->second +
                   "): finish it with `dacrt render ... --resume` before merging");
@@ -163,29 +152,20 @@ int merge_main(const std::vector<std::string>& args) {
   Progress progress("merge", parts.size(), !m.quiet);
   double seconds = 0.0;
   std::set<std::string> backends;
-  uint64_t dropped = 0, clamped = 0, done = 0;
+  uint64_t done = 0;
   for (size_t i : plan.order) {
     const PartHeader& p = parts[i];
     if (done > 0 && !part) part.emplace(width, height, aovs);
     Film& into = done == 0 ? film : *part;
-    read_film_words(p.file, into, p.last - p.first);
-    for (size_t px = 0; px < into.pixels(); ++px)
-      if (into.taken(px) != p.last - p.first)
-        throw Error(p.file + ": pixel (" + std::to_string(px % size_t(width)) + ", " +
-                    std::to_string(px / size_t(width)) + ") took " +
-                    std::to_string(into.taken(px)) + " samples, its sampleRange " +
-                    std::to_string(p.first) + ":" + std::to_string(p.last) + " says " +
-                    std::to_string(p.last - p.first));
-    if (done > 0) film.merge(*part);
+    read_film_state(p.file, headers[i], into, p.last - p.first, p.last - p.first);
+    if (done > 0) film.merge(*part);  // tallies too
     const auto& attributes = headers[i].attributes;
-    dropped += number(attributes, "samplesDropped"), clamped += number(attributes, "samplesClamped");
     seconds += std::strtod(attributes.count("renderSeconds") ? attributes.at("renderSeconds").c_str()
                                                              : "0",
                            nullptr);
     if (attributes.count("backend")) backends.insert(attributes.at("backend"));
     progress.update(++done, 0);
   }
-  film.set_tallies(dropped, clamped);
   progress.finish();
 
   // The header: the first part's, with what the union holds.

@@ -109,20 +109,19 @@ Ranks::~Ranks() {
 
 void Ranks::reduce(Film& film, size_t chunk) const {
   if (!mpi_ || size_ == 1) return;
-  std::vector<Film::FixedArray> sums = film.fixed_arrays();
+  std::vector<Fixed>& sums = film.sums();
   std::vector<Film::CountArray> counts = film.count_arrays();
   // Every rank must send arrays of the same lengths, or the reduction would mix up pixels or
   // wait forever: first the films' shapes, their largest and (as the largest of the bitwise
   // complements) smallest values over the ranks, so that all ranks agree and all throw.
-  size_t sum_size = 0, count_size = 0;
-  for (const Film::FixedArray& a : sums) sum_size += a.values->size();
+  size_t count_size = 0;
   for (const Film::CountArray& a : counts) count_size += a.values->size();
   constexpr int fields = 6;
   const std::array<uint64_t, fields> shape = {uint64_t(film.width()),
                                               uint64_t(film.height()),
-                                              sums.size(),
+                                              uint64_t(film.sums_per_pixel()),
                                               counts.size(),
-                                              sum_size,
+                                              sums.size(),
                                               count_size};
   std::array<uint64_t, 2 * fields> most;
   for (int i = 0; i < fields; ++i) most[i] = shape[i], most[fields + i] = ~shape[i];
@@ -135,8 +134,7 @@ void Ranks::reduce(Film& film, size_t chunk) const {
 
   chunk = std::clamp<size_t>(chunk, 1, INT_MAX);
   const FixedSum fixed;
-  for (const Film::FixedArray& a : sums)
-    reduce_array(a.values->data(), a.values->size(), fixed.type, fixed.op, chunk, root());
+  reduce_array(sums.data(), sums.size(), fixed.type, fixed.op, chunk, root());
   for (const Film::CountArray& a : counts)
     reduce_array(a.values->data(), a.values->size(), MPI_UINT32_T, MPI_SUM, chunk, root());
   uint64_t tallies[2] = {film.dropped(), film.clamped()};

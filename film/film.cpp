@@ -66,17 +66,13 @@ void Film::merge(const Film& other) {
   clamped_ += other.clamped_;
 }
 
-std::vector<Film::FixedArray> Film::fixed_arrays() {
-  return {{"sums", &fixed_, int(stride_)}};
-}
-
 std::vector<Film::CountArray> Film::count_arrays() {
   std::vector<CountArray> out = {{"count", &count_}, {"taken", &taken_}};
   if (!hits_.empty()) out.push_back({"hits", &hits_});
   return out;
 }
 
-std::string Film::check_sums(uint32_t most) const {
+std::string Film::check_sums(uint32_t least, uint32_t most) const {
   most = std::min(most, max_samples);
   // The largest sum n samples can make, in each scale.
   const Fixed value_most = Fixed(1) << (64 + 30), square_most = Fixed(1) << (46 + 60);
@@ -86,9 +82,13 @@ std::string Film::check_sums(uint32_t most) const {
       return "pixel (" + std::to_string(p % size_t(width_)) + ", " +
              std::to_string(p / size_t(width_)) + ")";
     };
-    if (took > most || n > took)
+    if (took < least || took > most || n > took)
       return where() + " took " + std::to_string(took) + " samples and kept " +
-             std::to_string(n) + " (at most " + std::to_string(most) + ")";
+             std::to_string(n) +
+             (least == most ? " (" + std::to_string(most) + " were to be taken)"
+              : least > 0   ? " (between " + std::to_string(least) + " and " +
+                                  std::to_string(most) + " were to be)"
+                            : " (at most " + std::to_string(most) + ")");
     if (!hits_.empty() && hits_[p] > n)
       return where() + " has more first hits than samples";
     auto within = [&](Fixed v, Fixed limit) { return v <= n * limit && v >= -(n * limit); };

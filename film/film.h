@@ -112,23 +112,19 @@ class Film {
   void merge(const Film& other);
 
   // The film's state as arrays, to send or store it exactly and add it back (merge, MPI, parts
-  // in EXR files): the fixed-point sums, then the counts, each with a name.
-  struct FixedArray {
-    const char* name;
-    std::vector<Fixed>* values;
-    int per_pixel;
-  };
+  // in EXR files): the fixed-point sums (sums_per_pixel() side by side for each pixel), then the
+  // counts, each with a name.
+  std::vector<Fixed>& sums() { return fixed_; }
+  int sums_per_pixel() const { return int(stride_); }
   struct CountArray {
     const char* name;
     std::vector<uint32_t>* values;
   };
-  std::vector<FixedArray> fixed_arrays();
   std::vector<CountArray> count_arrays();
-  // "" when every pixel took at most `most` samples, added no more than it took, has no more hits
-  // than samples, and sums its
-  // samples can add up to (so that adding films cannot overflow); else what is wrong, naming
-  // the pixel. For films read from files.
-  std::string check_sums(uint32_t most) const;
+  // "" when every pixel took between `least` and `most` samples, added no more than it took, has
+  // no more hits than samples, and sums its samples can add up to (so that adding films cannot
+  // overflow); else what is wrong, naming the pixel. For films read from files.
+  std::string check_sums(uint32_t least, uint32_t most) const;
   // The samples dropped (not finite) and clamped, set when a film is read back.
   void set_tallies(uint64_t dropped, uint64_t clamped) { dropped_ = dropped, clamped_ = clamped; }
 

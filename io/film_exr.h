@@ -26,9 +26,16 @@ std::vector<WordChannel> film_words(const Film& film);
 // samplesClamped) added, and with `exact` the word channels and exactSums.
 void write_film_exr(const std::string& path, const Film& film, ExrMetadata metadata, bool exact);
 
-// Reads a file's word channels into `film` (empty, of the file's size and outputs) and checks
-// them: no pixel may hold more samples than `most`, more hits than samples, or sums its samples
-// cannot add up to. Error naming the file (and the pixel) otherwise.
-void read_film_words(const std::string& path, Film& film, uint32_t most);
+// The header of `path`, which must hold exact sums of this version's format: Error naming the
+// file otherwise, saying what it was to be read for (`purpose`: "to merge", "to resume from").
+ExrHeader read_sums_header(const std::string& path, const std::string& purpose);
+
+// Reads the exact state of `path` (its header: read_sums_header's) into `film` (empty, of the
+// file's size and outputs): the word channels, and the tallies from samplesDropped and
+// samplesClamped. Then checks it: every pixel took between `least` and `most` samples, has no
+// more hits than samples and no sums its samples cannot add up to. Error naming the file (and
+// the pixel) otherwise.
+void read_film_state(const std::string& path, const ExrHeader& header, Film& film, uint32_t least,
+                     uint32_t most);
 
 }  // namespace dacrt

@@ -78,16 +78,18 @@ TEST_CASE("film: check_sums refuses counts and sums no samples can make (films r
   Film film(3, 2, AovSet().add(Aov::albedo));
   film.add(4, glm::vec3(1.f), nullptr);
   film.add(4, glm::vec3(2.f), nullptr);
-  CHECK(film.check_sums(2) == "");
-  CHECK(film.check_sums(1).find("pixel (1, 1) took 2 samples") != std::string::npos);
+  CHECK(film.check_sums(0, 2) == "");
+  CHECK(film.check_sums(0, 1).find("pixel (1, 1) took 2 samples") != std::string::npos);
+  // Exactly n samples a pixel (a merge's parts): pixel (0, 0) took none.
+  CHECK(film.check_sums(2, 2).find("pixel (0, 0) took 0 samples and kept 0 (2 were to be taken)") !=
+        std::string::npos);
   // The film with sum k of a pixel set (its sums: colour 0-2, squares 3-5, mean square 6, first
   // hits 7-16).
   auto forged = [&](size_t pixel, size_t k, Fixed value) {
     Film f = film;
-    const Film::FixedArray a = f.fixed_arrays().at(0);
-    REQUIRE(a.per_pixel == 17);
-    (*a.values)[17 * pixel + k] = value;
-    return f.check_sums(8);
+    REQUIRE(f.sums_per_pixel() == 17);
+    f.sums()[17 * pixel + k] = value;
+    return f.check_sums(0, 8);
   };
   const Fixed one = Fixed(1) << 64;
   CHECK(forged(4, 0, 2 * (one << 30)) == "");  // two samples at the limit
@@ -99,5 +101,5 @@ TEST_CASE("film: check_sums refuses counts and sums no samples can make (films r
   Film more = film;
   for (const Film::CountArray& a : more.count_arrays())
     if (std::string(a.name) == "count") (*a.values)[2] = 1;  // kept one of none taken
-  CHECK(more.check_sums(8).find("pixel (2, 0) took 0 samples and kept 1") != std::string::npos);
+  CHECK(more.check_sums(0, 8).find("pixel (2, 0) took 0 samples and kept 1") != std::string::npos);
 }

@@ -25,8 +25,7 @@ using namespace dacrt::test;
 namespace {
 
 const std::string cornell = DACRT_SOURCE_DIR "/scenes/cornell-box.gltf";
-const std::string options =
-    "--width 24 --height 16 --spp 8 --seed 5 --aov albedo,normal,depth,position,variance,samples";
+const std::string options = "--width 24 --height 16 --spp 8 --seed 5 " + every_aov;
 
 void render(const TempDir& dir, const std::string& name, const std::string& args) {
   const Run r = run(dir, "render " + cornell + " " + options + " --quiet " + args + " -o " +
@@ -102,6 +101,16 @@ TEST_CASE("merge: parts of any split, in any order, are the whole render bit for
   CHECK(read_exr_header(dir / "ab.exr").attributes.at("sampleRange") == "0:5");
   CHECK(has_sums(dir / "ab.exr"));
   check_same_image(dir / "ab.exr", dir / "ab-rendered.exr");
+  // The parts' tallies of dropped and clamped samples add up.
+  forge(dir / "a.exr", dir / "a-tally.exr", "samplesDropped", "2");
+  forge(dir / "b.exr", dir / "b-dropped.exr", "samplesDropped", "3");
+  forge(dir / "b-dropped.exr", dir / "b-tally.exr", "samplesClamped", "4");
+  const Run tallied = merge(dir, (dir / "a-tally.exr") + " " + (dir / "b-tally.exr") +
+                                     " --allow-gaps -o " + (dir / "tallied.exr"));
+  REQUIRE_MESSAGE(tallied.code == 0, tallied.err);
+  const ExrHeader t = read_exr_header(dir / "tallied.exr");
+  CHECK(t.attributes.at("samplesDropped") == "5");
+  CHECK(t.attributes.at("samplesClamped") == "4");
   const Run r = merge(dir, (dir / "c.exr") + " " + (dir / "ab.exr") + " --keep-sums -o " +
                                (dir / "abc.exr") + " --preview " + (dir / "abc.png"));
   REQUIRE_MESSAGE(r.code == 0, r.err);
@@ -134,7 +143,7 @@ TEST_CASE("merge: parts that overlap, leave gaps, are of another render or hold 
       {"small a", "match.size is 24x16 in " + (dir / "a.exr") + ", 12x16 in"},
       {"a whole", "whole.exr holds no exact sums"},
       {"a cut", "cut.exr was cut short"},
-      {"lying c", "took 3 samples, its sampleRange 0:4 says 4"},
+      {"lying c", "took 3 samples and kept 3 (4 were to be taken)"},
       {"format c", "format.exr: its exact sums are of another format"},
       {"a missing", "missing.exr"},
   };

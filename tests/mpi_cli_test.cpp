@@ -17,8 +17,7 @@ using namespace dacrt::test;
 namespace {
 
 const std::string scenes = DACRT_SOURCE_DIR "/scenes";
-const std::string options =
-    " --width 24 --height 16 --spp 7 --seed 3 --aov albedo,normal,depth,position,variance,samples";
+const std::string options = " --width 24 --height 16 --spp 7 --seed 3 " + every_aov;
 
 bool have_mpirun() {
   return std::system("command -v mpirun >/dev/null 2>&1") == 0;

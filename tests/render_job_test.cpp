@@ -296,10 +296,8 @@ TEST_CASE("render job: `direct` is `path` with max depth 1, bit for bit in every
 namespace {
 // A film's state, exactly: the fixed-point sums and the counts.
 std::pair<std::vector<Fixed>, std::vector<uint32_t>> film_state(Film& f) {
-  std::vector<Fixed> sums;
+  std::vector<Fixed> sums = f.sums();
   std::vector<uint32_t> counts;
-  for (const Film::FixedArray& a : f.fixed_arrays())
-    sums.insert(sums.end(), a.values->begin(), a.values->end());
   for (const Film::CountArray& a : f.count_arrays())
     counts.insert(counts.end(), a.values->begin(), a.values->end());
   return {sums, counts};

@@ -12,6 +12,9 @@
 
 namespace dacrt::test {
 
+// The render option that gives the 17 channels below.
+inline const std::string every_aov = "--aov albedo,normal,depth,position,variance,samples";
+
 // Every image channel (not the exact sums) of two files the same, bit for bit: `channels` of them
 // (17 with every AOV: R G B, albedo (3), N (3), Z, P (3), variance (3), samples).
 inline void check_same_image(const std::string& a, const std::string& b, size_t channels = 17) {

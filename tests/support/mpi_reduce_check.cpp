@@ -36,9 +36,7 @@ struct State {
   bool operator==(const State&) const = default;
 };
 State state(Film& film) {
-  State s{{}, {}, film.dropped(), film.clamped()};
-  for (const Film::FixedArray& a : film.fixed_arrays())
-    s.sums.insert(s.sums.end(), a.values->begin(), a.values->end());
+  State s{film.sums(), {}, film.dropped(), film.clamped()};
   for (const Film::CountArray& a : film.count_arrays())
     s.counts.insert(s.counts.end(), a.values->begin(), a.values->end());
   return s;
