@@ -16,8 +16,8 @@
 #include <sstream>
 
 #include "bench/html_page.h"
-#include "util/atomic_file.h"
-#include "util/error.h"
+#include "dacrt/util/atomic_file.h"
+#include "dacrt/util/error.h"
 
 extern char** environ;
 

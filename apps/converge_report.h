@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "render/convergence.h"
+#include "dacrt/render/convergence.h"
 
 namespace dacrt {
 

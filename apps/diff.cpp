@@ -10,16 +10,16 @@
 
 #include "apps/false_color.h"
 #include "apps/render_options.h"
-#include "io/color.h"
-#include "io/exr.h"
-#include "render/convergence.h"
-#include "render/render_job.h"
-#include "util/atomic_file.h"
-#include "util/error.h"
-#include "util/image.h"
-#include "util/memory.h"
-#include "util/paths.h"
-#include "util/text.h"
+#include "dacrt/io/color.h"
+#include "dacrt/io/exr.h"
+#include "dacrt/render/convergence.h"
+#include "dacrt/render/render_job.h"
+#include "dacrt/util/atomic_file.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/image.h"
+#include "dacrt/util/memory.h"
+#include "dacrt/util/paths.h"
+#include "dacrt/util/text.h"
 
 namespace dacrt {
 

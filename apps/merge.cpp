@@ -10,17 +10,17 @@
 #include <vector>
 
 #include "apps/render_options.h"
-#include "io/color.h"
-#include "io/exr.h"
-#include "io/film_exr.h"
-#include "render/part_plan.h"
-#include "render/render_job.h"
-#include "util/atomic_file.h"
-#include "util/error.h"
-#include "util/memory.h"
-#include "util/paths.h"
-#include "util/progress.h"
-#include "util/text.h"
+#include "dacrt/io/color.h"
+#include "dacrt/io/exr.h"
+#include "dacrt/io/film_exr.h"
+#include "dacrt/render/part_plan.h"
+#include "dacrt/render/render_job.h"
+#include "dacrt/util/atomic_file.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/memory.h"
+#include "dacrt/util/paths.h"
+#include "dacrt/util/progress.h"
+#include "dacrt/util/text.h"
 
 namespace dacrt {
 namespace {

@@ -10,7 +10,7 @@
 #include <array>
 #include <cstring>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 #endif
 
 namespace dacrt {

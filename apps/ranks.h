@@ -14,7 +14,7 @@
 #include <string>
 #include <utility>
 
-#include "film/film.h"
+#include "dacrt/film/film.h"
 
 namespace dacrt {
 

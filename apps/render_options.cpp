@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace fs = std::filesystem;
 

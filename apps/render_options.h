@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "integrators/integrator.h"
-#include "io/color.h"
-#include "io/gltf.h"
-#include "render/render_job.h"
-#include "tracer/options.h"
+#include "dacrt/integrators/integrator.h"
+#include "dacrt/io/color.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/render/render_job.h"
+#include "dacrt/tracer/options.h"
 
 namespace dacrt {
 

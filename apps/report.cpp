@@ -5,9 +5,9 @@
 #include <filesystem>
 
 #include "bench/report.h"
-#include "film/fixed.h"
-#include "tracer/stats_json.h"
-#include "util/text.h"
+#include "dacrt/film/fixed.h"
+#include "dacrt/tracer/stats_json.h"
+#include "dacrt/util/text.h"
 
 namespace dacrt {
 namespace {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "integrators/integrator.h"
-#include "tracer/stats.h"
+#include "dacrt/integrators/integrator.h"
+#include "dacrt/tracer/stats.h"
 
 namespace dacrt {
 

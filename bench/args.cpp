@@ -6,9 +6,9 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "tracer/backend.h"
-#include "tracer/dacrt/dacrt.h"
-#include "util/error.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/dacrt/dacrt.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt::bench {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "bench/rays.h"
-#include "tracer/options.h"
+#include "dacrt/tracer/options.h"
 
 namespace dacrt::bench {
 

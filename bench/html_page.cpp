@@ -8,8 +8,8 @@
 #include <iterator>
 #include <system_error>
 
-#include "util/atomic_file.h"
-#include "util/error.h"
+#include "dacrt/util/atomic_file.h"
+#include "dacrt/util/error.h"
 
 namespace fs = std::filesystem;
 

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
-#include "materials/sampling.h"
-#include "tracer/ray.h"
-#include "util/random.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/tracer/ray.h"
+#include "dacrt/util/random.h"
 
 namespace dacrt::bench {
 

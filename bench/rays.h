@@ -23,10 +23,10 @@
 #include <string_view>
 #include <vector>
 
-#include "scene/camera.h"
-#include "scene/scene.h"
-#include "tracer/ray_batch.h"
-#include "util/alias_table.h"
+#include "dacrt/scene/camera.h"
+#include "dacrt/scene/scene.h"
+#include "dacrt/tracer/ray_batch.h"
+#include "dacrt/util/alias_table.h"
 
 namespace dacrt::bench {
 

@@ -7,7 +7,7 @@
 #include <string_view>
 
 #include "bench/html_page.h"
-#include "tracer/stats_json.h"
+#include "dacrt/tracer/stats_json.h"
 
 namespace dacrt::bench {
 

@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <utility>
 
-#include "scene/camera.h"
-#include "tracer/backend.h"
+#include "dacrt/scene/camera.h"
+#include "dacrt/tracer/backend.h"
 
 namespace dacrt::bench {
 

@@ -15,12 +15,12 @@
 
 #include "bench/args.h"
 #include "bench/rays.h"
-#include "scene/scene.h"
-#include "tracer/options.h"
-#include "tracer/ray_batch.h"
-#include "tracer/stats.h"
-#include "util/median_interval.h"
-#include "util/progress.h"
+#include "dacrt/scene/scene.h"
+#include "dacrt/tracer/options.h"
+#include "dacrt/tracer/ray_batch.h"
+#include "dacrt/tracer/stats.h"
+#include "dacrt/util/median_interval.h"
+#include "dacrt/util/progress.h"
 
 namespace dacrt::bench {
 

@@ -1,8 +1,8 @@
-#include "film/film.h"
+#include "dacrt/film/film.h"
 
 #include <limits>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

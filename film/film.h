@@ -18,8 +18,8 @@
 #include <string_view>
 #include <vector>
 
-#include "film/fixed.h"
-#include "util/image.h"
+#include "dacrt/film/fixed.h"
+#include "dacrt/util/image.h"
 
 namespace dacrt {
 

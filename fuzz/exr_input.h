@@ -9,9 +9,9 @@
 #include <sstream>
 #include <string>
 
-#include "io/exr.h"
-#include "scene/environment.h"
-#include "util/error.h"
+#include "dacrt/io/exr.h"
+#include "dacrt/scene/environment.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

@@ -10,9 +10,9 @@
 #include <string>
 
 #include "fuzz/trace_check.h"
-#include "io/gltf.h"
-#include "io/texture_decode.h"
-#include "util/error.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/io/texture_decode.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

@@ -8,9 +8,9 @@
 #include <cstring>
 #include <vector>
 
-#include "scene/scene.h"
-#include "tracer/backend.h"
-#include "util/random.h"
+#include "dacrt/scene/scene.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/util/random.h"
 
 namespace dacrt {
 

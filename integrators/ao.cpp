@@ -6,9 +6,9 @@
 // seen through as in `path`. The occlusion rays are the backend's shadow rays.
 #include <tbb/parallel_for.h>
 
-#include "integrators/wavefront.h"
-#include "materials/sampling.h"
-#include "tracer/ray.h"
+#include "dacrt/integrators/wavefront.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/tracer/ray.h"
 
 namespace dacrt {
 namespace {

@@ -7,7 +7,7 @@
 // Each is averaged over the pixel's samples; rays that meet nothing give 0.
 #include <tbb/parallel_for.h>
 
-#include "integrators/wavefront.h"
+#include "dacrt/integrators/wavefront.h"
 
 namespace dacrt {
 namespace {

@@ -4,7 +4,7 @@
 // emission. Light that has scattered more than once is not computed. It is the path tracer with
 // one scattering event, so it equals `path --max-depth 1` sample for sample (same seeds, same
 // estimator): a fast preview of the lighting and a reference for light-sampling tests.
-#include "integrators/path.h"
+#include "dacrt/integrators/path.h"
 
 namespace dacrt {
 namespace {

@@ -1,12 +1,12 @@
-#include "integrators/integrator.h"
+#include "dacrt/integrators/integrator.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
-#include "util/error.h"
-#include "util/registry.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/registry.h"
 
 namespace dacrt {
 

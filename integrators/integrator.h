@@ -16,15 +16,15 @@
 #include <string_view>
 #include <vector>
 
-#include "film/film.h"
-#include "integrators/sampler.h"
-#include "integrators/sample_order.h"
-#include "scene/camera.h"
-#include "scene/shot.h"
-#include "scene/scene.h"
-#include "tracer/backend.h"
-#include "tracer/ray_batch.h"
-#include "util/progress.h"
+#include "dacrt/film/film.h"
+#include "dacrt/integrators/sampler.h"
+#include "dacrt/integrators/sample_order.h"
+#include "dacrt/scene/camera.h"
+#include "dacrt/scene/shot.h"
+#include "dacrt/scene/scene.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/ray_batch.h"
+#include "dacrt/util/progress.h"
 
 namespace dacrt {
 

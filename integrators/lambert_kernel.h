@@ -13,7 +13,7 @@
 #include <bit>
 #include <cstdint>
 
-#include "integrators/lambert_lanes.h"
+#include "dacrt/integrators/lambert_lanes.h"
 
 namespace dacrt {
 namespace {

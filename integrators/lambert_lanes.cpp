@@ -1,6 +1,6 @@
-#include "integrators/lambert_lanes.h"
+#include "dacrt/integrators/lambert_lanes.h"
 
-#include "integrators/lambert_kernel.h"
+#include "dacrt/integrators/lambert_kernel.h"
 
 namespace dacrt {
 

@@ -6,7 +6,7 @@
 #include <bit>
 #include <cstdint>
 
-#include "integrators/lambert_lanes.h"
+#include "dacrt/integrators/lambert_lanes.h"
 
 namespace dacrt {
 
@@ -110,7 +110,7 @@ inline V16 next_down(V16 x) {
 }  // namespace
 }  // namespace dacrt
 
-#include "integrators/lambert_kernel.h"
+#include "dacrt/integrators/lambert_kernel.h"
 
 namespace dacrt {
 namespace {

@@ -1,15 +1,15 @@
 // Next-event estimation and MIS (see light_sampling.h): the environment map, emissive triangles
 // and punctual lights as shadow rays.
-#include "integrators/light_sampling.h"
+#include "dacrt/integrators/light_sampling.h"
 
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
-#include "integrators/lambert_lanes.h"
-#include "integrators/spherical_triangle.h"
-#include "scene/surface.h"
-#include "tracer/ray.h"
+#include "dacrt/integrators/lambert_lanes.h"
+#include "dacrt/integrators/spherical_triangle.h"
+#include "dacrt/scene/surface.h"
+#include "dacrt/tracer/ray.h"
 
 namespace dacrt {
 namespace {

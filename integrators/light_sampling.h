@@ -18,12 +18,12 @@
 #include <span>
 #include <vector>
 
-#include "integrators/dimensions.h"
-#include "integrators/lights.h"
-#include "materials/bsdf.h"
-#include "materials/sampling.h"
-#include "scene/environment.h"
-#include "scene/scene.h"
+#include "dacrt/integrators/dimensions.h"
+#include "dacrt/integrators/lights.h"
+#include "dacrt/materials/bsdf.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/scene/environment.h"
+#include "dacrt/scene/scene.h"
 
 namespace dacrt {
 

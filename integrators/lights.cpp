@@ -1,10 +1,10 @@
-#include "integrators/lights.h"
+#include "dacrt/integrators/lights.h"
 
 #include <algorithm>
 #include <glm/gtc/constants.hpp>
 
-#include "materials/sampling.h"
-#include "scene/surface.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/scene/surface.h"
 
 namespace dacrt {
 namespace {

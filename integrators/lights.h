@@ -14,8 +14,8 @@
 #include <span>
 #include <vector>
 
-#include "scene/scene.h"
-#include "util/alias_table.h"
+#include "dacrt/scene/scene.h"
+#include "dacrt/util/alias_table.h"
 
 namespace dacrt {
 

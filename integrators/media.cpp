@@ -1,5 +1,5 @@
 // The volumes a path is inside (see media.h).
-#include "integrators/media.h"
+#include "dacrt/integrators/media.h"
 
 #include <algorithm>
 

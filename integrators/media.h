@@ -32,8 +32,8 @@
 #include <optional>
 #include <vector>
 
-#include "materials/dielectric.h"
-#include "materials/material.h"
+#include "dacrt/materials/dielectric.h"
+#include "dacrt/materials/material.h"
 
 namespace dacrt {
 

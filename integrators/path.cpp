@@ -9,7 +9,7 @@
 // wavefront.h): the stages below are its shading stage.
 //   escaped → emitted → roulette → material (NEE pushes shadow rays, BSDF sampling bounce rays),
 //   all four in one pass over the batch
-#include "integrators/path.h"
+#include "dacrt/integrators/path.h"
 
 #include <tbb/parallel_for.h>
 
@@ -18,9 +18,9 @@
 #include <memory>
 #include <string>
 
-#include "materials/sampling.h"
-#include "scene/surface.h"
-#include "tracer/ray.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/scene/surface.h"
+#include "dacrt/tracer/ray.h"
 
 namespace dacrt {
 namespace {

@@ -2,9 +2,9 @@
 // integrators/direct.cpp): the same estimator, `direct` with one scattering event.
 #pragma once
 
-#include "integrators/lambert_lanes.h"
-#include "integrators/media.h"
-#include "integrators/wavefront.h"
+#include "dacrt/integrators/lambert_lanes.h"
+#include "dacrt/integrators/media.h"
+#include "dacrt/integrators/wavefront.h"
 
 namespace dacrt {
 

@@ -1,4 +1,4 @@
-#include "integrators/sampler.h"
+#include "dacrt/integrators/sampler.h"
 
 #include <immintrin.h>
 

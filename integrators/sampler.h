@@ -24,8 +24,8 @@
 #include <string_view>
 #include <vector>
 
-#include "integrators/dimensions.h"
-#include "util/random.h"
+#include "dacrt/integrators/dimensions.h"
+#include "dacrt/util/random.h"
 
 namespace dacrt {
 

@@ -1,14 +1,14 @@
-#include "integrators/wavefront.h"
+#include "dacrt/integrators/wavefront.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <chrono>
 
-#include "materials/sampling.h"
-#include "tracer/ray.h"
-#include "util/error.h"
-#include "util/random.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/tracer/ray.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/random.h"
 
 namespace dacrt {
 

@@ -17,15 +17,15 @@
 #include <span>
 #include <vector>
 
-#include "integrators/dimensions.h"
-#include "integrators/integrator.h"
-#include "integrators/light_sampling.h"
-#include "integrators/queues.h"
-#include "integrators/sampler.h"
-#include "materials/gltf_brdf.h"
-#include "scene/surface.h"
-#include "tracer/ray_batch.h"
-#include "util/random.h"
+#include "dacrt/integrators/dimensions.h"
+#include "dacrt/integrators/integrator.h"
+#include "dacrt/integrators/light_sampling.h"
+#include "dacrt/integrators/queues.h"
+#include "dacrt/integrators/sampler.h"
+#include "dacrt/materials/gltf_brdf.h"
+#include "dacrt/scene/surface.h"
+#include "dacrt/tracer/ray_batch.h"
+#include "dacrt/util/random.h"
 
 namespace dacrt {
 

@@ -6,7 +6,7 @@
 // "Linear Rec.709 (sRGB)" does) → an ACES output transform (display-referred XYZ), then a built-in
 // display transform such as "DISPLAY - CIE-XYZ-D65_to_sRGB" (piecewise sRGB encoding). The ACES
 // chain is the ACES studio config's view "ACES 1.0 - SDR Video" of its display "sRGB - Display".
-#include "io/color.h"
+#include "dacrt/io/color.h"
 
 #include <OpenColorIO/OpenColorIO.h>
 #include <stb_image_write.h>
@@ -23,9 +23,9 @@
 #include <mutex>
 #include <system_error>
 
-#include "util/atomic_file.h"
-#include "util/error.h"
-#include "util/paths.h"
+#include "dacrt/util/atomic_file.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/paths.h"
 
 namespace OCIO = OCIO_NAMESPACE;
 

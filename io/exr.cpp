@@ -2,7 +2,7 @@
 // chromaticities and the render's metadata as header attributes. The file goes through our own
 // stream (StreamOut below) so that a failed final flush is seen, which OutputFile's destructor
 // would swallow.
-#include "io/exr.h"
+#include "dacrt/io/exr.h"
 
 #include <Iex.h>
 #include <ImfChannelList.h>
@@ -31,10 +31,10 @@
 #include <system_error>
 #include <thread>
 
-#include "util/atomic_file.h"
-#include "util/error.h"
-#include "util/memory.h"
-#include "util/paths.h"
+#include "dacrt/util/atomic_file.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/memory.h"
+#include "dacrt/util/paths.h"
 
 namespace dacrt {
 namespace {

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "util/image.h"
+#include "dacrt/util/image.h"
 
 namespace dacrt {
 

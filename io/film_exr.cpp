@@ -1,8 +1,8 @@
-#include "io/film_exr.h"
+#include "dacrt/io/film_exr.h"
 
 #include <cstdlib>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "film/film.h"
-#include "io/exr.h"
+#include "dacrt/film/film.h"
+#include "dacrt/io/exr.h"
 
 namespace dacrt {
 

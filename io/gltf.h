@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "scene/scene.h"
+#include "dacrt/scene/scene.h"
 
 namespace dacrt {
 

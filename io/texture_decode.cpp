@@ -32,7 +32,7 @@
 // and libjpeg's error handlers into the one function per step that armed it (libwebp returns a
 // status instead). Those functions keep only trivially destructible locals, and the output
 // buffers are allocated outside them.
-#include "io/texture_decode.h"
+#include "dacrt/io/texture_decode.h"
 
 // clang-format off
 #include <cstdio>  // before jpeglib.h, which uses size_t and FILE without including them
@@ -48,7 +48,7 @@
 #include <new>
 #include <string_view>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "materials/texture.h"
+#include "dacrt/materials/texture.h"
 
 namespace dacrt {
 

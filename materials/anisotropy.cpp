@@ -1,10 +1,10 @@
 // The anisotropic GGX lobe of KHR_materials_anisotropy (see anisotropy.h).
-#include "materials/anisotropy.h"
+#include "dacrt/materials/anisotropy.h"
 
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
-#include "materials/ggx.h"
+#include "dacrt/materials/ggx.h"
 
 namespace dacrt {
 

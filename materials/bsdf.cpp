@@ -1,5 +1,5 @@
 // A shading point's BSDF: the glTF BRDF, mixed with a volume's refractive interface (see bsdf.h).
-#include "materials/bsdf.h"
+#include "dacrt/materials/bsdf.h"
 
 #include <algorithm>
 #include <cmath>

@@ -12,8 +12,8 @@
 #include <glm/glm.hpp>
 #include <optional>
 
-#include "materials/dielectric.h"
-#include "materials/gltf_brdf.h"
+#include "dacrt/materials/dielectric.h"
+#include "dacrt/materials/gltf_brdf.h"
 
 namespace dacrt {
 

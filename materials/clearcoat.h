@@ -14,8 +14,8 @@
 #include <glm/glm.hpp>
 #include <optional>
 
-#include "materials/ggx.h"
-#include "materials/sampling.h"
+#include "dacrt/materials/ggx.h"
+#include "dacrt/materials/sampling.h"
 
 namespace dacrt {
 

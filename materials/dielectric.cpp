@@ -1,5 +1,5 @@
 // The rough dielectric interface of KHR_materials_volume (see dielectric.h).
-#include "materials/dielectric.h"
+#include "dacrt/materials/dielectric.h"
 
 #include <algorithm>
 #include <cmath>

@@ -20,7 +20,7 @@
 #include <glm/glm.hpp>
 #include <optional>
 
-#include "materials/gltf_brdf.h"
+#include "dacrt/materials/gltf_brdf.h"
 
 namespace dacrt {
 

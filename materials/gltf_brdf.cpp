@@ -1,13 +1,13 @@
 // The glTF metallic-roughness BRDF (see gltf_brdf.h).
-#include "materials/gltf_brdf.h"
+#include "dacrt/materials/gltf_brdf.h"
 
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
-#include "materials/iridescence.h"
-#include "materials/sampling.h"
-#include "materials/sheen.h"
+#include "dacrt/materials/iridescence.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/materials/sheen.h"
 
 namespace dacrt {
 

@@ -38,8 +38,8 @@
 #include <glm/glm.hpp>
 #include <optional>
 
-#include "materials/anisotropy.h"
-#include "materials/clearcoat.h"
+#include "dacrt/materials/anisotropy.h"
+#include "dacrt/materials/clearcoat.h"
 
 namespace dacrt {
 

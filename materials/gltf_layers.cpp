@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "materials/gltf_brdf.h"
-#include "materials/sampling.h"
-#include "materials/sheen.h"
+#include "dacrt/materials/gltf_brdf.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/materials/sheen.h"
 
 namespace dacrt {
 

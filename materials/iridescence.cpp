@@ -1,10 +1,10 @@
 // KHR_materials_iridescence's thin-film Fresnel (see iridescence.h).
-#include "materials/iridescence.h"
+#include "dacrt/materials/iridescence.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "materials/dielectric.h"
+#include "dacrt/materials/dielectric.h"
 
 namespace dacrt {
 namespace {

@@ -8,8 +8,8 @@
 #include <glm/glm.hpp>
 #include <string>
 
-#include "materials/gltf_brdf.h"
-#include "materials/texture.h"
+#include "dacrt/materials/gltf_brdf.h"
+#include "dacrt/materials/texture.h"
 
 namespace dacrt {
 

@@ -1,5 +1,5 @@
 // The Charlie sheen lobe and its albedo table (see sheen.h).
-#include "materials/sheen.h"
+#include "dacrt/materials/sheen.h"
 
 #include <algorithm>
 #include <array>

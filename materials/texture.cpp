@@ -1,4 +1,4 @@
-#include "materials/texture.h"
+#include "dacrt/materials/texture.h"
 
 #include <array>
 #include <cmath>

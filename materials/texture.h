@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-#include "util/large_array.h"
+#include "dacrt/util/large_array.h"
 
 namespace dacrt {
 

@@ -1,4 +1,4 @@
-#include "render/adaptive.h"
+#include "dacrt/render/adaptive.h"
 
 #include <tbb/parallel_for.h>
 

@@ -25,8 +25,8 @@
 #include <span>
 #include <vector>
 
-#include "film/film.h"
-#include "integrators/integrator.h"
+#include "dacrt/film/film.h"
+#include "dacrt/integrators/integrator.h"
 
 namespace dacrt {
 

@@ -1,10 +1,10 @@
-#include "render/convergence.h"
+#include "dacrt/render/convergence.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

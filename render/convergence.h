@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "util/image.h"
+#include "dacrt/util/image.h"
 
 namespace dacrt {
 

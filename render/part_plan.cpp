@@ -1,9 +1,9 @@
-#include "render/part_plan.h"
+#include "dacrt/render/part_plan.h"
 
 #include <algorithm>
 #include <numeric>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 namespace {

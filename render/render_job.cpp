@@ -1,10 +1,10 @@
-#include "render/render_job.h"
+#include "dacrt/render/render_job.h"
 
 #include <algorithm>
 #include <chrono>
 
-#include "io/exr.h"
-#include "util/error.h"
+#include "dacrt/io/exr.h"
+#include "dacrt/util/error.h"
 
 #ifndef DACRT_VERSION
 #define DACRT_VERSION "unknown"

@@ -19,13 +19,13 @@
 #include <string>
 #include <vector>
 
-#include "film/film.h"
-#include "integrators/integrator.h"
-#include "render/adaptive.h"
-#include "scene/scene.h"
-#include "scene/shot.h"
-#include "tracer/backend.h"
-#include "util/progress.h"
+#include "dacrt/film/film.h"
+#include "dacrt/integrators/integrator.h"
+#include "dacrt/render/adaptive.h"
+#include "dacrt/scene/scene.h"
+#include "dacrt/scene/shot.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/util/progress.h"
 
 namespace dacrt {
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "tracer/geometry.h"
+#include "dacrt/tracer/geometry.h"
 
 namespace dacrt {
 

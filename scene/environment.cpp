@@ -1,4 +1,4 @@
-#include "scene/environment.h"
+#include "dacrt/scene/environment.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,9 +7,9 @@
 #include <glm/gtc/constants.hpp>
 #include <string>
 
-#include "materials/sampling.h"
-#include "util/error.h"
-#include "util/memory.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/memory.h"
 
 namespace dacrt {
 

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "util/image.h"
-#include "util/alias_table.h"
+#include "dacrt/util/image.h"
+#include "dacrt/util/alias_table.h"
 
 namespace dacrt {
 

@@ -1,9 +1,9 @@
-#include "scene/scene.h"
+#include "dacrt/scene/scene.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "materials/material.h"
-#include "materials/texture.h"
-#include "scene/camera.h"
-#include "tracer/geometry.h"
+#include "dacrt/materials/material.h"
+#include "dacrt/materials/texture.h"
+#include "dacrt/scene/camera.h"
+#include "dacrt/tracer/geometry.h"
 
 namespace dacrt {
 

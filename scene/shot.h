@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "scene/camera.h"
-#include "scene/environment.h"
-#include "scene/scene.h"
+#include "dacrt/scene/camera.h"
+#include "dacrt/scene/environment.h"
+#include "dacrt/scene/scene.h"
 
 namespace dacrt {
 

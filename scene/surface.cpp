@@ -1,9 +1,9 @@
-#include "scene/surface.h"
+#include "dacrt/scene/surface.h"
 
 #include <cmath>
 #include <optional>
 
-#include "materials/sampling.h"
+#include "dacrt/materials/sampling.h"
 
 namespace dacrt {
 namespace {

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 
-#include "scene/scene.h"
+#include "dacrt/scene/scene.h"
 
 namespace dacrt {
 

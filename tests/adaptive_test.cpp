@@ -2,7 +2,7 @@
 // uniform render's pixel bit for bit, the render is the same for any thread count, a flat sky
 // stops at the minimum while noisy pixels (and their neighbours) go on, and the film counts
 // the samples each pixel got.
-#include "render/adaptive.h"
+#include "dacrt/render/adaptive.h"
 
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
@@ -11,8 +11,8 @@
 #include <map>
 #include <string>
 
-#include "io/gltf.h"
-#include "render/render_job.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/render/render_job.h"
 #include "test_geometry.h"
 
 using namespace dacrt;

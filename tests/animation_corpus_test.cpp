@@ -13,8 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "io/gltf.h"
-#include "util/error.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 namespace fs = std::filesystem;

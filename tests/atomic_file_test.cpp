@@ -1,6 +1,6 @@
 // write_atomically: the target appears whole or not at all, and no temporary file survives a
 // failure or an interruption.
-#include "util/atomic_file.h"
+#include "dacrt/util/atomic_file.h"
 
 #include <doctest/doctest.h>
 #include <sys/resource.h>
@@ -13,7 +13,7 @@
 #include <fstream>
 
 #include "temp_dir.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

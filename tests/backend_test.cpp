@@ -1,6 +1,6 @@
 // The DACRT backends against the brute-force oracle: same closest hit (triangle, bit-identical t,
 // u, v) and same occlusion answer for every ray, over several kinds of geometry and rays.
-#include "tracer/backend.h"
+#include "dacrt/tracer/backend.h"
 
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
@@ -10,9 +10,9 @@
 #include <cstring>
 
 #include "allocations.h"
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "test_geometry.h"
-#include "tracer/dacrt/dacrt.h"
+#include "dacrt/tracer/dacrt/dacrt.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

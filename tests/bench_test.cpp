@@ -17,7 +17,7 @@
 #include "bench/report.h"
 #include "bench/run.h"
 #include "gltf_writer.h"
-#include "tracer/backend.h"
+#include "dacrt/tracer/backend.h"
 
 using namespace dacrt;
 using namespace dacrt::bench;

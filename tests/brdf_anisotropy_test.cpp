@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "brdf_check.h"
-#include "materials/anisotropy.h"
-#include "materials/ggx.h"
-#include "materials/gltf_brdf.h"
-#include "materials/sampling.h"
+#include "dacrt/materials/anisotropy.h"
+#include "dacrt/materials/ggx.h"
+#include "dacrt/materials/gltf_brdf.h"
+#include "dacrt/materials/sampling.h"
 
 using namespace dacrt;
 using dacrt::test::brdf_albedo;

@@ -11,9 +11,9 @@
 #include <utility>
 
 #include "chi2.h"
-#include "materials/gltf_brdf.h"
-#include "materials/sampling.h"
-#include "util/random.h"
+#include "dacrt/materials/gltf_brdf.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/util/random.h"
 
 namespace dacrt::test {
 

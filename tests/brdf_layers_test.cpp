@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "brdf_check.h"
-#include "materials/gltf_brdf.h"
-#include "materials/sampling.h"
-#include "materials/sheen.h"
+#include "dacrt/materials/gltf_brdf.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/materials/sheen.h"
 
 using namespace dacrt;
 using dacrt::test::brdf_albedo;

@@ -13,9 +13,9 @@
 
 #include "brdf_check.h"
 #include "chi2.h"
-#include "materials/gltf_brdf.h"
-#include "materials/sampling.h"
-#include "util/random.h"
+#include "dacrt/materials/gltf_brdf.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 using dacrt::test::chi2_survival;

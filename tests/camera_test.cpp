@@ -7,9 +7,9 @@
 #include <sstream>
 
 #include "cli.h"
-#include "io/exr.h"
-#include "scene/scene.h"
-#include "util/error.h"
+#include "dacrt/io/exr.h"
+#include "dacrt/scene/scene.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

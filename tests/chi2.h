@@ -14,7 +14,7 @@
 #include <optional>
 #include <vector>
 
-#include "util/random.h"
+#include "dacrt/util/random.h"
 
 namespace dacrt::test {
 

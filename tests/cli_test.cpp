@@ -13,8 +13,8 @@
 #include <sstream>
 
 #include "gltf_writer.h"
-#include "io/color.h"
-#include "io/exr.h"
+#include "dacrt/io/color.h"
+#include "dacrt/io/exr.h"
 #include "ocio_config.h"
 #include "test_geometry.h"
 

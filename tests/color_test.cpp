@@ -1,7 +1,7 @@
 // Display conversion through OpenColorIO: the built-in sRGB chain's known values, the ACES views'
 // tone mapping, exposure, robustness to bad pixels, the PNG preview's 8-bit values, and $OCIO
 // handling (a valid config and its views, a missing one).
-#include "io/color.h"
+#include "dacrt/io/color.h"
 
 #include <doctest/doctest.h>
 #include <stb_image.h>
@@ -16,7 +16,7 @@
 
 #include "ocio_config.h"
 #include "temp_dir.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace fs = std::filesystem;
 using dacrt::test::ScopedOcioEnv;

@@ -13,8 +13,8 @@
 
 #include "cli.h"
 #include "gltf_writer.h"
-#include "io/exr.h"
-#include "util/memory.h"
+#include "dacrt/io/exr.h"
+#include "dacrt/util/memory.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

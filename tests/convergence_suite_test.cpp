@@ -29,8 +29,8 @@
 #include <string>
 #include <vector>
 
-#include "io/gltf.h"
-#include "render/render_job.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/render/render_job.h"
 #include "test_geometry.h"
 
 using namespace dacrt;

@@ -1,14 +1,14 @@
 // The convergence library (render/convergence.h) on images and curves computed by hand: each
 // metric, the two-seed noise, the log-log slope fit, and the interpolations that the equal-error
 // and equal-time comparisons of `dacrt converge` rest on.
-#include "render/convergence.h"
+#include "dacrt/render/convergence.h"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <random>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 

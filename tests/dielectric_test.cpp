@@ -13,9 +13,9 @@
 
 #include "chi2.h"
 #include "test_geometry.h"
-#include "materials/bsdf.h"
-#include "materials/dielectric.h"
-#include "util/random.h"
+#include "dacrt/materials/bsdf.h"
+#include "dacrt/materials/dielectric.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 using dacrt::test::direction;

@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "cli.h"
-#include "io/exr.h"
-#include "io/texture_decode.h"
-#include "render/convergence.h"
+#include "dacrt/io/exr.h"
+#include "dacrt/io/texture_decode.h"
+#include "dacrt/render/convergence.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

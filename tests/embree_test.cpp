@@ -14,11 +14,11 @@
 #include <filesystem>
 #include <string>
 
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "test_geometry.h"
-#include "tracer/backend.h"
-#include "tracer/ray.h"
-#include "tracer/triangle.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/ray.h"
+#include "dacrt/tracer/triangle.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

@@ -1,14 +1,14 @@
 // The equirectangular environment map: its axes, its importance sampling (χ² against its pdf),
 // and that what it samples integrates to what it holds.
-#include "scene/environment.h"
+#include "dacrt/scene/environment.h"
 
 #include <doctest/doctest.h>
 
 #include <glm/gtc/constants.hpp>
 
 #include "chi2.h"
-#include "util/error.h"
-#include "util/random.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 

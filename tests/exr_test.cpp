@@ -1,6 +1,6 @@
 // EXR writer and reader: bit-exact float round trip, header metadata, atomic replacement and
 // errors that name the file.
-#include "io/exr.h"
+#include "dacrt/io/exr.h"
 
 #include <ImfChannelList.h>
 #include <ImfChromaticitiesAttribute.h>
@@ -23,7 +23,7 @@
 #include <string>
 
 #include "temp_dir.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace fs = std::filesystem;
 using dacrt::test::TempDir;

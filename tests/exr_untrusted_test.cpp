@@ -21,10 +21,10 @@
 #include "address_space.h"
 #include "allocations.h"
 #include "corpus.h"
-#include "io/exr.h"
-#include "scene/environment.h"
+#include "dacrt/io/exr.h"
+#include "dacrt/scene/environment.h"
 #include "temp_dir.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace {
 

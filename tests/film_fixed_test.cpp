@@ -7,8 +7,8 @@
 #include <random>
 #include <vector>
 
-#include "film/film.h"
-#include "film/fixed.h"
+#include "dacrt/film/film.h"
+#include "dacrt/film/fixed.h"
 
 using namespace dacrt;
 

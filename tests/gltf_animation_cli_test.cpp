@@ -7,7 +7,7 @@
 
 #include "cli.h"
 #include "gltf_writer.h"
-#include "io/exr.h"
+#include "dacrt/io/exr.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

@@ -9,8 +9,8 @@
 
 #include "captured_stderr.h"
 #include "gltf_writer.h"
-#include "io/gltf.h"
-#include "io/gltf/internal.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/io/gltf/internal.h"
 #include "render_check.h"
 #include "temp_dir.h"
 #include "test_geometry.h"

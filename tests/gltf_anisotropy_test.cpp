@@ -8,9 +8,9 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "render_check.h"
-#include "scene/surface.h"
+#include "dacrt/scene/surface.h"
 #include "tests/captured_stderr.h"
 #include "tests/gltf_check.h"
 #include "tests/temp_dir.h"

@@ -7,8 +7,8 @@
 #include <initializer_list>
 #include <string>
 
-#include "io/gltf.h"
-#include "util/error.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt::test {
 

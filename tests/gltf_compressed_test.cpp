@@ -13,15 +13,15 @@
 #include <string>
 #include <vector>
 
-#include "io/gltf.h"
-#include "render/render_job.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/render/render_job.h"
 #include "tests/allocations.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_writer.h"
 #include "tests/png.h"
 #include "tests/temp_dir.h"
 #include "tests/texture_fixtures.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

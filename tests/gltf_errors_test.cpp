@@ -10,7 +10,7 @@
 #include <fstream>
 #include <limits>
 
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "tests/captured_stderr.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_triangle.h"

@@ -5,8 +5,8 @@
 // for colours), and out-of-range values are refused naming the element.
 #include <doctest/doctest.h>
 
-#include "io/gltf.h"
-#include "scene/surface.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/scene/surface.h"
 #include "tests/gltf_check.h"
 #include "tests/temp_dir.h"
 #include "tests/texture_fixtures.h"

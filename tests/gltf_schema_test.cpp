@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "io/gltf.h"
-#include "io/gltf/schema.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/io/gltf/schema.h"
 #include "tests/captured_stderr.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_triangle.h"
 #include "tests/gltf_writer.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 using dacrt::Error;
 using dacrt::load_gltf;

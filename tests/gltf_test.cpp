@@ -1,7 +1,7 @@
 // Tests for io/gltf: small files generated here (tests/gltf_writer.h) with known answers, and the
 // real scenes of /work/shared/scenes when they are present. Malformed input, each giving one
 // dacrt::Error line naming the file and the element: gltf_errors_test.cpp.
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 
 #include <doctest/doctest.h>
 

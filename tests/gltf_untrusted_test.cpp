@@ -12,15 +12,15 @@
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "tests/address_space.h"
 #include "tests/allocations.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_triangle.h"
 #include "tests/gltf_writer.h"
 #include "tests/png.h"
-#include "util/error.h"
-#include "util/memory.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/memory.h"
 
 using dacrt::Error;
 using dacrt::GltfOptions;

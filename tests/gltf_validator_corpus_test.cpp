@@ -26,9 +26,9 @@
 #include <string>
 #include <vector>
 
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "tests/captured_stderr.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace {
 

@@ -5,12 +5,12 @@
 
 #include <string>
 
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "tests/cli.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_triangle.h"
 #include "tests/gltf_writer.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

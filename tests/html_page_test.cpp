@@ -9,7 +9,7 @@
 #include <regex>
 #include <sstream>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 namespace fs = std::filesystem;

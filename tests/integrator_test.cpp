@@ -5,13 +5,13 @@
 // not against a hand-picked tolerance. Also: max depth 0, unknown integrators and cameras, and
 // the stages a render skips. Alpha, transmission and the wavefront loop: alpha_test.cpp,
 // transmission_test.cpp, wavefront_test.cpp.
-#include "integrators/integrator.h"
+#include "dacrt/integrators/integrator.h"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 
-#include "render/render_job.h"
+#include "dacrt/render/render_job.h"
 #include "render_check.h"
 #include "test_geometry.h"
 

@@ -14,11 +14,11 @@
 #include <vector>
 
 #include "brdf_check.h"
-#include "materials/ggx.h"
-#include "materials/gltf_brdf.h"
-#include "materials/iridescence.h"
-#include "materials/sampling.h"
-#include "util/random.h"
+#include "dacrt/materials/ggx.h"
+#include "dacrt/materials/gltf_brdf.h"
+#include "dacrt/materials/iridescence.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 using dacrt::test::direction;

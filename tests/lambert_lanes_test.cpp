@@ -2,7 +2,7 @@
 // at a time, bit for bit, including which lanes they take. Their estimator is checked by the
 // renders of Lambert scenes in integrator_test.cpp and convergence_suite_test.cpp (the furnace,
 // Lambert's polygon formula), which go through them.
-#include "integrators/lambert_lanes.h"
+#include "dacrt/integrators/lambert_lanes.h"
 
 #include <doctest/doctest.h>
 
@@ -10,7 +10,7 @@
 #include <initializer_list>
 #include <glm/glm.hpp>
 
-#include "util/random.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 

@@ -23,26 +23,39 @@ std::vector<std::string> layers() {
   return out;
 }
 
-// The #include "…" lines of `path` that name a folder of `order` ranked above `rank`.
-std::vector<std::string> upward_includes(const fs::path& path, const std::vector<std::string>& order,
-                                         size_t rank) {
-  static const std::regex include(R"(^\s*#\s*include\s*"([^"/]+)/[^"]*")");
+// The programs' folders: above the library, their headers included without the dacrt/ prefix.
+bool program(const std::string& folder) {
+  return folder == "bench" || folder == "apps" || folder == "fuzz" || folder == "tests";
+}
+
+// The #include "…" lines of `path` that name a folder of `order` ranked above `rank`, or that
+// include the library's headers otherwise than as the installed package has them
+// ("dacrt/<layer>/…": a host's own util/ or io/ is never taken for ours), or a program's with it.
+std::vector<std::string> bad_includes(const fs::path& path, const std::vector<std::string>& order,
+                                      size_t rank) {
+  static const std::regex include(R"(^\s*#\s*include\s*"(dacrt/)?([^"/]+)/[^"]*")");
   std::vector<std::string> found;
   std::ifstream in(path);
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     std::smatch m;
     if (!std::regex_search(line, m, include)) continue;
-    const auto it = std::find(order.begin(), order.end(), m[1].str());
+    const std::string folder = m[2].str(), where = path.string() + ":" + std::to_string(number);
+    const auto it = std::find(order.begin(), order.end(), folder);
     if (it != order.end() && size_t(it - order.begin()) > rank)
-      found.push_back(path.string() + ":" + std::to_string(number) + " includes " + m[0].str());
+      found.push_back(where + " includes " + m[0].str());
+    if (it != order.end() && m[1].matched == program(folder))
+      found.push_back(where + " includes " + m[0].str() +
+                      (m[1].matched ? ": a program's header has no dacrt/ prefix"
+                                    : ": the library's headers are included as \"dacrt/" +
+                                          folder + "/…\""));
   }
   return found;
 }
 
 }  // namespace
 
-TEST_CASE("layers: no folder includes a header of a folder above it") {
+TEST_CASE("layers: no folder includes a header of a folder above it, and the library's as dacrt/…") {
   const fs::path root = DACRT_SOURCE_DIR;
   const std::vector<std::string> order = layers();
   REQUIRE(order.size() >= 8);
@@ -54,9 +67,16 @@ TEST_CASE("layers: no folder includes a header of a folder above it") {
       const std::string ext = entry.path().extension().string();
       if (!entry.is_regular_file() || (ext != ".h" && ext != ".cpp")) continue;
       ++files;
-      for (std::string& u : upward_includes(entry.path(), order, rank)) upward.push_back(u);
+      for (std::string& u : bad_includes(entry.path(), order, rank)) upward.push_back(u);
     }
   }
+  for (const char* above : {"tests", "python"})  // above every layer: the prefix rule only
+    if (fs::is_directory(root / above))
+      for (const auto& entry : fs::recursive_directory_iterator(root / above))
+        if ((entry.path().extension() == ".h" || entry.path().extension() == ".cpp") &&
+            entry.path().parent_path().filename() != "consumer")  // a host's, on purpose
+          for (std::string& u : bad_includes(entry.path(), order, order.size()))
+            upward.push_back(u);
   MESSAGE(files << " files in " << order.size() << " layers");
   CHECK(files > 100);
   for (const std::string& u : upward) CHECK_MESSAGE(false, u);

@@ -7,10 +7,10 @@
 #include <limits>
 
 #include "chi2.h"
-#include "materials/sampling.h"
-#include "scene/environment.h"
-#include "util/alias_table.h"
-#include "util/random.h"
+#include "dacrt/materials/sampling.h"
+#include "dacrt/scene/environment.h"
+#include "dacrt/util/alias_table.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 

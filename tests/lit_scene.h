@@ -5,7 +5,7 @@
 #include <glm/glm.hpp>
 #include <memory>
 
-#include "render/render_job.h"
+#include "dacrt/render/render_job.h"
 #include "test_geometry.h"
 
 namespace dacrt::test {

@@ -6,10 +6,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "integrators/integrator.h"
-#include "io/gltf.h"
-#include "scene/surface.h"
-#include "render/render_job.h"
+#include "dacrt/integrators/integrator.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/scene/surface.h"
+#include "dacrt/render/render_job.h"
 #include "tests/gltf_check.h"
 #include "tests/temp_dir.h"
 #include "tests/texture_fixtures.h"

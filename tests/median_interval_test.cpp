@@ -1,13 +1,13 @@
 // util/median_interval.h: the order statistics chosen for small n against the binomial by hand,
 // and the interval's coverage of the true median on synthetic samples of a known distribution.
-#include "util/median_interval.h"
+#include "dacrt/util/median_interval.h"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "util/random.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 

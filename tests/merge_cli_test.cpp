@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "cli.h"
-#include "io/exr.h"
+#include "dacrt/io/exr.h"
 #include "same_image.h"
 
 using namespace dacrt;

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "cli.h"
-#include "io/exr.h"
+#include "dacrt/io/exr.h"
 #include "same_image.h"
 
 using namespace dacrt;

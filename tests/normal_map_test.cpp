@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "tests/temp_dir.h"
 #include "tests/texture_fixtures.h"
 

@@ -1,11 +1,11 @@
 // plan_merge: what `dacrt merge` checks of its parts' headers before adding them.
-#include "render/part_plan.h"
+#include "dacrt/render/part_plan.h"
 
 #include <doctest/doctest.h>
 
 #include <map>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 

@@ -1,13 +1,13 @@
 // block_partition (tracer/partition.h): the same split as std::partition, in place, for every size
 // around its block boundaries, with the per-element and the 64-at-a-time predicate.
-#include "tracer/partition.h"
+#include "dacrt/tracer/partition.h"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <vector>
 
-#include "util/random.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 

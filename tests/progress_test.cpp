@@ -1,6 +1,6 @@
 // Progress: the status line's pieces, and what reaches stderr (captured by pointing fd 2 at a
 // temporary file, which also makes stderr a non-TTY).
-#include "util/progress.h"
+#include "dacrt/util/progress.h"
 
 #include <doctest/doctest.h>
 #include <unistd.h>
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "tests/captured_stderr.h"
-#include "util/progress_format.h"
+#include "dacrt/util/progress_format.h"
 
 using dacrt::test::CapturedStderr;
 

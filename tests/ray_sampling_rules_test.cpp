@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "tracer/backend.h"
-#include "util/random.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <utility>
 
-#include "integrators/integrator.h"
-#include "render/render_job.h"
+#include "dacrt/integrators/integrator.h"
+#include "dacrt/render/render_job.h"
 #include "test_geometry.h"
 
 namespace dacrt::test {

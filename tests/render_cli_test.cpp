@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "cli.h"
-#include "io/exr.h"
+#include "dacrt/io/exr.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

@@ -2,7 +2,7 @@
 // normal, depth, position, samples) exactly, the variance layer against the empirical variance of
 // independent renders, `direct` as `path` with one scattering event bit for bit, sample ranges
 // that merge, passes cut by a time limit or a stop token, and the integrators by name.
-#include "render/render_job.h"
+#include "dacrt/render/render_job.h"
 
 #include <doctest/doctest.h>
 
@@ -13,7 +13,7 @@
 #include <limits>
 #include <map>
 
-#include "integrators/sample_order.h"
+#include "dacrt/integrators/sample_order.h"
 #include "lit_scene.h"
 #include "test_geometry.h"
 

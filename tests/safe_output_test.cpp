@@ -13,9 +13,9 @@
 
 #include "cli_scene.h"
 #include "ocio_config.h"
-#include "util/atomic_file.h"
-#include "util/error.h"
-#include "util/text.h"
+#include "dacrt/util/atomic_file.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/text.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

@@ -8,7 +8,7 @@
 #include <map>
 #include <string>
 
-#include "io/exr.h"
+#include "dacrt/io/exr.h"
 
 namespace dacrt::test {
 

@@ -1,7 +1,7 @@
 // The samplers (integrators/sampler.h): the Sobol patterns are stratified, differ per pixel, seed
 // and depth, keep their pairs apart, and make the error fall faster than the independent hash's
 // spp^-1/2, measured on a render against a reference.
-#include "integrators/sampler.h"
+#include "dacrt/integrators/sampler.h"
 
 #include <doctest/doctest.h>
 
@@ -10,7 +10,7 @@
 #include <set>
 #include <vector>
 
-#include "render/render_job.h"
+#include "dacrt/render/render_job.h"
 #include "test_geometry.h"
 
 using namespace dacrt;

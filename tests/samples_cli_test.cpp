@@ -3,7 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "cli.h"
-#include "io/exr.h"
+#include "dacrt/io/exr.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

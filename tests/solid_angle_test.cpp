@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "chi2.h"
-#include "integrators/light_sampling.h"
-#include "integrators/spherical_triangle.h"
+#include "dacrt/integrators/light_sampling.h"
+#include "dacrt/integrators/spherical_triangle.h"
 #include "test_geometry.h"
-#include "util/random.h"
+#include "dacrt/util/random.h"
 
 using namespace dacrt;
 

@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "render/render_job.h"
+#include "dacrt/render/render_job.h"
 #include "render_check.h"
-#include "scene/scene.h"
+#include "dacrt/scene/scene.h"
 #include "test_geometry.h"
-#include "tracer/backend.h"
+#include "dacrt/tracer/backend.h"
 
 namespace dacrt::test::stress {
 

@@ -11,9 +11,9 @@
 #include <map>
 
 #include "gltf_writer.h"
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "temp_dir.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

@@ -9,12 +9,12 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/camera.h"
-#include "tracer/backend.h"
-#include "tracer/geometry.h"
-#include "tracer/ray.h"
-#include "tracer/ray_batch.h"
-#include "util/random.h"
+#include "dacrt/scene/camera.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/geometry.h"
+#include "dacrt/tracer/ray.h"
+#include "dacrt/tracer/ray_batch.h"
+#include "dacrt/util/random.h"
 
 namespace dacrt::test {
 

@@ -4,7 +4,7 @@
 // line too.
 // The PNG, JPEG and WebP decoders in detail: png_decode_test.cpp, jpeg_decode_test.cpp,
 // webp_decode_test.cpp.
-#include "io/texture_decode.h"
+#include "dacrt/io/texture_decode.h"
 
 #include <doctest/doctest.h>
 

@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "tests/allocations.h"
 #include "tests/captured_stderr.h"
 #include "tests/cli.h"

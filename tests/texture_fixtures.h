@@ -14,11 +14,11 @@
 #include <vector>
 
 #include "gltf_writer.h"
-#include "io/texture_decode.h"
-#include "materials/texture.h"
-#include "scene/surface.h"
+#include "dacrt/io/texture_decode.h"
+#include "dacrt/materials/texture.h"
+#include "dacrt/scene/surface.h"
 #include "png.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt::test {
 

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 #include "tests/captured_stderr.h"
 #include "tests/gltf_check.h"
 #include "tests/temp_dir.h"

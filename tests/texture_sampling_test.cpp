@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "materials/texture.h"
+#include "dacrt/materials/texture.h"
 #include "tests/texture_fixtures.h"
 
 using namespace dacrt;

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <memory>
 
-#include "materials/gltf_brdf.h"
+#include "dacrt/materials/gltf_brdf.h"
 #include "render_check.h"
 #include "test_geometry.h"
 

@@ -1,14 +1,14 @@
 // The shared ray/triangle test and the origin offset: watertightness on shared edges and vertices,
 // no self-intersection of spawned rays, degenerate triangles, huge and tiny coordinates.
-#include "tracer/triangle.h"
+#include "dacrt/tracer/triangle.h"
 
 #include <doctest/doctest.h>
 
 #include <bit>
 
 #include "test_geometry.h"
-#include "tracer/backend.h"
-#include "tracer/triangle_block.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/triangle_block.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

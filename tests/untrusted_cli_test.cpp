@@ -11,7 +11,7 @@
 
 #include "cli_scene.h"
 #include "ocio_config.h"
-#include "util/memory.h"
+#include "dacrt/util/memory.h"
 
 using namespace dacrt::test;
 namespace fs = std::filesystem;

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
-#include "integrators/media.h"
+#include "dacrt/integrators/media.h"
 #include "render_check.h"
 #include "test_geometry.h"
 

@@ -1,7 +1,7 @@
 // The wavefront loop (integrators/wavefront.h): renders are deterministic whatever the threads,
 // backend and wavefront size; stream regeneration keeps the bounce batches full; the default
 // wavefront follows the memory budget.
-#include "integrators/wavefront.h"
+#include "dacrt/integrators/wavefront.h"
 
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>

@@ -1,6 +1,6 @@
-#include "tracer/backend.h"
+#include "dacrt/tracer/backend.h"
 
-#include "util/registry.h"
+#include "dacrt/util/registry.h"
 
 namespace dacrt {
 

@@ -13,10 +13,10 @@
 #include <string_view>
 #include <vector>
 
-#include "tracer/geometry.h"
-#include "tracer/options.h"
-#include "tracer/ray_batch.h"
-#include "tracer/stats.h"
+#include "dacrt/tracer/geometry.h"
+#include "dacrt/tracer/options.h"
+#include "dacrt/tracer/ray_batch.h"
+#include "dacrt/tracer/stats.h"
 
 namespace dacrt {
 

@@ -4,8 +4,8 @@
 
 #include <atomic>
 
-#include "tracer/backend.h"
-#include "tracer/triangle.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/triangle.h"
 
 namespace dacrt {
 namespace {

@@ -43,8 +43,8 @@
 #include <mutex>
 #include <string>
 
-#include "tracer/backend.h"
-#include "tracer/ray.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/ray.h"
 
 namespace dacrt {
 namespace {

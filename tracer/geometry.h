@@ -8,7 +8,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-#include "tracer/aabb.h"
+#include "dacrt/tracer/aabb.h"
 
 namespace dacrt {
 

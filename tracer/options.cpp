@@ -1,4 +1,4 @@
-#include "tracer/options.h"
+#include "dacrt/tracer/options.h"
 
 #include <cstdlib>
 

@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 
-#include "tracer/aabb.h"
-#include "tracer/ray_batch.h"
+#include "dacrt/tracer/aabb.h"
+#include "dacrt/tracer/ray_batch.h"
 
 namespace dacrt {
 

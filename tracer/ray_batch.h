@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "util/large_array.h"
+#include "dacrt/util/large_array.h"
 
 namespace dacrt {
 

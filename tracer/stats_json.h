@@ -3,7 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tracer/stats.h"
+#include "dacrt/tracer/stats.h"
 
 namespace dacrt {
 

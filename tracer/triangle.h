@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <glm/glm.hpp>
 
-#include "tracer/ray.h"
+#include "dacrt/tracer/ray.h"
 
 namespace dacrt {
 

@@ -1,7 +1,7 @@
 // The vector watertight triangle filter, 8 lanes (AVX2) or 16 (AVX-512) per instruction (see
 // triangle_block.h). Compiled for AVX2 by a function
 // attribute and chosen at run time, so the library still runs on any x86-64 (and elsewhere).
-#include "tracer/triangle_block.h"
+#include "dacrt/tracer/triangle_block.h"
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>

@@ -13,9 +13,9 @@
 
 #include <cstdint>
 
-#include "tracer/geometry.h"
-#include "tracer/ray.h"
-#include "tracer/triangle.h"
+#include "dacrt/tracer/geometry.h"
+#include "dacrt/tracer/ray.h"
+#include "dacrt/tracer/triangle.h"
 
 namespace dacrt {
 

@@ -18,7 +18,7 @@
 #include <numeric>
 #include <vector>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

@@ -1,4 +1,4 @@
-#include "util/atomic_file.h"
+#include "dacrt/util/atomic_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -14,8 +14,8 @@
 #include <iterator>
 #include <system_error>
 
-#include "util/error.h"
-#include "util/paths.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/paths.h"
 
 namespace dacrt {
 

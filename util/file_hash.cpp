@@ -1,4 +1,4 @@
-#include "util/file_hash.h"
+#include "dacrt/util/file_hash.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -7,7 +7,7 @@
 #include <fstream>
 #include <vector>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 namespace {

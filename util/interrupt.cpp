@@ -1,8 +1,8 @@
-#include "util/interrupt.h"
+#include "dacrt/util/interrupt.h"
 
 #include <csignal>
 
-#include "util/atomic_file.h"
+#include "dacrt/util/atomic_file.h"
 
 namespace dacrt {
 

@@ -1,5 +1,5 @@
 // Large arrays on huge pages (see UninitializedAllocator in large_array.h).
-#include "util/large_array.h"
+#include "dacrt/util/large_array.h"
 
 #include <sys/mman.h>
 

@@ -1,4 +1,4 @@
-#include "util/median_interval.h"
+#include "dacrt/util/median_interval.h"
 
 #include <algorithm>
 #include <cmath>

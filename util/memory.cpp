@@ -1,4 +1,4 @@
-#include "util/memory.h"
+#include "dacrt/util/memory.h"
 
 #include <sys/resource.h>
 

@@ -1,11 +1,11 @@
-#include "util/paths.h"
+#include "dacrt/util/paths.h"
 
 #include <sys/stat.h>
 
 #include <filesystem>
 #include <system_error>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

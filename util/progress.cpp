@@ -1,6 +1,6 @@
 // Progress: a status line on stderr. On a terminal it is redrawn in place (at most ten times a
 // second); in a log (stderr not a TTY) a full line is printed at each 10 % step only.
-#include "util/progress.h"
+#include "dacrt/util/progress.h"
 
 #include <unistd.h>
 
@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <utility>
 
-#include "util/progress_format.h"
+#include "dacrt/util/progress_format.h"
 
 namespace dacrt {
 

@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

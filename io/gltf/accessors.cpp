@@ -6,7 +6,7 @@
 #include <cstring>
 #include <limits>
 
-#include "io/gltf/internal.h"
+#include "dacrt/io/gltf/internal.h"
 
 namespace dacrt::gltf {
 namespace {

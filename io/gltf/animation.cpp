@@ -4,8 +4,8 @@
 // translation, rotation, scale and morph weights (STEP, LINEAR with quaternion slerp,
 // CUBICSPLINE Hermite splines), every animation of the file playing at once, each held at its
 // ends outside its keyframes.
-#include "io/gltf/internal.h"
-#include "util/text.h"
+#include "dacrt/io/gltf/internal.h"
+#include "dacrt/util/text.h"
 
 namespace dacrt::gltf {
 namespace {

@@ -1,7 +1,7 @@
 // glTF cameras: perspective and orthographic, placed by their node with its scale and shear
 // removed (in double, so that a scale of 1e20 or 1e-25, which float cannot square, still gives
 // the rotation).
-#include "io/gltf/internal.h"
+#include "dacrt/io/gltf/internal.h"
 
 namespace dacrt::gltf {
 

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "io/gltf/internal.h"
+#include "dacrt/io/gltf/internal.h"
 
 namespace dacrt::gltf {
 namespace {

@@ -1,6 +1,6 @@
 // Reading a glTF file into tinygltf's model (io/gltf/file.h): the GLB container, the JSON checks
 // (nesting depth, then io/gltf/schema.h), external files, and tinygltf's messages made one line.
-#include "io/gltf/file.h"
+#include "dacrt/io/gltf/file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -19,11 +19,11 @@
 #include <string_view>
 #include <vector>
 
-#include "io/gltf/schema.h"
-#include "util/error.h"
-#include "util/memory.h"
-#include "util/paths.h"
-#include "util/text.h"
+#include "dacrt/io/gltf/schema.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/memory.h"
+#include "dacrt/util/paths.h"
+#include "dacrt/util/text.h"
 
 namespace dacrt {
 

@@ -29,14 +29,14 @@
 // checks) and builds the scene in order: materials.cpp, then nodes.cpp (which places
 // primitives.cpp's meshes, cameras.cpp's cameras and lights.cpp's lights), then images.cpp for
 // the textures the placed meshes use. accessors.cpp and tangents.cpp serve them (internal.h).
-#include "io/gltf.h"
+#include "dacrt/io/gltf.h"
 
 #include <new>
 
-#include "io/gltf/file.h"
-#include "io/gltf/internal.h"
-#include "io/gltf/schema.h"
-#include "util/text.h"
+#include "dacrt/io/gltf/file.h"
+#include "dacrt/io/gltf/internal.h"
+#include "dacrt/io/gltf/schema.h"
+#include "dacrt/util/text.h"
 
 namespace dacrt {
 namespace gltf {

@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <unordered_map>
 
-#include "io/gltf/internal.h"
-#include "io/texture_decode.h"
+#include "dacrt/io/gltf/internal.h"
+#include "dacrt/io/texture_decode.h"
 
 namespace dacrt::gltf {
 namespace {

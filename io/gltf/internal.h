@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "scene/scene.h"
-#include "util/error.h"
+#include "dacrt/scene/scene.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt::gltf {
 

@@ -1,7 +1,7 @@
 // glTF lights: KHR_lights_punctual's point, spot and directional lights, placed by their node.
 #include <limits>
 
-#include "io/gltf/internal.h"
+#include "dacrt/io/gltf/internal.h"
 
 namespace dacrt::gltf {
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "io/gltf/internal.h"
+#include "dacrt/io/gltf/internal.h"
 
 namespace dacrt::gltf {
 namespace {

@@ -3,7 +3,7 @@
 // EXT_mesh_gpu_instancing instance), its camera and its KHR_lights_punctual light.
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "io/gltf/internal.h"
+#include "dacrt/io/gltf/internal.h"
 
 namespace dacrt::gltf {
 namespace {

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "io/gltf/internal.h"
-#include "util/memory.h"
+#include "dacrt/io/gltf/internal.h"
+#include "dacrt/util/memory.h"
 
 namespace dacrt::gltf {
 namespace {

@@ -15,7 +15,7 @@
 //   add some, with a PNG or JPEG fallback; types other than PNG, JPEG, WebP (EXT_texture_webp,
 //   read) and KTX2 (KHR_texture_basisu, whose fallback the loader uses and warns about) warn.
 // - Integers are bounded by what tinygltf stores them in (int, or 2^53 where it keeps size_t).
-#include "io/gltf/schema.h"
+#include "dacrt/io/gltf/schema.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,7 +25,7 @@
 #include <nlohmann/json.hpp>
 #include <type_traits>
 
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 namespace dacrt {
 

@@ -2,7 +2,7 @@
 // matrix) and each vertex's skinning matrix, the JOINTS_n / WEIGHTS_n sets' weighted sum of them,
 // all checked against the spec (joints that exist, FLOAT MAT4 inverse bind matrices, joint indices
 // within the skin, weights' types, sets in pairs).
-#include "io/gltf/internal.h"
+#include "dacrt/io/gltf/internal.h"
 
 namespace dacrt::gltf {
 

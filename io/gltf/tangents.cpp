@@ -5,7 +5,7 @@
 #include <limits>
 #include <unordered_map>
 
-#include "io/gltf/internal.h"
+#include "dacrt/io/gltf/internal.h"
 
 namespace dacrt::gltf {
 

@@ -13,7 +13,7 @@
 
 #include "apps/ranks.h"
 #include "lit_scene.h"
-#include "util/error.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

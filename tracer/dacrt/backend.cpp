@@ -1,7 +1,7 @@
 // The dacrt and dacrt-naive backends: a call's ray records, the triangle records kept from call
 // to call, the cut of large batches into chunks, and the statistics (the recursion itself is in
 // traversal.cpp and split.cpp).
-#include "tracer/backend.h"
+#include "dacrt/tracer/backend.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -12,9 +12,9 @@
 #include <memory>
 #include <mutex>
 
-#include "tracer/dacrt/dacrt.h"
-#include "tracer/dacrt/top.h"
-#include "tracer/dacrt/traversal.h"
+#include "dacrt/tracer/dacrt/dacrt.h"
+#include "dacrt/tracer/dacrt/top.h"
+#include "dacrt/tracer/dacrt/traversal.h"
 
 namespace dacrt {
 namespace {

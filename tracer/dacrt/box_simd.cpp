@@ -1,6 +1,6 @@
 // Vector versions of the ray/box slab test (Ray::box_hits) over RayRef records, bit for bit the
 // scalar test's answers (see box_simd.h).
-#include "tracer/dacrt/box_simd.h"
+#include "dacrt/tracer/dacrt/box_simd.h"
 
 #ifdef DACRT_X86
 #include <immintrin.h>

@@ -10,7 +10,7 @@
 
 #include <cstdint>
 
-#include "tracer/dacrt/records.h"
+#include "dacrt/tracer/dacrt/records.h"
 
 namespace dacrt::kernel {
 

@@ -13,7 +13,7 @@
 #include <set>
 #include <string>
 
-#include "tracer/options.h"
+#include "dacrt/tracer/options.h"
 
 namespace dacrt {
 

@@ -6,10 +6,10 @@
 #include <bit>
 #include <cstddef>
 
-#include "tracer/dacrt/box_simd.h"
-#include "tracer/dacrt/traversal.h"
-#include "tracer/triangle.h"
-#include "tracer/triangle_block.h"
+#include "dacrt/tracer/dacrt/box_simd.h"
+#include "dacrt/tracer/dacrt/traversal.h"
+#include "dacrt/tracer/triangle.h"
+#include "dacrt/tracer/triangle_block.h"
 
 #ifdef DACRT_X86
 #include <immintrin.h>

@@ -1,6 +1,6 @@
 // DacrtParams: the kernel's options, read from --backend-option KEY=VALUE and checked.
-#include "tracer/backend.h"
-#include "tracer/dacrt/dacrt.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/dacrt/dacrt.h"
 
 namespace dacrt {
 

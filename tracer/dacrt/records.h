@@ -10,9 +10,9 @@
 #include <glm/glm.hpp>
 #include <limits>
 
-#include "tracer/dacrt/dacrt.h"
-#include "tracer/geometry.h"
-#include "tracer/ray.h"
+#include "dacrt/tracer/dacrt/dacrt.h"
+#include "dacrt/tracer/geometry.h"
+#include "dacrt/tracer/ray.h"
 
 namespace dacrt::kernel {
 

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "tracer/dacrt/traversal.h"
-#include "tracer/partition.h"
+#include "dacrt/tracer/dacrt/traversal.h"
+#include "dacrt/tracer/partition.h"
 
 namespace dacrt::kernel {
 

@@ -1,5 +1,5 @@
 // The kept top levels of the DACRT tree (see top.h): built once by the SAH, in parallel.
-#include "tracer/dacrt/top.h"
+#include "dacrt/tracer/dacrt/top.h"
 
 #include <tbb/task_group.h>
 

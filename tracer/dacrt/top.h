@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "tracer/dacrt/traversal.h"
+#include "dacrt/tracer/dacrt/traversal.h"
 
 namespace dacrt::kernel {
 

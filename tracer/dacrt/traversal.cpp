@@ -1,17 +1,17 @@
 // The recursion: a node splits (split.cpp) or is a leaf; children are entered in the chosen order,
 // each with the rays that reach its box (filtered), or with all of them when filtering cannot pay.
-#include "tracer/dacrt/traversal.h"
+#include "dacrt/tracer/dacrt/traversal.h"
 
 #include <tbb/task_group.h>
 
 #include <atomic>
 
-#include "tracer/backend.h"
-#include "tracer/dacrt/box_simd.h"
-#include "tracer/dacrt/top.h"
-#include "tracer/partition.h"
-#include "tracer/triangle.h"
-#include "tracer/triangle_block.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/dacrt/box_simd.h"
+#include "dacrt/tracer/dacrt/top.h"
+#include "dacrt/tracer/partition.h"
+#include "dacrt/tracer/triangle.h"
+#include "dacrt/tracer/triangle_block.h"
 
 namespace dacrt::kernel {
 

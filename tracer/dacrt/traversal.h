@@ -6,11 +6,11 @@
 #include <array>
 #include <cstdint>
 
-#include "tracer/dacrt/records.h"
-#include "tracer/ray_batch.h"
-#include "tracer/stats.h"
-#include "tracer/triangle.h"
-#include "util/random.h"
+#include "dacrt/tracer/dacrt/records.h"
+#include "dacrt/tracer/ray_batch.h"
+#include "dacrt/tracer/stats.h"
+#include "dacrt/tracer/triangle.h"
+#include "dacrt/util/random.h"
 
 namespace dacrt {
 class HitFilter;

@@ -1,0 +1,29 @@
+#!/bin/sh
+# The installed package as a host program sees it: installs the build tree BUILD into
+# WORK/prefix, builds tests/consumer against it with find_package(dacrt), renders the Cornell box
+# with the installed CLI and with the consumer, and has the consumer compare the two.
+#   consumer_check.sh BUILD SOURCE WORK [CXXFLAGS]
+set -eu
+build=$1 source=$2 work=$3 flags=${4:-}
+rm -rf "$work"
+mkdir -p "$work"
+
+# Runs a step with its output in WORK/NAME.log, shown when the step fails.
+step() {
+  name=$1
+  shift
+  if ! "$@" > "$work/$name.log" 2>&1; then
+    echo "consumer check: $name failed: $*"
+    cat "$work/$name.log"
+    exit 1
+  fi
+}
+
+step install cmake --install "$build" --prefix "$work/prefix"
+step configure cmake -S "$source/tests/consumer" -B "$work/build" \
+  -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="$flags"
+step build cmake --build "$work/build"
+scene="$source/scenes/cornell-box.gltf"
+step render "$work/prefix/bin/dacrt" render "$scene" --width 24 --height 16 --spp 4 --seed 7 \
+  --quiet -o "$work/cli.exr"
+"$work/build/consumer" "$scene" "$work/cli.exr" 24 16 4 7
