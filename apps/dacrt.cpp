@@ -388,12 +388,9 @@ int render(const std::vector<std::string>& args) {
     if (r.settings.adaptive > 0) refuse("--adaptive");
     if (!ranks->root()) r.quiet = true;  // progress, notes and the summary from rank 0
   }
-  check_integrator(r.settings.integrator);
+  check_render_choices(r, backends);
   std::vector<BackendRun> runs;
-  const std::vector<std::string> known = Backend::names();
   for (const std::string& name : backends) {
-    if (std::find(known.begin(), known.end(), name) == known.end())
-      Backend::create(name, Geometry{});  // throws the registry's error naming the backends
     if (std::count(backends.begin(), backends.end(), name) > 1)
       throw UsageError("--backend names " + name + " twice");
     BackendRun run;
@@ -401,15 +398,6 @@ int render(const std::vector<std::string>& args) {
     run.output = backends.size() > 1 ? with_backend(r.output, name) : r.output;
     run.preview = backends.size() > 1 ? with_backend(r.preview, name) : r.preview;
     runs.push_back(std::move(run));
-  }
-  // Every --backend-option is for a backend that renders, and each backend takes its keys and
-  // values: built once on no geometry, before anything is loaded.
-  try {
-    r.backend_options.check_prefixes(backends);
-    for (const std::string& name : backends)
-      Backend::create(name, Geometry{}, r.backend_options.for_plugin(name));
-  } catch (const Error& e) {
-    throw UsageError(std::string("--backend-option: ") + e.what());
   }
   // The frames rendered: one (-1: no number in the names), or FIRST..LAST of --frames, each at
   // time frame / fps with its number in its outputs' names.

@@ -300,6 +300,21 @@ void check_adaptive(const RenderSettings& s) {
   if (s.adaptive_min > 0 && s.adaptive == 0.0) throw UsageError("--adaptive-min needs --adaptive");
 }
 
+void check_render_choices(const RenderArgs& r, const std::vector<std::string>& backends) {
+  check_integrator(r.settings.integrator);
+  const std::vector<std::string> known = Backend::names();
+  for (const std::string& name : backends)
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      Backend::create(name, Geometry{});  // throws the registry's error naming the backends
+  try {
+    r.backend_options.check_prefixes(backends);
+    for (const std::string& name : backends)
+      Backend::create(name, Geometry{}, r.backend_options.for_plugin(name));
+  } catch (const Error& e) {
+    throw UsageError(std::string("--backend-option: ") + e.what());
+  }
+}
+
 void check_integrator(const std::string& name) {
   const std::vector<std::string> integrators = Integrator::names();
   if (std::find(integrators.begin(), integrators.end(), name) != integrators.end()) return;

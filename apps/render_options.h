@@ -67,6 +67,11 @@ void check_adaptive(const RenderSettings& settings);
 // Throws UsageError naming the known integrators unless `name` is one.
 void check_integrator(const std::string& name);
 
+// What `dacrt render` checks before loading anything: the integrator is known (UsageError), each
+// of `backends` is (Error naming those there are), and every --backend-option is for one of them
+// and taken by it, each backend built once on no geometry (UsageError).
+void check_render_choices(const RenderArgs& r, const std::vector<std::string>& backends);
+
 // An integer in [lo, hi] for `flag`, else UsageError.
 long parse_int(const std::string& flag, const std::string& text, long lo, long hi);
 // A positive finite number (seconds, distances) for `flag`, else UsageError.

@@ -73,18 +73,8 @@ void check_bench_memory(const BenchArgs& a, const std::vector<BenchCase>& cases)
 
 }  // namespace
 
-int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
-  const BenchArgs a = parse_bench_args(argv);
-  if (a.help) {
-    out << bench_help();
-    return 0;
-  }
+BenchReport bench_report(const BenchArgs& a, const std::vector<NamedFile>& outputs) {
   check_backend_options(a);
-  std::vector<NamedFile> outputs = {{"--json", a.json}};
-  if (!a.report.empty()) outputs.push_back({"--report", HtmlPage::make_directory(a.report)});
-  for (const NamedFile& o : outputs) check_writable(o.path);
-  check_outputs(outputs, {{"the scene", a.scene}});
-
   std::unique_ptr<tbb::global_control> threads;
   if (a.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -134,7 +124,21 @@ int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
   // A sweep reads as one scaling curve per ray type: group the rows by type, sizes in order.
   std::stable_sort(report.results.begin(), report.results.end(),
                    [](const Result& x, const Result& y) { return x.rays < y.rays; });
+  return report;
+}
 
+int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
+  const BenchArgs a = parse_bench_args(argv);
+  if (a.help) {
+    out << bench_help();
+    return 0;
+  }
+  std::vector<NamedFile> outputs = {{"--json", a.json}};
+  if (!a.report.empty()) outputs.push_back({"--report", HtmlPage::make_directory(a.report)});
+  for (const NamedFile& o : outputs) check_writable(o.path);
+  check_outputs(outputs, {{"the scene", a.scene}});
+
+  const BenchReport report = bench_report(a, outputs);
   print_table(out, report);
   out.flush();
   if (!a.json.empty())

@@ -27,3 +27,17 @@ scene="$source/scenes/cornell-box.gltf"
 step render "$work/prefix/bin/dacrt" render "$scene" --width 24 --height 16 --spp 4 --seed 7 \
   --quiet -o "$work/cli.exr"
 "$work/build/consumer" "$scene" "$work/cli.exr" 24 16 4 7
+
+# The installed Python module, when the build has one: imported from the prefix alone.
+module=$(find "$work/prefix" -name 'dacrt.cpython-*.so' | head -n 1)
+if [ -n "$module" ]; then
+  python=${DACRT_PYTHON:-/usr/bin/python3}
+  PYTHONPATH=$(dirname "$module") "$python" -c "
+import sys, dacrt
+assert dacrt.__file__.startswith('$work/prefix'), dacrt.__file__
+image = dacrt.read_exr('$work/cli.exr')
+mine = dacrt.render('$scene', width=24, height=16, spp=4, seed=7)
+assert (mine[..., 0] == image['R']).all(), 'the installed module renders otherwise'
+print('consumer: the installed Python module renders as the CLI does')
+"
+fi

@@ -1,0 +1,390 @@
+// The Python module `dacrt`: scenes loaded once and rendered many times, renders as numpy arrays
+// (the CLI's pixels bit for bit: the options are the CLI's, parsed by the same parser), the
+// backends on any rays, EXR files read back, and the bench and converge studies as plain data.
+// Long calls release the GIL and stop cleanly on Ctrl-C (python/interruptible.h).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "apps/render_options.h"
+#include "dacrt/io/exr.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/render/render_job.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/util/error.h"
+#include "interruptible.h"
+#include "studies.h"
+
+namespace py = pybind11;
+
+namespace dacrt::python {
+
+namespace {
+
+// A scene loaded once: the file (kept to pose the scene at other times) and the scene as last
+// posed. Renders of one scene take turns (posing changes it).
+struct LoadedScene {
+  std::string path;
+  GltfOptions options;  // as loaded: the scene index and variant; no time (the rest pose)
+  std::unique_ptr<GltfAnimation> file;
+  Scene scene;
+  std::optional<double> time;  // the time the scene is posed at; none: the rest pose
+  std::mutex busy;
+
+  // Poses the scene at `t` (none: the rest pose) unless it is there already.
+  void pose(std::optional<double> t) {
+    if (t == time) return;
+    if (t)
+      file->pose(*t, scene);
+    else
+      scene = file->load();
+    time = t;
+  }
+};
+
+using ScenePtr = std::shared_ptr<LoadedScene>;
+
+ScenePtr load_scene(const std::string& path, std::optional<std::string> variant,
+                    std::optional<int> scene_index, std::optional<double> time) {
+  auto s = std::make_shared<LoadedScene>();
+  s->path = path;
+  if (variant) s->options.variant = *variant;
+  if (scene_index) s->options.scene = *scene_index;
+  GltfOptions at = s->options;
+  at.time = time;
+  s->file = std::make_unique<GltfAnimation>(path, s->options);
+  s->scene = time ? GltfAnimation(path, at).load() : s->file->load();
+  s->time = time;
+  return s;
+}
+
+py::dict scene_info(const LoadedScene& s) {
+  const Scene& scene = s.scene;
+  size_t emissive_triangles = 0, textured = 0, masked = 0, blended = 0, transmissive = 0;
+  for (uint32_t m : scene.geometry.material) emissive_triangles += scene.materials[m].emissive();
+  for (const Material& m : scene.materials) {
+    textured += m.textured();
+    masked += m.alpha_mode == Material::AlphaMode::mask;
+    blended += m.alpha_mode == Material::AlphaMode::blend;
+    transmissive += m.transmission > 0.f;
+  }
+  const Scene::Ignored& ig = scene.ignored;
+  py::dict skipped;
+  skipped["ktx2_textures"] = ig.ktx2_textures;
+  skipped["sourceless_textures"] = ig.sourceless_textures;
+  skipped["unknown_lights"] = ig.unknown_lights;
+  skipped["unmorphed_primitives"] = ig.unmorphed_primitives;
+  skipped["untangented_anisotropic"] = ig.untangented_anisotropic;
+  skipped["occlusion_textures"] = ig.occlusion_textures;
+  skipped["extensions"] = ig.extensions;
+  const Box b = scene.bounds();
+  py::dict info;
+  info["path"] = s.path;
+  info["triangles"] = scene.geometry.size();
+  info["meshes"] = scene.mesh_count;
+  info["primitives"] = scene.primitive_count;
+  info["nodes"] = scene.node_count;
+  info["materials"] = scene.materials.size();
+  info["textured_materials"] = textured;
+  info["alpha_mask_materials"] = masked;
+  info["alpha_blend_materials"] = blended;
+  info["transmissive_materials"] = transmissive;
+  info["emissive_triangles"] = emissive_triangles;
+  info["cameras"] = scene.cameras_from_file;  // 0: the one camera was made to frame the scene
+  info["punctual_lights"] = scene.lights.size();
+  info["variants"] = scene.variants;
+  info["animations"] = s.file->animation_count();
+  info["animation_end"] = s.file->end();
+  info["bounds"] = py::make_tuple(py::make_tuple(b.lo.x, b.lo.y, b.lo.z),
+                                  py::make_tuple(b.hi.x, b.hi.y, b.hi.z));
+  info["skipped"] = skipped;
+  return info;
+}
+
+// Keyword arguments as the CLI's render options (studies.h: keyword_options), with aovs= as
+// --aov and samples=(first, last) as --samples first:last. The options about files and
+// sequences are refused: a call returning arrays has no use for them.
+std::vector<std::string> render_options(const py::kwargs& kwargs) {
+  py::kwargs rest;
+  for (const auto& [key, value] : kwargs) {
+    const std::string name = py::cast<std::string>(key);
+    if (name == "aovs")
+      rest["aov"] = value;
+    else if (name == "samples" && py::isinstance<py::sequence>(value) &&
+             !py::isinstance<py::str>(value) && py::len(value) == 2) {
+      const py::sequence range = py::reinterpret_borrow<py::sequence>(value);
+      rest["samples"] = py::cast<std::string>(py::str(range[0])) + ":" +
+                        py::cast<std::string>(py::str(range[1]));
+    }
+    else
+      rest[key] = value;
+  }
+  return keyword_options(rest,
+                         {"output", "o", "preview", "view", "exposure", "stats", "report",
+                          "frames", "fps", "resume", "keep_sums", "checkpoint", "help",
+                          "scene"},
+                         "render() returns arrays: use the CLI for files and sequences; give "
+                         "load() a scene index");
+}
+
+// An H×W array of one channel, or H×W×n of several, from the film's channels.
+py::array_t<float> stack(const std::vector<const Channel*>& channels, int width, int height) {
+  const size_t n = channels.size(), pixels = size_t(width) * size_t(height);
+  py::array_t<float> out(n == 1 ? std::vector<py::ssize_t>{height, width}
+                                : std::vector<py::ssize_t>{height, width, py::ssize_t(n)});
+  float* data = out.mutable_data();
+  for (size_t p = 0; p < pixels; ++p)
+    for (size_t c = 0; c < n; ++c) data[p * n + c] = channels[c]->values[p];
+  return out;
+}
+
+// The AOV a channel belongs to, by the layer its name starts with.
+std::string aov_of(const std::string& channel) {
+  const std::string layer = channel.substr(0, channel.find('.'));
+  if (layer == "N") return "normal";
+  if (layer == "Z" || layer == "depth") return "depth";
+  if (layer == "P") return "position";
+  return layer;
+}
+
+py::object render(const py::object& scene_or_path, const py::kwargs& kwargs) {
+  ScenePtr loaded;
+  std::string path;
+  if (py::isinstance<LoadedScene>(scene_or_path)) {
+    loaded = py::cast<ScenePtr>(scene_or_path);
+    path = loaded->path;
+  } else {
+    path = py::cast<std::string>(py::str(scene_or_path));
+  }
+  std::vector<std::string> args = {path};
+  for (std::string& a : render_options(kwargs)) args.push_back(std::move(a));
+  RenderArgs r = parse_render(args);
+  const bool aovs_asked = kwargs.contains("aovs");
+  if (r.backend.find(',') != std::string::npos)
+    throw UsageError("--backend: one backend a call (" + r.backend + ")");
+  if (loaded && (r.gltf.variant != loaded->options.variant || r.gltf.scene != loaded->options.scene))
+    throw UsageError("variant= and the scene index are the loaded scene's: give them to load()");
+  check_render_choices(r, {r.backend});
+  r.backend_options.threads = r.threads;
+
+  std::atomic<bool> stop{false};
+  r.passes.stop = &stop;
+  struct Rendered {
+    Film film;
+    RenderOutcome outcome;
+  };
+  const Rendered done = run_interruptible(stop, [&]() -> Rendered {
+    std::unique_ptr<tbb::global_control> threads;
+    if (r.threads > 0)
+      threads = std::make_unique<tbb::global_control>(
+          tbb::global_control::max_allowed_parallelism, size_t(r.threads));
+    std::unique_lock<std::mutex> lock;
+    std::optional<Scene> own;
+    const Scene* scene = nullptr;
+    if (loaded) {
+      lock = std::unique_lock<std::mutex>(loaded->busy);
+      loaded->pose(r.gltf.time);
+      scene = &loaded->scene;
+    } else {
+      scene = &own.emplace(GltfAnimation(path, r.gltf).load());
+    }
+    const RenderSettings& s = r.settings;
+    const Shot shot = make_shot(*scene, s);
+    auto backend =
+        Backend::create(r.backend, scene->geometry, r.backend_options.for_plugin(r.backend));
+    RenderJob job(*scene, *backend, s, shot);
+    Film film = job.film();
+    const uint32_t first = r.samples ? r.samples->first : 0,
+                   last = r.samples ? r.samples->second : uint32_t(s.spp);
+    Progress bar("render", shot.pixels() * uint64_t(last - first), !r.quiet);
+    const RenderOutcome outcome = job.run(film, first, last, bar, r.passes);
+    return {std::move(film), outcome};
+  });
+
+  const Film& film = done.film;
+  const std::vector<Channel> channels = film.channels(film.min_count() != film.max_count());
+  auto named = [&](const std::string& name) -> const Channel* {
+    for (const Channel& c : channels)
+      if (c.name == name) return &c;
+    throw Error("no channel " + name);
+  };
+  const py::array_t<float> image =
+      stack({named("R"), named("G"), named("B")}, film.width(), film.height());
+  if (!aovs_asked) return image;
+  py::dict aovs;
+  std::vector<const Channel*> layer;
+  std::string current;
+  auto flush = [&] {
+    if (!layer.empty()) aovs[py::str(current)] = stack(layer, film.width(), film.height());
+    layer.clear();
+  };
+  for (const Channel& c : channels) {
+    if (c.name == "R" || c.name == "G" || c.name == "B") continue;
+    if (aov_of(c.name) != current) flush(), current = aov_of(c.name);
+    layer.push_back(&c);
+  }
+  flush();
+  return py::make_tuple(image, aovs);
+}
+
+// Rays from two N×3 arrays; ValueError for other shapes.
+RayBatch rays_from(const py::array_t<float, py::array::c_style | py::array::forcecast>& origins,
+                   const py::array_t<float, py::array::c_style | py::array::forcecast>& directions,
+                   float tmin, float tmax) {
+  if (origins.ndim() != 2 || origins.shape(1) != 3 || directions.ndim() != 2 ||
+      directions.shape(1) != 3 || origins.shape(0) != directions.shape(0))
+    throw py::value_error("origins and directions must be N×3 arrays of the same N");
+  const size_t n = size_t(origins.shape(0));
+  if (n >= HitBatch::miss) throw py::value_error("too many rays for one call (at most 2^32 - 2)");
+  if (!(tmin >= 0.f) || !(tmax >= tmin))
+    throw py::value_error("tmin must be >= 0 and tmax >= tmin");
+  RayBatch rays;
+  rays.resize(n);
+  const float* o = origins.data();
+  const float* d = directions.data();
+  for (size_t i = 0; i < n; ++i)
+    rays.set(i, {o[3 * i], o[3 * i + 1], o[3 * i + 2]}, {d[3 * i], d[3 * i + 1], d[3 * i + 2]},
+             tmin, tmax, uint32_t(i));
+  return rays;
+}
+
+py::object trace(const ScenePtr& scene, const py::array_t<float, py::array::c_style | py::array::forcecast>& origins,
+                 const py::array_t<float, py::array::c_style | py::array::forcecast>& directions,
+                 const std::string& backend_name, float tmin, float tmax, bool occluded) {
+  const RayBatch rays = rays_from(origins, directions, tmin, tmax);
+  const py::ssize_t n = py::ssize_t(rays.size());
+  std::atomic<bool> stop{false};  // a backend call is not stopped midway: Ctrl-C waits for it
+  if (occluded) {
+    py::array_t<bool> out(n);
+    bool* data = out.mutable_data();
+    run_interruptible(stop, [&] {
+      const std::lock_guard<std::mutex> lock(scene->busy);
+      auto backend = Backend::create(backend_name, scene->scene.geometry);
+      std::vector<uint8_t> hit(rays.size());
+      backend->occluded(rays, hit);
+      for (size_t i = 0; i < hit.size(); ++i) data[i] = hit[i] != 0;
+      return 0;
+    });
+    return out;
+  }
+  py::array_t<float> t(n), u(n), v(n);
+  py::array_t<uint32_t> prim(n);
+  float *tp = t.mutable_data(), *up = u.mutable_data(), *vp = v.mutable_data();
+  uint32_t* pp = prim.mutable_data();
+  run_interruptible(stop, [&] {
+    const std::lock_guard<std::mutex> lock(scene->busy);
+    auto backend = Backend::create(backend_name, scene->scene.geometry);
+    HitBatch hits;
+    backend->intersect(rays, hits);
+    for (size_t i = 0; i < hits.size(); ++i)
+      tp[i] = hits.t[i], up[i] = hits.u[i], vp[i] = hits.v[i], pp[i] = hits.prim[i];
+    return 0;
+  });
+  py::dict out;
+  out["t"] = t, out["prim"] = prim, out["u"] = u, out["v"] = v;
+  return out;
+}
+
+py::dict exr_channels(const std::string& path) {
+  const ExrFile f = read_exr_file(path);
+  py::dict out;
+  for (const Channel& c : f.channels) out[py::str(c.name)] = stack({&c}, f.width, f.height);
+  return out;
+}
+
+}  // namespace
+
+}  // namespace dacrt::python
+
+PYBIND11_MODULE(dacrt, m) {
+  using namespace dacrt;
+  using namespace dacrt::python;
+  m.doc() =
+      "dacrt: a path tracer whose ray queries are Divide-And-Conquer Ray Tracing with ray "
+      "sampling.\n\nload() a glTF scene once, render() it to numpy arrays (the pixels of `dacrt "
+      "render` bit for bit), trace() your own rays with any backend, read_exr() the CLI's "
+      "outputs, and run the bench() and converge() studies as plain data. Long calls release "
+      "the GIL; Ctrl-C stops them cleanly and raises KeyboardInterrupt.";
+  m.attr("__version__") = dacrt::version();
+
+  static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+  error.doc() = "A scene, file or option dacrt refuses; the message is the CLI's one line.";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const UsageError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const Error& e) {
+      error(e.what());
+    }
+  });
+
+  py::class_<LoadedScene, ScenePtr>(m, "Scene",
+                                    "A glTF scene loaded once (dacrt.load), rendered and traced "
+                                    "many times; renders of one scene take turns.")
+      .def_property_readonly("path", [](const LoadedScene& s) { return s.path; })
+      .def_property_readonly(
+          "info", [](const LoadedScene& s) { return scene_info(s); },
+          "What `dacrt info` says, as a dict: triangles, meshes, materials (and how many are "
+          "textured, alpha-tested, transmissive), emissive triangles, cameras (0: none in the "
+          "file, one frames the scene), punctual lights, variants, animations, bounds, and "
+          "`skipped`: what the file asks for that is not rendered as specified.")
+      .def("__repr__", [](const LoadedScene& s) {
+        return "<dacrt.Scene '" + s.path + "', " + std::to_string(s.scene.geometry.size()) +
+               " triangles>";
+      });
+
+  m.def("load", &load_scene, py::arg("path"), py::kw_only(), py::arg("variant") = py::none(),
+        py::arg("scene") = py::none(), py::arg("time") = py::none(),
+        py::call_guard<py::gil_scoped_release>(),
+        "load(path, *, variant=None, scene=None, time=None) -> Scene\n\n"
+        "Loads a glTF 2.0 file (.gltf or .glb): `variant` a KHR_materials_variants name, "
+        "`scene` the index of a scene of the file (default: its default scene), `time` the "
+        "seconds its animations are evaluated at (default: the rest pose; render(time=...) "
+        "poses it again). Raises dacrt.Error with the loader's one-line message.");
+
+  m.def("render", &render, py::arg("scene"),
+        "render(scene, **options) -> image, or (image, aovs) when aovs= is given\n\n"
+        "Renders a Scene (or a path, loaded for this call) as `dacrt render` does, and returns "
+        "the image as a float32 numpy array of shape (height, width, 3), linear radiance: the "
+        "pixels of the CLI's EXR bit for bit. The options are the CLI's render options "
+        "(`dacrt render --help`) as keywords, dashes as underscores: spp=, width=, height=, "
+        "backend= ('dacrt', 'dacrt-naive', 'embree', 'brute'), integrator=, seed=, "
+        "samples=(first, last) (sample indices of the spp render), aovs=[...] (albedo, normal, "
+        "depth, position, variance, samples: returned in a dict of (height, width[, 3]) arrays), "
+        "camera= (an index), time= (seconds), max_depth=, threads=, sampler=, look_from=(x, y, "
+        "z), ...; True gives a bare flag. progress=True shows the progress bar on stderr. Bad "
+        "options raise ValueError, a bad scene dacrt.Error. The GIL is released while rendering; "
+        "Ctrl-C stops the render at its next wavefront and raises KeyboardInterrupt.");
+
+  m.def("trace", &trace, py::arg("scene"), py::arg("origins"), py::arg("directions"),
+        py::kw_only(), py::arg("backend") = "dacrt", py::arg("tmin") = 0.f,
+        py::arg("tmax") = std::numeric_limits<float>::infinity(), py::arg("occluded") = false,
+        "trace(scene, origins, directions, *, backend='dacrt', tmin=0, tmax=inf, "
+        "occluded=False) -> dict\n\n"
+        "The backend's closest hits of N rays (origins and directions: N×3 arrays, converted to "
+        "float32; directions need not be unit length, t is in their units): a dict of numpy "
+        "arrays t (float32, inf where nothing is hit), prim (uint32 triangle index, 0xFFFFFFFF "
+        "for a miss), u and v (barycentric weights of the triangle's corners 1 and 2). With "
+        "occluded=True, one bool per ray: anything hit in [tmin, tmax]. Every triangle is "
+        "opaque here (alpha masks are the renderer's business). dacrt, dacrt-naive and brute "
+        "give the same hits bit for bit. The GIL is released while tracing.");
+
+  m.def("read_exr", &exr_channels, py::arg("path"),
+        "read_exr(path) -> dict\n\nEvery channel of an OpenEXR file as a float32 numpy array "
+        "of shape (height, width), by channel name ('R', 'albedo.R', ...): to compare with the "
+        "CLI's outputs. Integer channels come as floats.");
+
+  add_studies(m);
+}

@@ -1,0 +1,154 @@
+#include "studies.h"
+
+#include <pybind11/stl.h>
+#include <stdlib.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "apps/converge.h"
+#include "bench/args.h"
+#include "bench/command.h"
+#include "bench/report.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/text.h"
+#include "interruptible.h"
+
+namespace py = pybind11;
+namespace fs = std::filesystem;
+
+namespace dacrt::python {
+
+std::vector<std::string> keyword_options(const py::kwargs& kwargs,
+                                         const std::vector<std::string>& refused,
+                                         const std::string& why,
+                                         const std::vector<std::string>& repeated) {
+  std::vector<std::string> args;
+  bool progress = false;
+  auto listed = [](const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  for (const auto& [key, value] : kwargs) {
+    const std::string name = py::cast<std::string>(key);
+    if (name == "progress") {
+      progress = py::cast<bool>(value);
+      continue;
+    }
+    if (name == "quiet") throw py::type_error("no quiet= here: progress=True shows the progress");
+    if (listed(refused, name)) throw py::type_error("no " + name + "= here (" + why + ")");
+    std::string flag = "--" + name;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    if (value.is_none()) continue;
+    if (py::isinstance<py::bool_>(value)) {
+      if (py::cast<bool>(value)) args.push_back(flag);
+      continue;
+    }
+    auto text = [](py::handle v) { return py::cast<std::string>(py::str(v)); };
+    const bool sequence = py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value);
+    if (sequence && listed(repeated, name)) {
+      for (const py::handle item : value) args.push_back(flag), args.push_back(text(item));
+      continue;
+    }
+    std::string joined;
+    if (sequence)
+      for (const py::handle item : value) joined += (joined.empty() ? "" : ",") + text(item);
+    else
+      joined = text(value);
+    args.push_back(flag);
+    args.push_back(joined);
+  }
+  if (!progress) args.push_back("--quiet");
+  return args;
+}
+
+namespace {
+
+// The JSON of `dacrt bench --json` as Python data.
+py::object bench(const std::string& scene, const py::kwargs& kwargs) {
+  std::vector<std::string> args = {scene};
+  for (std::string& a : keyword_options(kwargs, {"json", "report", "help"},
+                                        "bench() returns its results: use the CLI for files"))
+    args.push_back(std::move(a));
+  const bench::BenchArgs parsed = bench::parse_bench_args(args);
+  std::atomic<bool> stop{false};  // a bench is not stopped midway: Ctrl-C waits for its end
+  const std::string text = run_interruptible(
+      stop, [&] { return json_text(bench::to_json(bench::bench_report(parsed))); });
+  return py::module_::import("json").attr("loads")(text);
+}
+
+// A directory of its own, removed with what it holds when the call ends.
+struct TemporaryDirectory {
+  fs::path path;
+  TemporaryDirectory() {
+    std::string pattern = (fs::temp_directory_path() / "dacrt-converge-XXXXXX").string();
+    if (!::mkdtemp(pattern.data())) throw Error("cannot make a temporary directory");
+    path = pattern;
+  }
+  ~TemporaryDirectory() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+// `dacrt converge`'s CSV rows as dicts (numbers as floats), in a temporary directory removed
+// afterwards; with reference= given, the reference the CLI would keep is not kept.
+py::object converge(const std::string& scene, const py::kwargs& kwargs) {
+  const TemporaryDirectory dir;
+  std::vector<std::string> args = {scene, "-o", dir.path.string(), "--no-plot"};
+  for (std::string& a :
+       keyword_options(kwargs, {"output", "o", "no_plot", "help"},
+                       "converge() returns its points: use the CLI for files", {"config"}))
+    args.push_back(std::move(a));
+  std::atomic<bool> stop{false};  // converge stops on SIGINT itself, as the CLI does
+  const int code = run_interruptible(stop, [&] { return converge_main(args); });
+  if (code != 0) {
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+  const py::module_ csv = py::module_::import("csv");
+  const py::object file = py::module_::import("io").attr("open")(
+      (dir.path / "convergence.csv").string(), "r", py::arg("newline") = "");
+  py::list rows;
+  for (const py::handle row : csv.attr("DictReader")(file)) {
+    py::dict out;
+    for (const auto& [key, value] : py::cast<py::dict>(row)) {
+      const std::string text = py::cast<std::string>(value);
+      char* end = nullptr;
+      const double number = std::strtod(text.c_str(), &end);
+      if (!text.empty() && *end == '\0')
+        out[key] = number;
+      else
+        out[key] = value;
+    }
+    rows.append(out);
+  }
+  file.attr("close")();
+  return rows;
+}
+
+}  // namespace
+
+void add_studies(py::module_& m) {
+  m.def("bench", &bench, py::arg("scene"),
+        "bench(scene_path, **options) -> dict\n\n"
+        "`dacrt bench`: every backend on the same rays of each type, in the same run, and "
+        "returns what `dacrt bench --json` writes (the results per backend and ray type: build "
+        "and trace seconds of every run, medians with 95 % intervals, Mrays/s, peak memory). "
+        "Options as the CLI's, dashes as underscores: rays='primary,shadow', backends=, width=, "
+        "height=, count=, repeat=, threads=, sweep=, ...; progress=True shows its progress on "
+        "stderr. The GIL is released while it runs.");
+  m.def("converge", &converge, py::arg("scene"),
+        "converge(scene_path, **options) -> list of dicts\n\n"
+        "`dacrt converge`: renders each configuration at 1, 2, 4, ... samples per pixel until "
+        "its time budget is spent and measures each point's error; returns the rows of its "
+        "convergence.csv as dicts (numbers as floats). Options as the CLI's, dashes as "
+        "underscores: config=['', 'backend=embree'] (one --config each), time_budget=, "
+        "max_spp=, reference=, reference_spp=, no_reference=True, noise=True, metric=, "
+        "repeats=, and the render options (width=, height=, ...). progress=True shows its "
+        "progress on stderr. Ctrl-C stops it as it stops the CLI (KeyboardInterrupt); a second "
+        "Ctrl-C ends the process, as the CLI's does.");
+}
+
+}  // namespace dacrt::python

@@ -1,0 +1,108 @@
+# dacrt.render against the CLI: the same options give the same pixels, bit for bit, image and
+# AOVs; errors are the CLI's one-line messages as Python exceptions.
+import subprocess
+
+import numpy as np
+import pytest
+
+import dacrt
+from conftest import CLI, CORNELL
+
+EVERY_AOV = ["albedo", "normal", "depth", "position", "variance", "samples"]
+# The CLI's channels of each AOV, in the order the arrays hold them.
+CHANNELS = {
+    "albedo": ["albedo.R", "albedo.G", "albedo.B"],
+    "normal": ["N.X", "N.Y", "N.Z"],
+    "depth": ["Z"],
+    "position": ["P.X", "P.Y", "P.Z"],
+    "variance": ["variance.R", "variance.G", "variance.B"],
+    "samples": ["samples"],
+}
+
+
+def cli_render(tmp_path, scene, *args):
+    out = tmp_path / "cli.exr"
+    run = subprocess.run([CLI, "render", scene, "--quiet", "-o", str(out), *args],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    return dacrt.read_exr(str(out))
+
+
+def same_bits(a, b):
+    a, b = np.ascontiguousarray(a, np.float32), np.ascontiguousarray(b, np.float32)
+    return a.shape == b.shape and np.array_equal(a.view(np.uint32), b.view(np.uint32))
+
+
+def channel_of(exr, names):
+    layer = [exr[n] for n in names]
+    return layer[0] if len(layer) == 1 else np.stack(layer, axis=-1)
+
+
+@pytest.mark.parametrize("options,flags", [
+    (dict(spp=4, width=40, height=30, seed=7), ["--spp", "4", "--width", "40", "--height", "30",
+                                                "--seed", "7"]),
+    (dict(spp=8, width=24, height=16, samples=(2, 5), backend="dacrt-naive", max_depth=3),
+     ["--spp", "8", "--width", "24", "--height", "16", "--samples", "2:5", "--backend",
+      "dacrt-naive", "--max-depth", "3"]),
+    (dict(spp=2, width=20, height=20, integrator="direct", look_from=(0.2, 1.0, 3.5), fov=50.5,
+          sampler="independent"),
+     ["--spp", "2", "--width", "20", "--height", "20", "--integrator", "direct", "--look-from",
+      "0.2,1.0,3.5", "--fov", "50.5", "--sampler", "independent"]),
+])
+def test_render_is_the_cli_render_bit_for_bit(tmp_path, cornell, options, flags):
+    exr = cli_render(tmp_path, CORNELL, *flags, "--aov", ",".join(EVERY_AOV))
+    for scene in (cornell, CORNELL):  # a loaded scene and a path
+        image, aovs = dacrt.render(scene, aovs=EVERY_AOV, **options)
+        assert image.dtype == np.float32 and image.shape == (options["height"],
+                                                             options["width"], 3)
+        assert same_bits(image, channel_of(exr, ["R", "G", "B"]))
+        assert sorted(aovs) == sorted(EVERY_AOV)
+        for name in EVERY_AOV:
+            assert same_bits(aovs[name], channel_of(exr, CHANNELS[name])), name
+    # Without aovs= the image alone, the same.
+    assert same_bits(dacrt.render(cornell, **options), channel_of(exr, ["R", "G", "B"]))
+
+
+def test_a_scene_loaded_once_renders_again_the_same(cornell):
+    a = dacrt.render(cornell, spp=2, width=16, height=16)
+    b = dacrt.render(cornell, spp=2, width=16, height=16, time=0.5)  # posed (no animation here)
+    c = dacrt.render(cornell, spp=2, width=16, height=16)
+    assert same_bits(a, b) and same_bits(a, c)
+
+
+def cli_error(*args):
+    run = subprocess.run([CLI, "render", *args], capture_output=True, text=True)
+    assert run.returncode in (1, 2)
+    return run.stderr.splitlines()[0]
+
+
+def test_errors_are_the_cli_messages_as_exceptions(tmp_path):
+    with pytest.raises(ValueError) as bad_spp:
+        dacrt.render(CORNELL, spp=0)
+    assert str(bad_spp.value) in cli_error(CORNELL, "--spp", "0")
+    with pytest.raises(ValueError, match="unknown integrator"):
+        dacrt.render(CORNELL, integrator="nope")
+    with pytest.raises(ValueError, match="unknown option --colour"):
+        dacrt.render(CORNELL, colour=3)
+    missing = str(tmp_path / "missing.gltf")
+    with pytest.raises(dacrt.Error) as no_file:
+        dacrt.load(missing)
+    assert str(no_file.value) in cli_error(missing)
+    broken = tmp_path / "broken.gltf"
+    broken.write_text('{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{}]}]}')
+    with pytest.raises(dacrt.Error) as bad_file:
+        dacrt.render(str(broken), spp=1, width=8, height=8)
+    assert str(bad_file.value) in cli_error(str(broken))
+    with pytest.raises(TypeError, match="use the CLI"):
+        dacrt.render(CORNELL, output="x.exr")
+    with pytest.raises(ValueError, match="one backend"):
+        dacrt.render(CORNELL, backend="dacrt,embree")
+
+
+def test_info_says_what_the_scene_holds(cornell):
+    info = cornell.info
+    assert info["triangles"] == 32 and info["materials"] >= 1
+    assert info["emissive_triangles"] >= 2
+    assert info["skipped"]["extensions"] == {}
+    lo, hi = info["bounds"]
+    assert all(l < h for l, h in zip(lo, hi))
