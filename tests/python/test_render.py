@@ -106,3 +106,51 @@ def test_info_says_what_the_scene_holds(cornell):
     assert info["skipped"]["extensions"] == {}
     lo, hi = info["bounds"]
     assert all(l < h for l, h in zip(lo, hi))
+
+
+def animated_triangle(tmp_path):
+    """A triangle whose node moves from x = 0 to x = 0.5 over one second, seen by a camera."""
+    import base64, json, struct
+    data = struct.pack("9f", -0.5, -0.5, 0, 0.5, -0.5, 0, 0, 0.5, 0)  # positions
+    data += struct.pack("2f", 0.0, 1.0)  # key times
+    data += struct.pack("6f", 0, 0, 0, 0.5, 0, 0)  # translations
+    gltf = {
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," +
+                     base64.b64encode(data).decode()}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 36, "byteLength": 8},
+                        {"buffer": 0, "byteOffset": 44, "byteLength": 24}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+             "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0]},
+            {"bufferView": 1, "componentType": 5126, "count": 2, "type": "SCALAR",
+             "min": [0], "max": [1]},
+            {"bufferView": 2, "componentType": 5126, "count": 2, "type": "VEC3"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 3]}],
+        "animations": [{"samplers": [{"input": 1, "output": 2}],
+                        "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}]}],
+        "scenes": [{"nodes": [0, 1]}], "scene": 0,
+    }
+    path = tmp_path / "moving.gltf"
+    path.write_text(json.dumps(gltf))
+    return str(path)
+
+
+def test_time_poses_a_loaded_scene_as_the_cli_loads_it(tmp_path):
+    scene_path = animated_triangle(tmp_path)
+    scene = dacrt.load(scene_path)  # the rest pose
+    assert scene.info["animations"] == 1 and scene.info["animation_end"] == 1.0
+    size = dict(spp=2, width=32, height=24)
+    rest = dacrt.render(scene, **size)
+    for t in (0.5, 1.0, 0.25):
+        exr = cli_render(tmp_path, scene_path, "--spp", "2", "--width", "32", "--height", "24",
+                         "--time", str(t))
+        posed = dacrt.render(scene, time=t, **size)
+        assert same_bits(posed, channel_of(exr, ["R", "G", "B"])), t
+        assert not same_bits(posed, rest)
+    assert same_bits(dacrt.render(scene, **size), rest)  # back to the rest pose
+    at_half = dacrt.load(scene_path, time=0.5)
+    assert same_bits(dacrt.render(at_half, time=0.5, **size), dacrt.render(scene, time=0.5, **size))

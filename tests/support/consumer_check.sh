@@ -32,7 +32,11 @@ step render "$work/prefix/bin/dacrt" render "$scene" --width 24 --height 16 --sp
 module=$(find "$work/prefix" -name 'dacrt.cpython-*.so' | head -n 1)
 if [ -n "$module" ]; then
   python=${DACRT_PYTHON:-/usr/bin/python3}
-  PYTHONPATH=$(dirname "$module") "$python" -c "
+  preload=""
+  case "$flags" in  # a sanitized module needs the sanitizers' runtime before the interpreter
+    *sanitize=address*) preload=$(c++ -print-file-name=libasan.so) ;;
+  esac
+  LD_PRELOAD=$preload ASAN_OPTIONS=detect_leaks=0 PYTHONPATH=$(dirname "$module") "$python" -c "
 import sys, dacrt
 assert dacrt.__file__.startswith('$work/prefix'), dacrt.__file__
 image = dacrt.read_exr('$work/cli.exr')
