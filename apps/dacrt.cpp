@@ -126,8 +126,9 @@ Output
                              images side by side (DIR/NAME.png), their rays per second per ray
                              type and bounce, the batch sizes and the comparison table
   --aov LIST                 more layers in the EXR, comma-separated: albedo (albedo.R/G/B), normal
-                             (N.X/Y/Z), depth (Z, along the view axis), position (P.X/Y/Z), variance
-                             (variance.R/G/B: of each pixel's mean), samples (the per-pixel count)
+                             (N.X/Y/Z), depth (Z, along the view axis; 1e10 where nothing was hit),
+                             position (P.X/Y/Z), variance (variance.R/G/B: of each pixel's mean),
+                             samples (samples.X: the per-pixel count)
 Progress
   --pass-spp N               samples per pixel in each pass (default: 8 wavefronts' worth)
   --time-limit SECONDS       stop after the pass that crosses it (the header says the spp done)
@@ -317,9 +318,7 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
       {"sppRequested", std::to_string(s.spp)},
       // The samples every pixel has (fewer than asked when a stop or the time limit came first).
       {"sampleRange", std::to_string(outcome.first) + ":" + std::to_string(outcome.complete)},
-      {"samplesPerPixel", least == most ? "every pixel " + std::to_string(least)
-                                        : "from " + std::to_string(least) + " to " +
-                                              std::to_string(most) + " (the samples channel)"},
+      {"samplesPerPixel", samples_per_pixel_text(least, most)},
       {"software", std::string("dacrt ") + version()},
       {"dacrtVersion", version()}};
   if (s.adaptive > 0) {

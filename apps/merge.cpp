@@ -203,10 +203,7 @@ int merge_main(const std::vector<std::string>& args) {
                   std::to_string(plan.spp) + "-spp render are in no part: " + m.output +
                   " has " + std::to_string(least) + " spp");
   }
-  meta.extra.push_back({"samplesPerPixel",
-                        least == most ? "every pixel " + std::to_string(least)
-                                      : "from " + std::to_string(least) + " to " +
-                                            std::to_string(most) + " (the samples channel)"});
+  meta.extra.push_back({"samplesPerPixel", samples_per_pixel_text(least, most)});
   meta.extra.push_back({"software", std::string("dacrt ") + version()});
   meta.extra.push_back({"dacrtVersion", version()});
   // One range short of the whole render is a part itself: it keeps its sums.

@@ -1,7 +1,5 @@
 #include "dacrt/film/film.h"
 
-#include <limits>
-
 #include "dacrt/util/error.h"
 
 namespace dacrt {
@@ -182,9 +180,7 @@ std::vector<Channel> Film::channels(bool counts) const {
     for (int c = 0; c < 3; ++c)
       channel(std::string("N.") + xyz[c], [&](size_t p) { return mean(p, first(p, 3 + c)); });
   if (aovs_.has(Aov::depth))
-    channel("Z", [&](size_t p) {
-      return over_hits(p, 6, double(std::numeric_limits<float>::infinity()));
-    });
+    channel("Z", [&](size_t p) { return over_hits(p, 6, double(background_depth)); });
   if (aovs_.has(Aov::position))
     for (int c = 0; c < 3; ++c)
       channel(std::string("P.") + xyz[c], [&](size_t p) { return over_hits(p, 7 + c, 0.0); });
@@ -192,7 +188,7 @@ std::vector<Channel> Film::channels(bool counts) const {
     for (int c = 0; c < 3; ++c)
       channel(std::string("variance.") + rgb[c], [&](size_t p) { return variance_of_mean(p, c); });
   if (counts || aovs_.has(Aov::samples))
-    channel("samples", [&](size_t p) { return double(count_[p]); });
+    channel(samples_channel, [&](size_t p) { return double(count_[p]); });
   return out;
 }
 

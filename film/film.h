@@ -57,6 +57,14 @@ struct FirstHit {
 
 class Film {
  public:
+  // The per-pixel sample count's channel: a layer and a one-letter channel, as Cycles writes its
+  // own sample count ("Debug Sample Count.X"); a bare "samples" is dropped by Blender's reader.
+  static constexpr const char* samples_channel = "samples.X";
+  // Depth (Z) where no sample hit: Cycles' value for the background (its pass accessor writes
+  // 1e10 where nothing was hit), finite so that a compositor's filters and arithmetic stay
+  // finite, and above the 10^4 that Blender's Normalize node ignores.
+  static constexpr float background_depth = 1e10f;
+
   Film(int width, int height, AovSet aovs = {});
 
   // The bytes a film of this size with these outputs holds.
@@ -150,9 +158,10 @@ class Film {
   double variance_of_mean(size_t pixel, int c) const;
 
   // Every output as named channels: R, G, B, then the AOVs asked (albedo.R/G/B, N.X/Y/Z, Z,
-  // P.X/Y/Z, variance.R/G/B, samples). Z is +inf and P zero where no sample hit anything.
-  // `counts`: the samples channel even when the AOVs do not ask for it (for a film whose pixels
-  // have different counts).
+  // P.X/Y/Z, variance.R/G/B, samples.X), named as Blender's and Nuke's EXR readers split them
+  // into layers (docs/usage.md#aovs). Z is background_depth and P zero where no sample hit
+  // anything. `counts`: the samples channel even when the AOVs do not ask for it (for a film
+  // whose pixels have different counts).
   std::vector<Channel> channels(bool counts = false) const;
   // How many channels channels() returns, at most (the samples channel counted).
   static int channel_count(AovSet aovs);

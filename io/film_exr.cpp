@@ -21,6 +21,12 @@ std::vector<WordChannel> film_words(const Film& film) {
   return out;
 }
 
+std::string samples_per_pixel_text(uint32_t least, uint32_t most) {
+  return least == most ? "every pixel " + std::to_string(least)
+                       : "from " + std::to_string(least) + " to " + std::to_string(most) +
+                             " (the " + Film::samples_channel + " channel)";
+}
+
 void write_film_exr(const std::string& path, const Film& film, ExrMetadata metadata, bool exact) {
   metadata.extra.push_back({"samplesDropped", std::to_string(film.dropped())});
   metadata.extra.push_back({"samplesClamped", std::to_string(film.clamped())});

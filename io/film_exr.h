@@ -21,6 +21,9 @@ inline constexpr const char* exact_sums_format =
 // The film's word channels, pointing into it (valid while the film lives and is not resized).
 std::vector<WordChannel> film_words(const Film& film);
 
+// The samplesPerPixel attribute: "every pixel N", or "from A to B (the samples.X channel)".
+std::string samples_per_pixel_text(uint32_t least, uint32_t most);
+
 // Writes a film as renders and merges do: its channels (Film::channels, with the samples channel
 // when pixels have different counts), the metadata with the tallies (samplesDropped,
 // samplesClamped) added, and with `exact` the word channels and exactSums.

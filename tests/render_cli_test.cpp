@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "dacrt/film/film.h"
 #include "dacrt/io/exr.h"
 
 using namespace dacrt;
@@ -164,7 +165,7 @@ void check_counts(const ExrFile& f) {
   const int spp = spp_of(f);
   const std::string per_pixel = attribute(f, "samplesPerPixel");
   INFO("spp " << spp << ", samplesPerPixel " << per_pixel);
-  if (const Channel* samples = f.find("samples")) {
+  if (const Channel* samples = f.find(Film::samples_channel)) {
     REQUIRE(!samples->values.empty());
     CHECK(*std::min_element(samples->values.begin(), samples->values.end()) == float(spp));
   } else {
@@ -263,7 +264,8 @@ TEST_CASE("render cli: --time-limit stops after the pass that crosses it, with w
   CHECK(attribute(*image, "sppRequested") == "100000");
   CHECK(spp_of(*image) >= 1);
   CHECK(spp_of(*image) < 100000);
-  CHECK(image->find("samples") == nullptr);  // whole passes: every pixel has the same count
+  // Whole passes: every pixel has the same count.
+  CHECK(image->find(Film::samples_channel) == nullptr);
   check_counts(*image);
   CHECK(temporaries(dir).empty());
 }
@@ -306,8 +308,8 @@ TEST_CASE("render cli: --aov writes every layer asked, and the header says how i
   for (const Channel& c : f.channels) names.insert(c.name);
   CHECK(names == std::set<std::string>{"R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "N.X",
                                        "N.Y", "N.Z", "Z", "P.X", "P.Y", "P.Z", "variance.R",
-                                       "variance.G", "variance.B", "samples"});
-  const Channel* samples = f.find("samples");
+                                       "variance.G", "variance.B", "samples.X"});
+  const Channel* samples = f.find(Film::samples_channel);
   REQUIRE(samples);
   for (float n : samples->values) CHECK(n == 2.f);
   check_counts(f);
@@ -402,7 +404,7 @@ TEST_CASE("render cli: --adaptive stops converged pixels; the samples, header an
   REQUIRE(r.code == 0);
   const ExrFile f = read_exr_file(out);
   // Counts that differ: the samples channel is written without being asked.
-  const Channel* samples = f.find("samples");
+  const Channel* samples = f.find(Film::samples_channel);
   REQUIRE(samples);
   const auto [least, most] = std::minmax_element(samples->values.begin(), samples->values.end());
   CHECK(*least == 8.f);
@@ -413,7 +415,7 @@ TEST_CASE("render cli: --adaptive stops converged pixels; the samples, header an
   CHECK(attribute(f, "adaptiveTarget") == "0.2");
   CHECK(attribute(f, "adaptiveMinSpp") == "8");
   CHECK(attribute(f, "adaptiveSampling") == "on: relative error 0.2, at least 8 spp, at most 48");
-  CHECK(attribute(f, "samplesPerPixel") == "from 8 to 48 (the samples channel)");
+  CHECK(attribute(f, "samplesPerPixel") == "from 8 to 48 (the samples.X channel)");
   const nlohmann::json j = nlohmann::json::parse(slurp(stats));
   REQUIRE(j.contains("adaptive"));
   CHECK(j["adaptive"]["target"] == 0.2);

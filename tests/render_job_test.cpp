@@ -183,7 +183,7 @@ TEST_CASE(
       CHECK(at.z == 0.f);
       CHECK(glm::all(glm::greaterThanEqual(glm::vec2(at), f.lo - 1e-5f)));
       CHECK(glm::all(glm::lessThanEqual(glm::vec2(at), f.hi + 1e-5f)));
-      CHECK(plane.at("samples")[p] == 4.f);
+      CHECK(plane.at(Film::samples_channel)[p] == 4.f);
     }
 
   // A square of side 2 in the middle of the view: the pixels that see only the (black)
@@ -197,10 +197,10 @@ TEST_CASE(
       const size_t p = size_t(y) * s.width + x;
       INFO("pixel " << x << ", " << y);
       const Footprint f = footprint(cam, s.width, s.height, x, y);
-      CHECK(square.at("samples")[p] == 4.f);
+      CHECK(square.at(Film::samples_channel)[p] == 4.f);
       if (f.outside(glm::vec2(-1.f), glm::vec2(1.f))) {
         ++background;
-        CHECK(square.at("Z")[p] == std::numeric_limits<float>::infinity());
+        CHECK(square.at("Z")[p] == 1e10f);  // docs/usage.md#aovs: Cycles' background depth
         CHECK(layer3(square, "P.", "XYZ", p) == glm::vec3(0.f));
         CHECK(layer3(square, "albedo.", "RGB", p) == glm::vec3(0.f));
         CHECK(layer3(square, "N.", "XYZ", p) == glm::vec3(0.f));
@@ -593,7 +593,7 @@ TEST_CASE("render job: integrators by name, and ao, albedo, normal and depth giv
       CHECK(layer3(albedo, "", "RGB", p) == layer3(albedo, "albedo.", "RGB", p));
       CHECK(layer3(normal, "", "RGB", p) == layer3(normal, "N.", "XYZ", p));
       const float z = depth.at("Z")[p];
-      if (z == INFINITY) {
+      if (z == Film::background_depth) {
         ++background;
         CHECK(layer3(depth, "", "RGB", p) == glm::vec3(0.f));
       } else if (glm::length(layer3(depth, "N.", "XYZ", p)) > 1.f - 1e-6f) {

@@ -16,7 +16,7 @@ CHANNELS = {
     "depth": ["Z"],
     "position": ["P.X", "P.Y", "P.Z"],
     "variance": ["variance.R", "variance.G", "variance.B"],
-    "samples": ["samples"],
+    "samples": ["samples.X"],
 }
 
 
