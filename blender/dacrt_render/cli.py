@@ -43,6 +43,7 @@ class RenderJob:
     integrator: str = "path"
     max_depth: int = 64
     threads: int = 0  # 0: all cores
+    environment: tuple = None  # a uniform radiance (R, G, B), or None for dacrt's default
 
     def arguments(self):
         args = ["--width", str(self.width), "--height", str(self.height), "--spp", str(self.spp),
@@ -50,7 +51,14 @@ class RenderJob:
                 "--integrator", self.integrator, "--max-depth", str(self.max_depth)]
         if self.threads > 0:
             args += ["--threads", str(self.threads)]
+        if self.environment is not None:
+            args += ["--environment", environment_argument(self.environment)]
         return args
+
+
+def environment_argument(rgb):
+    """R,G,B for --environment, each digit that tells the float apart (repr)."""
+    return ",".join(repr(float(c)) for c in rgb)
 
 
 @dataclass

@@ -54,7 +54,9 @@ class DacrtRenderEngine(bpy.types.RenderEngine):
         job = cli.RenderJob(width=width, height=height, spp=settings.spp, seed=settings.seed,
                             camera=index, backend=settings.backend,
                             integrator=settings.integrator, max_depth=settings.max_depth,
-                            threads=settings.threads)
+                            threads=settings.threads,
+                            environment=export.world_color(scene.world) if settings.use_world
+                            else None)
         frame = cli.render_glb(cli.find_executable(_preferred_executable()), glb, exr, job,
                                self._show_progress, self._cancelled)
         self.update_stats("dacrt", "cancelled: the samples done so far" if frame.cancelled

@@ -2,8 +2,8 @@
 
 The exporter writes what glTF carries: meshes with modifiers applied, Principled BSDF materials
 and their image textures, cameras, and point, spot and sun lights. It drops area lights, the
-world (dacrt lights the scene with its own environment), volumes and any shader node it cannot
-map to glTF's metallic-roughness material.
+world, volumes and any shader node it cannot map to glTF's metallic-roughness material; the
+world's colour goes to dacrt's --environment instead (world_color).
 """
 
 import json
@@ -33,6 +33,28 @@ def export_scene(path, scene, view_layer, light_units):
             convert_lighting_mode=light_units)
     if result != {'FINISHED'}:
         raise RuntimeError(f"the glTF exporter returned {sorted(result)}")
+
+
+def world_color(world):
+    """The world as one radiance, for dacrt's uniform environment, or None when it is not one
+    colour: the Background shader's colour × strength when no node feeds either, else the
+    world's viewport colour when it uses no nodes."""
+    if world is None:
+        return None
+    if not world.use_nodes:
+        return tuple(world.color)
+    output = next((node for node in world.node_tree.nodes
+                   if node.type == 'OUTPUT_WORLD' and node.is_active_output), None)
+    surface = output.inputs["Surface"] if output else None
+    if surface is None or not surface.is_linked:
+        return None
+    background = surface.links[0].from_node
+    if background.type != 'BACKGROUND':
+        return None
+    color, strength = background.inputs["Color"], background.inputs["Strength"]
+    if color.is_linked or strength.is_linked:  # a sky texture, an HDRI: not one colour
+        return None
+    return tuple(c * strength.default_value for c in color.default_value[:3])
 
 
 def read_glb_json(path):

@@ -28,6 +28,11 @@ class DacrtSettings(bpy.types.PropertyGroup):
                                      "(--max-depth)", default=64, min=0, max=1 << 16)
     threads: bpy.props.IntProperty(name="Threads", description="Worker threads; 0: all cores "
                                    "(--threads)", default=0, min=0, max=1024)
+    use_world: bpy.props.BoolProperty(
+        name="World Colour", default=True,
+        description="Light the scene with the world's background colour × strength "
+        "(--environment), which glTF does not carry; off, or with a textured world: dacrt's "
+        "default (black, or a sky of 1 when nothing emits)")
     light_units: bpy.props.EnumProperty(
         name="Light Units", description="How the glTF exporter converts light strengths",
         items=export.LIGHT_UNITS, default="COMPAT")
@@ -60,7 +65,7 @@ class RENDER_PT_dacrt(bpy.types.Panel):
         layout.use_property_decorate = False
         settings = context.scene.dacrt
         for name in ("spp", "seed", "integrator", "max_depth", "backend", "threads",
-                     "light_units"):
+                     "use_world", "light_units"):
             layout.prop(settings, name)
 
 

@@ -110,9 +110,14 @@ def main(cli, work):
     check(index is not None and index > 0,
           f"the active camera is not the file's first (dacrt info: camera {index})")
     reference = os.path.join(work, "cli.exr")
+    # The default world: a Background shader of grey 0.050876 at strength 1, which the add-on
+    # passes as --environment (glTF has no world).
+    background = scene.world.node_tree.nodes["Background"].inputs
+    sky = [c * background["Strength"].default_value for c in background["Color"].default_value[:3]]
+    check(all(0.05 < c < 0.052 for c in sky), f"the default world is grey 0.05 ({sky})")
     subprocess.run([cli, "render", glb, "--width", str(WIDTH), "--height", str(HEIGHT), "--spp",
-                    str(SPP), "--seed", str(SEED), "--camera", str(index), "-o", reference,
-                    "--quiet"], check=True)
+                    str(SPP), "--seed", str(SEED), "--camera", str(index), "--environment",
+                    ",".join(map(repr, sky)), "-o", reference, "--quiet"], check=True)
     a, b = load_pixels(ours), load_pixels(reference)
     check(a.shape == b.shape == (HEIGHT, WIDTH, 4), f"both {WIDTH}×{HEIGHT} ({a.shape}, {b.shape})")
     if a.shape == b.shape:
