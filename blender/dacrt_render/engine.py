@@ -22,15 +22,17 @@ class DacrtRenderEngine(bpy.types.RenderEngine):
     bl_use_shading_nodes_custom = False  # Blender's shader nodes, which the exporter reads
 
     def render(self, depsgraph):
-        scene = depsgraph.scene
         width, height = self.resolution_x, self.resolution_y
-        result = self.begin_result(0, 0, width, height)
+        region = _region(depsgraph.scene.render, width, height)
+        # Blender calls render() once per view layer, each with its own depsgraph. The result
+        # is the Render Region's size, at (0, 0).
+        result = self.begin_result(0, 0, region[2], region[3], layer=depsgraph.view_layer.name)
         try:
             with tempfile.TemporaryDirectory(prefix="dacrt-blender-") as work:
                 frame = self._render(depsgraph, os.path.join(work, "scene.glb"),
                                      os.path.join(work, "render.exr"), width, height)
                 if frame and frame.pixels is not None:
-                    _show_pixels(result.layers[0], frame.pixels)
+                    _show_pixels(result.layers[0], frame.pixels, region)
                 self._keep(work)
         except (cli.RenderError, OSError, RuntimeError, ValueError) as error:
             self._show_error(str(error))
@@ -86,12 +88,29 @@ class DacrtRenderEngine(bpy.types.RenderEngine):
                 shutil.copyfile(os.path.join(work, name), os.path.join(keep, name))
 
 
-def _show_pixels(render_layer, pixels):
-    """H×W×3 rows top-down into the layer's Combined pass: RGBA, rows bottom-up as Blender's."""
-    height, width, _ = pixels.shape
+def _region(render, width, height):
+    """The pixels Blender asks for, (x, y, width, height) from the bottom-left: the Render
+    Region's, rounded as Blender's pipeline does (float products truncated), or the frame."""
+    if not render.use_border:
+        return 0, 0, width, height
+    x0, x1 = (int(np.float32(b) * np.float32(width))
+              for b in (render.border_min_x, render.border_max_x))
+    y0, y1 = (int(np.float32(b) * np.float32(height))
+              for b in (render.border_min_y, render.border_max_y))
+    return x0, y0, x1 - x0, y1 - y0
+
+
+def _show_pixels(render_layer, pixels, region):
+    """H×W×3 rows top-down (the whole frame) into the layer's Combined pass: the region's
+    pixels as RGBA, rows bottom-up as Blender's."""
+    x, y, width, height = region
     rgba = np.ones((height, width, 4), dtype=np.float32)
-    rgba[..., :3] = pixels[::-1]
-    render_layer.passes["Combined"].rect = rgba.reshape(height * width, 4)
+    rgba[..., :3] = pixels[::-1][y:y + height, x:x + width]
+    rect = render_layer.passes["Combined"].rect
+    if len(rect) != width * height:
+        raise cli.RenderError(f"the render result has {len(rect)} pixels, not the "
+                              f"{width}×{height} of the render region")
+    rect.foreach_set(rgba.reshape(-1, 4))  # no per-value conversion: 1080p in 0.3 s, not 1.5
 
 
 def _preferred_executable():

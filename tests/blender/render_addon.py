@@ -8,6 +8,7 @@ the active one is not the file's first) at 128×96 × 50 % and 8 spp, and checks
 - the render result, written as a float EXR, equals bit for bit the CLI's render of the .glb
   the add-on exported, at the camera `dacrt info` names after the active camera;
 - progress reached Blender (update_progress up to 1);
+- a Render Region shows the same pixels where it is;
 - a render cancelled (the engine's test_break) returns promptly, shows the samples done, and leaves no
   temporary files; a CLI that cannot run is reported as an error.
 """
@@ -127,6 +128,24 @@ def main(cli, work):
         check(float(np.ptp(b[..., :3])) > 0, "the image is not blank")
     check(progress and progress[-1] == 1.0 and any(0 < p < 1 for p in progress),
           f"progress reached Blender: {progress}")
+
+    # A Render Region, not cropped: Blender puts the region's pixels (alpha 1) into an otherwise
+    # empty frame (alpha 0); they are the reference's pixels there.
+    scene.render.use_border, scene.render.use_crop_to_border = True, False
+    scene.render.border_min_x, scene.render.border_max_x = 0.3, 0.8
+    scene.render.border_min_y, scene.render.border_max_y = 0.2, 0.65
+    settings.color_mode = "RGBA"
+    render(scene, os.path.join(work, "region.exr"))
+    region = load_pixels(os.path.join(work, "region.exr"))
+    inside = region[..., 3] == 1
+    rows, columns = np.nonzero(inside)
+    check(inside.sum() == (np.ptp(rows) + 1) * (np.ptp(columns) + 1) and
+          30 * 20 < inside.sum() < 33 * 23, f"the region is a rectangle of about 32×22 pixels "
+          f"({np.ptp(columns) + 1}×{np.ptp(rows) + 1}, {inside.sum()} pixels)")
+    check(np.array_equal(region[inside][:, :3], b[inside][:, :3]),
+          "the region's pixels are the CLI's")
+    scene.render.use_border = False
+    settings.color_mode = "RGB"
 
     # Cancel: test_break turns true CANCEL_AFTER seconds into the render.
     del os.environ["DACRT_BLENDER_KEEP"]
