@@ -52,11 +52,11 @@ class RenderJob:
         if self.threads > 0:
             args += ["--threads", str(self.threads)]
         if self.environment is not None:
-            args += ["--environment", environment_argument(self.environment)]
+            args += ["--environment", _environment_argument(self.environment)]
         return args
 
 
-def environment_argument(rgb):
+def _environment_argument(rgb):
     """R,G,B for --environment, each digit that tells the float apart (repr)."""
     return ",".join(repr(float(c)) for c in rgb)
 

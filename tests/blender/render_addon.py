@@ -6,11 +6,12 @@ Run: blender -b --factory-startup -noaudio --python-exit-code 1 \
 Registers the add-on from the source tree, renders the default scene (plus a second camera, so
 the active one is not the file's first) at 128×96 × 50 % and 8 spp, and checks:
 - the render result, written as a float EXR, equals bit for bit the CLI's render of the .glb
-  the add-on exported, at the camera `dacrt info` names after the active camera;
+  the add-on exported, at the camera `dacrt info` names after the active camera and with the
+  default world's grey as --environment;
 - progress reached Blender (update_progress up to 1);
 - a Render Region shows the same pixels where it is;
-- a render cancelled (the engine's test_break) returns promptly, shows the samples done, and leaves no
-  temporary files; a CLI that cannot run is reported as an error.
+- a render cancelled (the engine's test_break turning true) returns promptly, shows the samples
+  done, and leaves no temporary files; a CLI that cannot run is reported as an error.
 """
 
 import os
@@ -26,7 +27,7 @@ import bpy
 import numpy as np
 
 WIDTH, HEIGHT, SPP, SEED = 64, 48, 8, 7
-CANCEL_SPP = 1 << 17  # about a minute on two cores: a cancel that is ignored shows
+CANCEL_SPP = 1 << 17  # ~45 s on two cores: a cancel that is ignored shows
 CANCEL_AFTER = 1.0    # seconds of rendering before test_break turns true
 PROMPT = 30.0         # seconds a cancel may take, far above the ~0.1 s it does take
 
