@@ -23,7 +23,9 @@ from . import exr
 _PROGRESS = re.compile(r"^(\S+) \[[#-]*\]\s+(\d+)%\s*(.*)$")
 # What a failing CLI prints last (apps/dacrt.cpp): "dacrt: error: <one line>".
 _ERROR = re.compile(r"^dacrt: (?:error: )?(.*)$")
-_INTERRUPTED = 130  # the CLI's exit code after SIGINT: it wrote what it had
+# After SIGINT: 130 once the render has started (it wrote what it had); killed by the signal
+# before (loading the scene, with the default handler still in place).
+_INTERRUPTED = (130, -signal.SIGINT)
 _POLL_SECONDS = 0.1
 
 
@@ -137,7 +139,7 @@ def render_glb(executable, glb_path, exr_path, job, on_progress, cancelled):
             process.wait()
         reader.join()  # the pipe is at its end once the process is gone
         process.stderr.close()
-    if code == 0 or (interrupted and code == _INTERRUPTED):
+    if code == 0 or (interrupted and code in _INTERRUPTED):
         # A render cut short keeps its exact sums, which Blender's EXR reader refuses: read here.
         pixels = exr.read_rgb(exr_path) if os.path.exists(exr_path) else None
         return Frame(pixels, cancelled=interrupted)
