@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 SCENE ?= scenes/cornell-box.gltf
 RENDER_ARGS ?=
 
-.PHONY: all deps configure build render test stress test-sanitize fuzz clean
+.PHONY: all deps configure build render test test-blender stress test-sanitize fuzz clean
 all: build
 
 deps:
@@ -27,6 +27,14 @@ render: build
 test: build
 	@bash tools/install-deps.sh chromium tidy
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The Blender add-on's tests in headless Blender: Debian's blender is large, so only this target
+# installs it (`make test` skips them with a message when it is missing). Configuring again
+# lets CMake find the newly installed program.
+test-blender: build
+	@bash tools/install-deps.sh blender
+	cmake -S . -B $(BUILD)
+	cd $(BUILD) && ctest --output-on-failure -R blender
 
 # The numerical stress suite in full: the short checks (also in `make test`), then the sweep of
 # translation 10^k and scale 10^±k, which prints the largest level at which each check holds.
