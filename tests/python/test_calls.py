@@ -50,11 +50,15 @@ def test_ctrl_c_stops_a_render_and_raises_keyboard_interrupt():
     """)
     child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, text=True, env=os.environ)
-    assert child.stdout.readline().strip() == "rendering"
-    time.sleep(0.5)
-    sent = time.monotonic()
-    child.send_signal(signal.SIGINT)
-    out, err = child.communicate(timeout=60)
+    try:  # a render the signal does not stop is killed, not left running
+        assert child.stdout.readline().strip() == "rendering"
+        time.sleep(0.5)
+        sent = time.monotonic()
+        child.send_signal(signal.SIGINT)
+        out, err = child.communicate(timeout=60)
+    finally:
+        child.kill()
+        child.wait()
     assert child.returncode == 0, err
     assert "interrupted after" in out and "rendered again (8, 8, 3)" in out
     assert time.monotonic() - sent < 10
