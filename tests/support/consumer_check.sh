@@ -33,8 +33,9 @@ module=$(find "$work/prefix" -name 'dacrt.cpython-*.so' | head -n 1)
 if [ -n "$module" ]; then
   python=${DACRT_PYTHON:-/usr/bin/python3}
   preload=""
-  case "$flags" in  # a sanitized module needs the sanitizers' runtime before the interpreter
-    *sanitize=address*) preload=$(c++ -print-file-name=libasan.so) ;;
+  case "$flags" in  # a sanitized module needs the sanitizers' runtime (and libstdc++, for
+    # ASan's __cxa_throw interceptor) loaded before the interpreter
+    *sanitize=address*) preload="$(c++ -print-file-name=libasan.so):$(c++ -print-file-name=libstdc++.so)" ;;
   esac
   LD_PRELOAD=$preload ASAN_OPTIONS=detect_leaks=0 PYTHONPATH=$(dirname "$module") "$python" -c "
 import sys, dacrt
