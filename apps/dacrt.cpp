@@ -618,30 +618,22 @@ int info(const std::vector<std::string>& args) {
   const GltfAnimation file(args[0], options);
   Scene scene = file.load();
   const Geometry& g = scene.geometry;
-  size_t emissive_triangles = 0, emissive_materials = 0;
-  for (uint32_t m : g.material) emissive_triangles += scene.materials[m].emissive();
-  for (const auto& m : scene.materials) emissive_materials += m.emissive();
+  const MaterialCounts counts = count_materials(scene);
   Box b = scene.bounds();
   std::printf("scene      %s\n", args[0].c_str());
   std::printf("triangles  %zu\n", g.size());
   std::printf("meshes     %zu (%zu triangle primitives, %zu nodes)\n", scene.mesh_count,
               scene.primitive_count, scene.node_count);
-  size_t textured = 0, masked = 0, blended = 0, transmissive = 0;
-  for (const auto& m : scene.materials) {
-    textured += m.textured();
-    masked += m.alpha_mode == Material::AlphaMode::mask;
-    blended += m.alpha_mode == Material::AlphaMode::blend;
-    transmissive += m.transmission > 0.f;
-  }
   std::printf(
       "materials  %zu (%zu emissive, %zu textured, %zu alpha MASK, %zu alpha BLEND, %zu "
       "transmissive)\n",
-      scene.materials.size(), emissive_materials, textured, masked, blended, transmissive);
+      scene.materials.size(), counts.emissive, counts.textured, counts.masked, counts.blended,
+      counts.transmissive);
   size_t punctual[3] = {0, 0, 0};
   for (const PunctualLight& l : scene.lights) ++punctual[size_t(l.type)];
   std::printf(
       "lights     %zu emissive triangles, %zu punctual (%zu point, %zu spot, %zu directional)\n",
-      emissive_triangles, scene.lights.size(), punctual[0], punctual[1], punctual[2]);
+      counts.emissive_triangles, scene.lights.size(), punctual[0], punctual[1], punctual[2]);
   size_t image_bytes = 0, images = 0;
   for (const TextureImage& i : scene.images) {
     images += i.width > 0;
@@ -711,7 +703,7 @@ int info(const std::vector<std::string>& args) {
   auto skip = [&](bool yes, const char* what) {
     if (yes) skips += (skips.empty() ? "" : "; ") + std::string(what);
   };
-  skip(!emissive_triangles && scene.lights.empty(),
+  skip(!counts.emissive_triangles && scene.lights.empty(),
        "shadow rays (no emitters and no lights; an environment brings them back where it is "
        "sampled: --environment FILE.exr, or a uniform one in an open scene)");
   for (const std::string& what : scene.unused_work()) skip(true, what.c_str());

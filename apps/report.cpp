@@ -10,6 +10,19 @@
 #include "dacrt/util/text.h"
 
 namespace dacrt {
+
+MaterialCounts count_materials(const Scene& scene) {
+  MaterialCounts c;
+  for (uint32_t m : scene.geometry.material) c.emissive_triangles += scene.materials[m].emissive();
+  for (const Material& m : scene.materials) {
+    c.emissive += m.emissive();
+    c.textured += m.textured();
+    c.masked += m.alpha_mode == Material::AlphaMode::mask;
+    c.blended += m.alpha_mode == Material::AlphaMode::blend;
+    c.transmissive += m.transmission > 0.f;
+  }
+  return c;
+}
 namespace {
 
 nlohmann::json to_json(const RayTypeStats& s) {

@@ -8,9 +8,17 @@
 #include <vector>
 
 #include "dacrt/integrators/integrator.h"
+#include "dacrt/scene/scene.h"
 #include "dacrt/tracer/stats.h"
 
 namespace dacrt {
+
+// A scene's materials counted by kind, for `dacrt info` and the Python module's Scene.info.
+struct MaterialCounts {
+  size_t emissive_triangles = 0, emissive = 0, textured = 0, masked = 0, blended = 0,
+         transmissive = 0;
+};
+MaterialCounts count_materials(const Scene& scene);
 
 struct BackendRun {
   std::string backend, output, preview;

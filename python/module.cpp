@@ -18,6 +18,7 @@
 #include <tbb/global_control.h>
 
 #include "apps/render_options.h"
+#include "apps/report.h"
 #include "dacrt/io/exr.h"
 #include "dacrt/io/gltf.h"
 #include "dacrt/render/render_job.h"
@@ -71,14 +72,7 @@ ScenePtr load_scene(const std::string& path, std::optional<std::string> variant,
 
 py::dict scene_info(const LoadedScene& s) {
   const Scene& scene = s.scene;
-  size_t emissive_triangles = 0, textured = 0, masked = 0, blended = 0, transmissive = 0;
-  for (uint32_t m : scene.geometry.material) emissive_triangles += scene.materials[m].emissive();
-  for (const Material& m : scene.materials) {
-    textured += m.textured();
-    masked += m.alpha_mode == Material::AlphaMode::mask;
-    blended += m.alpha_mode == Material::AlphaMode::blend;
-    transmissive += m.transmission > 0.f;
-  }
+  const MaterialCounts counts = count_materials(scene);
   const Scene::Ignored& ig = scene.ignored;
   py::dict skipped;
   skipped["ktx2_textures"] = ig.ktx2_textures;
@@ -96,11 +90,11 @@ py::dict scene_info(const LoadedScene& s) {
   info["primitives"] = scene.primitive_count;
   info["nodes"] = scene.node_count;
   info["materials"] = scene.materials.size();
-  info["textured_materials"] = textured;
-  info["alpha_mask_materials"] = masked;
-  info["alpha_blend_materials"] = blended;
-  info["transmissive_materials"] = transmissive;
-  info["emissive_triangles"] = emissive_triangles;
+  info["textured_materials"] = counts.textured;
+  info["alpha_mask_materials"] = counts.masked;
+  info["alpha_blend_materials"] = counts.blended;
+  info["transmissive_materials"] = counts.transmissive;
+  info["emissive_triangles"] = counts.emissive_triangles;
   info["cameras"] = scene.cameras_from_file;  // 0: the one camera was made to frame the scene
   info["punctual_lights"] = scene.lights.size();
   info["variants"] = scene.variants;
