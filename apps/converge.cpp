@@ -473,7 +473,7 @@ int converge_main(const std::vector<std::string>& args) {
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     size_t(a.shared.threads));
   Scene scene = load_gltf(a.shared.scene, a.shared.gltf);
-  for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
+  for (const FileRead& file : scene.files) inputs.push_back({"the scene's external file", file.path});
   check_outputs(outputs, inputs);
   // Every configuration renders the same shot (the options that change it are shared_only).
   const Shot shot = make_shot(scene, a.shared.settings);

@@ -89,6 +89,53 @@ bool gather_film(Film& film, RenderOutcome& outcome, uint32_t first, uint32_t la
   return ranks->root();
 }
 
+// The match.* keys of a render (match_keys), as name and value.
+using MatchKeys = std::vector<std::pair<std::string, std::string>>;
+
+// Under mpirun, before any rank renders: every rank's match keys must be rank 0's, or the
+// reduction would add the films of different renders (a stale scene copy on one machine, other
+// options on one rank) into one image that says it is one render. A rank that failed before this
+// point (its load) takes part from main(), as in gather_film. Throws RanksFailed on every rank,
+// rank 0 printing the lowest disagreeing rank and its first differing key.
+void check_ranks_agree(const MatchKeys& keys) {
+  auto fail_all = [](const std::string& message) {
+    collectives_over = true;
+    throw RanksFailed{1, message};
+  };
+  if (const std::string failed = ranks->first_error(""); !failed.empty()) fail_all(failed);
+  // Each string as its length (8 bytes) and its bytes: names and values may hold any byte.
+  auto put = [](std::string& out, const std::string& text) {
+    const uint64_t n = text.size();
+    out.append(reinterpret_cast<const char*>(&n), sizeof n).append(text);
+  };
+  std::string mine;
+  for (const auto& [name, value] : keys) put(mine, name), put(mine, value);
+  const std::string root = ranks->broadcast(mine);
+  MatchKeys theirs;
+  for (size_t at = 0; at < root.size();) {
+    std::string pair[2];
+    for (std::string& text : pair) {
+      uint64_t n = 0;
+      std::memcpy(&n, root.data() + at, sizeof n);
+      text = root.substr(at + sizeof n, size_t(n));
+      at += sizeof n + size_t(n);
+    }
+    theirs.push_back({pair[0], pair[1]});
+  }
+  std::string differs;
+  for (size_t k = 0; k < std::max(keys.size(), theirs.size()) && differs.empty(); ++k) {
+    const std::string name = k < keys.size() ? keys[k].first : theirs[k].first;
+    const std::string here = k < keys.size() ? keys[k].second : "(none)",
+                      there = k < theirs.size() && theirs[k].first == name ? theirs[k].second
+                                                                           : "(none)";
+    if (here != there)
+      differs = "dacrt: error: this rank renders another image than rank 0: " + name + " is " +
+                one_line(here.substr(0, 200)) + " here, " + one_line(there.substr(0, 200)) +
+                " on rank 0 (every rank needs the same scene files and options)";
+  }
+  if (const std::string failed = ranks->first_error(differs); !failed.empty()) fail_all(failed);
+}
+
 constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer ray tracing
 
 Usage:
@@ -412,6 +459,8 @@ int render(const std::vector<std::string>& args) {
         run.output = with_frame(run.output, frame), run.preview = with_frame(run.preview, frame);
     return out;
   };
+  // The scene first: a missing one is said before any output of a long sequence is looked at.
+  check_input_file(r.scene, "file");
   std::vector<NamedFile> inputs = {{"the scene", r.scene}}, outputs;
   if (!r.settings.environment_file.empty()) {
     check_input_file(r.settings.environment_file, "environment map");
@@ -421,10 +470,15 @@ int render(const std::vector<std::string>& args) {
     for (const BackendRun& run : frame_runs(frame))
       outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
   outputs.push_back({"--stats", r.stats});
+  // The report's directory is made when its first file is written, and goes again if the render
+  // fails; its files can be checked now only when it is there already.
+  std::optional<OutputDirectory> report_dir;
+  std::vector<NamedFile> report_files;
   if (!r.report.empty()) {
-    outputs.push_back({"--report", HtmlPage::make_directory(r.report)});
+    report_dir.emplace("--report", r.report);
+    report_files.push_back({"--report", HtmlPage::file_in(r.report)});
     for (const BackendRun& run : runs)
-      outputs.push_back({"--report", report_preview(r.report, run.backend)});
+      report_files.push_back({"--report", report_preview(r.report, run.backend)});
   }
   if (!r.preview.empty() || !r.report.empty()) {
     set_color_warnings(!r.quiet);
@@ -433,6 +487,10 @@ int render(const std::vector<std::string>& args) {
       inputs.push_back({"the display configuration's file", file});
   }
   for (const NamedFile& out : outputs) check_writable(out.path);
+  for (const NamedFile& out : report_files) {
+    if (report_dir->existed()) check_writable(out.path);
+    outputs.push_back(out);
+  }
   check_outputs(outputs, inputs);
 
   std::unique_ptr<tbb::global_control> threads;
@@ -451,12 +509,13 @@ int render(const std::vector<std::string>& args) {
   // One frame is never posed again: the file's buffers (as large as the scene's) go now.
   if (frames.size() == 1) file.reset();
   double load_seconds = seconds_since(t_load);
-  for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
+  for (const FileRead& file : scene.files) inputs.push_back({"the scene's external file", file.path});
   check_outputs(outputs, inputs);
   // The fingerprint of what the image is made from, for merging parts (match.inputs).
-  std::vector<std::string> input_files = {r.scene};
+  std::vector<FileRead> input_files = {{r.scene, std::nullopt}};
   input_files.insert(input_files.end(), scene.files.begin(), scene.files.end());
-  if (!r.settings.environment_file.empty()) input_files.push_back(r.settings.environment_file);
+  if (!r.settings.environment_file.empty())
+    input_files.push_back({r.settings.environment_file, std::nullopt});
   const std::string inputs_hash = hash_text(hash_files(input_files));
 
   const RenderSettings& s = r.settings;
@@ -497,7 +556,9 @@ int render(const std::vector<std::string>& args) {
           Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
       run.build_seconds = seconds_since(t0);
       RenderJob job(scene, *backend, s, shot);
+      if (r.frames) r.gltf.time = frame_time(frame);  // each frame's own time (match.time)
       const auto keys = match_keys(r, shot, view_text(shot.camera), inputs_hash, run.backend);
+      if (spread) check_ranks_agree(keys);
       std::optional<Film> earlier;
       if (r.resume) earlier = film_to_resume(run.output, job, keys, first, last, r.quiet);
       const bool resuming = earlier.has_value();
@@ -526,8 +587,10 @@ int render(const std::vector<std::string>& args) {
       // A render stopped before its first sample leaves the previous outputs as they were.
       if (film.max_count() == 0 && outcome.stopped) break;
       write_outputs(r, scene, shot, run, film, outcome, keys, last);
-      if (!r.report.empty())
+      if (report_dir) {
+        report_dir->make();
         write_preview_png(report_preview(r.report, run.backend), film.resolve(), r.display);
+      }
       if (!r.quiet) print_summary(run, shot, s);
       if (outcome.stopped) break;  // the backends after it are not rendered
     }
@@ -555,6 +618,7 @@ int render(const std::vector<std::string>& args) {
       auto describe = [&](const BackendRun& run) {
         nlohmann::json j = {{"scene", r.scene},
                             {"triangles", scene.geometry.size()},
+                            {"degenerate_triangles", scene.degenerate_triangles},
                             {"width", shot.width},
                             {"height", shot.height},
                             {"spp", run.spp},
@@ -598,7 +662,11 @@ int render(const std::vector<std::string>& args) {
   runs = std::move(last_runs);
   if (signals.signal()) return 128 + signals.signal();
   if (runs.size() > 1) print_comparison(stdout, runs);
-  if (!r.report.empty()) write_render_report(r.report, report_title, runs);
+  if (report_dir) {
+    report_dir->make();
+    write_render_report(r.report, report_title, runs);
+    report_dir->keep();
+  }
   return 0;
 }
 
@@ -621,7 +689,11 @@ int info(const std::vector<std::string>& args) {
   const MaterialCounts counts = count_materials(scene);
   Box b = scene.bounds();
   std::printf("scene      %s\n", args[0].c_str());
-  std::printf("triangles  %zu\n", g.size());
+  std::printf("triangles  %zu", g.size());
+  if (scene.degenerate_triangles > 0)
+    std::printf(" (%zu more of zero area dropped: no ray can hit them)",
+                scene.degenerate_triangles);
+  std::printf("\n");
   std::printf("meshes     %zu (%zu triangle primitives, %zu nodes)\n", scene.mesh_count,
               scene.primitive_count, scene.node_count);
   std::printf(

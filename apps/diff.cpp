@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -134,12 +135,21 @@ void print_json(const DiffArgs& d, const Image& a, const ChannelErrors& e) {
   std::printf("%s\n", json_text(j).c_str());
 }
 
-// The per-pixel error: the mean over R, G and B of |A - B|.
-std::vector<float> error_map(const Image& a, const Image& b) {
+// The per-pixel error: the mean over R, G and B of |A - B|, in float as the map's EXR holds it.
+// Finite images can differ by more than a float holds (3e38 against -3e38): such a pixel is an
+// Error naming it, never an infinite map or colour bar.
+std::vector<float> error_map(const DiffArgs& d, const Image& a, const Image& b) {
   std::vector<float> map(a.rgb.size() / 3);
   for (size_t p = 0; p < map.size(); ++p) {
     double sum = 0;
     for (size_t c = 0; c < 3; ++c) sum += std::abs(double(a.rgb[3 * p + c]) - b.rgb[3 * p + c]);
+    if (sum / 3 > double(std::numeric_limits<float>::max())) {
+      char by[32];
+      std::snprintf(by, sizeof by, "%.3g", sum / 3);
+      throw Error(d.a + " and " + d.b + ": pixel (" + std::to_string(p % size_t(a.width)) + ", " +
+                  std::to_string(p / size_t(a.width)) + ") differs by " + by +
+                  ", more than the error map's 32-bit floats hold (no map is written)");
+    }
     map[p] = float(sum / 3);
   }
   return map;
@@ -176,13 +186,15 @@ int diff_main(const std::vector<std::string>& args) {
   check_comparable(d, a, b);
   check_preview_memory(d, a);
   const ChannelErrors e = channel_errors(a, b);
+  // The map first: a pixel it cannot hold fails the command before anything is printed.
+  const std::vector<float> map =
+      d.map.empty() && d.preview.empty() ? std::vector<float>() : error_map(d, a, b);
   if (d.json)
     print_json(d, a, e);
   else
     print_table(d, a, e);
 
   if (d.map.empty() && d.preview.empty()) return 0;
-  const std::vector<float> map = error_map(a, b);
   if (!d.map.empty()) {
     ExrMetadata meta;
     meta.extra = {{"errorMap", "Y: the mean over R, G and B of |A - B|"},

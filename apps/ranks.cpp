@@ -34,6 +34,9 @@ std::string Ranks::first_error(const std::string& mine) const {
 bool Ranks::any(bool mine) const {
   return mine;
 }
+std::string Ranks::broadcast(const std::string& text) const {
+  return text;
+}
 
 #else
 
@@ -161,6 +164,18 @@ bool Ranks::any(bool mine) const {
   int flag = mine;
   MPI_Allreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
   return flag != 0;
+}
+
+std::string Ranks::broadcast(const std::string& text) const {
+  if (!mpi_ || size_ == 1) return text;
+  uint64_t length = root() ? text.size() : 0;
+  MPI_Bcast(&length, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+  std::string out = root() ? text : std::string(size_t(length), '\0');
+  // In pieces whose count an int holds.
+  for (uint64_t at = 0; at < length; at += INT_MAX)
+    MPI_Bcast(out.data() + at, int(std::min<uint64_t>(INT_MAX, length - at)), MPI_CHAR, 0,
+              MPI_COMM_WORLD);
+  return out;
 }
 
 #endif

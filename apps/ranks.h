@@ -56,6 +56,9 @@ class Ranks {
   // Collective: whether any rank's flag is true (a stop signal seen on one rank, say).
   bool any(bool mine) const;
 
+  // Collective: rank 0's `text` on every rank (the others' `text` is not read).
+  std::string broadcast(const std::string& text) const;
+
  private:
   int rank_ = 0, size_ = 1;
   bool mpi_ = false;

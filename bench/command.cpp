@@ -83,7 +83,7 @@ BenchReport bench_report(const BenchArgs& a, const std::vector<NamedFile>& outpu
   const Scene scene = load_gltf(a.scene);
   if (scene.geometry.size() == 0) throw Error(a.scene + ": no triangles to benchmark");
   std::vector<NamedFile> inputs = {{"the scene", a.scene}};
-  for (const std::string& file : scene.files) inputs.push_back({"the scene's external file", file});
+  for (const FileRead& file : scene.files) inputs.push_back({"the scene's external file", file.path});
   check_outputs(outputs, inputs);
 
   // The cases: the scene once, or one per size of the sweep.
@@ -134,8 +134,15 @@ int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
     return 0;
   }
   std::vector<NamedFile> outputs = {{"--json", a.json}};
-  if (!a.report.empty()) outputs.push_back({"--report", HtmlPage::make_directory(a.report)});
-  for (const NamedFile& o : outputs) check_writable(o.path);
+  // The report's directory is made when the report is written, and goes again if that fails.
+  std::optional<OutputDirectory> report_dir;
+  if (!a.report.empty()) {
+    report_dir.emplace("--report", a.report);
+    if (report_dir->existed()) check_writable(HtmlPage::file_in(a.report));
+    outputs.push_back({"--report", HtmlPage::file_in(a.report)});
+  }
+  for (const NamedFile& o : outputs)
+    if (o.option != "--report") check_writable(o.path);
   check_outputs(outputs, {{"the scene", a.scene}});
 
   const BenchReport report = bench_report(a, outputs);
@@ -144,7 +151,11 @@ int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
   if (!a.json.empty())
     write_atomically(a.json, "benchmark results",
                      [&](std::ostream& f) { f << json_text(to_json(report)) << "\n"; });
-  if (!a.report.empty()) write_report(a.report, report);
+  if (report_dir) {
+    report_dir->make();
+    write_report(a.report, report);
+    report_dir->keep();
+  }
   return 0;
 }
 

@@ -1,6 +1,7 @@
 #include "dacrt/io/film_exr.h"
 
-#include <cstdlib>
+#include <charconv>
+#include <system_error>
 
 #include "dacrt/util/error.h"
 
@@ -49,14 +50,33 @@ ExrHeader read_sums_header(const std::string& path, const std::string& purpose) 
 void read_film_state(const std::string& path, const ExrHeader& header, Film& film, uint32_t least,
                      uint32_t most) {
   read_exr_words(path, film.width(), film.height(), film_words(film));
+  // The tallies as decimal counts, nothing else (strtoull would take "-1" for 2^64 - 1, "5x" for
+  // 5, and wrap where parts are added).
   auto tally = [&](const char* name) {
     const auto it = header.attributes.find(name);
-    return it == header.attributes.end() ? uint64_t(0)
-                                         : uint64_t(std::strtoull(it->second.c_str(), nullptr, 10));
+    if (it == header.attributes.end()) throw Error(path + ": its " + name + " attribute is missing");
+    const std::string& text = it->second;
+    uint64_t value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || end != text.data() + text.size())
+      throw Error(path + ": its " + name + " attribute \"" + one_line(text.substr(0, 40)) +
+                  "\" is not a count");
+    return value;
   };
-  film.set_tallies(tally("samplesDropped"), tally("samplesClamped"));
+  const uint64_t dropped = tally("samplesDropped"), clamped = tally("samplesClamped");
   const std::string bad = film.check_sums(least, most);
   if (!bad.empty()) throw Error(path + ": " + bad);
+  // Every sample a pixel took and did not keep was dropped; every clamped one was kept. So the
+  // tallies are bounded by the counts, and adding parts cannot wrap them.
+  uint64_t kept = 0, taken = 0;
+  for (size_t p = 0; p < film.pixels(); ++p) kept += film.count(p), taken += film.taken(p);
+  if (dropped != taken - kept)
+    throw Error(path + ": its samplesDropped " + std::to_string(dropped) + " is not the " +
+                std::to_string(taken - kept) + " samples its pixels took and did not keep");
+  if (clamped > kept)
+    throw Error(path + ": its samplesClamped " + std::to_string(clamped) + " is more than the " +
+                std::to_string(kept) + " samples its pixels kept");
+  film.set_tallies(dropped, clamped);
 }
 
 }  // namespace dacrt

@@ -56,6 +56,13 @@ struct LoadedScene {
 
 using ScenePtr = std::shared_ptr<LoadedScene>;
 
+// Seconds as `--time` takes them: finite, >= 0 and below 1e9 (ValueError otherwise).
+void check_time(std::optional<double> time) {
+  if (time && !(*time >= 0.0 && *time < 1e9))
+    throw py::value_error("time= wants seconds, a number >= 0 and below 1e9, got " +
+                          std::string(py::str(py::float_(*time))));
+}
+
 ScenePtr load_scene(const std::string& path, std::optional<std::string> variant,
                     std::optional<int> scene_index, std::optional<double> time) {
   auto s = std::make_shared<LoadedScene>();
@@ -84,8 +91,9 @@ py::dict scene_info(const LoadedScene& s) {
   skipped["extensions"] = ig.extensions;
   const Box b = scene.bounds();
   py::dict info;
-  info["path"] = s.path;
+  info["path"] = path_text(s.path);
   info["triangles"] = scene.geometry.size();
+  info["degenerate_triangles"] = scene.degenerate_triangles;
   info["meshes"] = scene.mesh_count;
   info["primitives"] = scene.primitive_count;
   info["nodes"] = scene.node_count;
@@ -129,7 +137,8 @@ std::vector<std::string> render_options(const py::kwargs& kwargs) {
                           "frames", "fps", "resume", "keep_sums", "checkpoint", "help",
                           "scene"},
                          "render() returns arrays: use the CLI for files and sequences; give "
-                         "load() a scene index");
+                         "load() a scene index",
+                         {"point_light", "backend_option"});
 }
 
 // An H×W array of one channel, or H×W×n of several, from the film's channels.
@@ -159,7 +168,7 @@ py::object render(const py::object& scene_or_path, const py::kwargs& kwargs) {
     loaded = py::cast<ScenePtr>(scene_or_path);
     path = loaded->path;
   } else {
-    path = py::cast<std::string>(py::str(scene_or_path));
+    path = path_argument(scene_or_path, "scene");
   }
   std::vector<std::string> args = {path};
   for (std::string& a : render_options(kwargs)) args.push_back(std::move(a));
@@ -290,8 +299,8 @@ py::object trace(const ScenePtr& scene, const py::array_t<float, py::array::c_st
   return out;
 }
 
-py::dict exr_channels(const std::string& path) {
-  const ExrFile f = read_exr_file(path);
+py::dict exr_channels(const py::object& path_object) {
+  const ExrFile f = read_exr_file(path_argument(path_object, "path"));
   py::dict out;
   for (const Channel& c : f.channels) out[py::str(c.name)] = stack({&c}, f.width, f.height);
   return out;
@@ -314,20 +323,32 @@ PYBIND11_MODULE(dacrt, m) {
 
   static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
   error.doc() = "A scene, file or option dacrt refuses; the message is the CLI's one line.";
+  // Messages as text whatever bytes they quote (a file or variant name need not be UTF-8);
+  // pybind11's own exceptions (TypeError, ValueError raised here) pass on to its translator.
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const py::builtin_exception&) {
+      throw;
+    } catch (const py::error_already_set&) {
+      throw;
     } catch (const UsageError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetObject(PyExc_ValueError, message_text(e.what()).ptr());
+    } catch (const SettingError& e) {  // what the caller asked (a variant the file lacks)
+      PyErr_SetObject(PyExc_ValueError, message_text(e.what()).ptr());
     } catch (const Error& e) {
-      error(e.what());
+      PyErr_SetObject(error.ptr(), message_text(e.what()).ptr());
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {
+      PyErr_SetObject(PyExc_RuntimeError, message_text(e.what()).ptr());
     }
   });
 
   py::class_<LoadedScene, ScenePtr>(m, "Scene",
                                     "A glTF scene loaded once (dacrt.load), rendered and traced "
                                     "many times; renders of one scene take turns.")
-      .def_property_readonly("path", [](const LoadedScene& s) { return s.path; })
+      .def_property_readonly("path", [](const LoadedScene& s) { return path_text(s.path); })
       .def_property_readonly(
           "info", [](const LoadedScene& s) { return scene_info(s); },
           "What `dacrt info` says, as a dict: triangles, meshes, materials (and how many are "
@@ -335,13 +356,29 @@ PYBIND11_MODULE(dacrt, m) {
           "file, one frames the scene), punctual lights, variants, animations, bounds, and "
           "`skipped`: what the file asks for that is not rendered as specified.")
       .def("__repr__", [](const LoadedScene& s) {
-        return "<dacrt.Scene '" + s.path + "', " + std::to_string(s.scene.geometry.size()) +
-               " triangles>";
+        return "<dacrt.Scene " + std::string(py::repr(path_text(s.path))) + ", " +
+               std::to_string(s.scene.geometry.size()) + " triangles>";
       });
 
-  m.def("load", &load_scene, py::arg("path"), py::kw_only(), py::arg("variant") = py::none(),
+  m.def(
+      "load",
+      [](const py::object& path, const py::object& variant, std::optional<int> scene,
+         std::optional<double> time) {
+        const std::string bytes = path_argument(path, "path");
+        // A variant name as the CLI takes it: any bytes (a str with surrogate escapes too).
+        std::optional<std::string> name;
+        if (!variant.is_none()) {
+          if (!py::isinstance<py::str>(variant) && !py::isinstance<py::bytes>(variant))
+            throw py::type_error("variant= wants a str, not " +
+                                 std::string(py::str(variant.get_type().attr("__name__"))));
+          name = path_argument(variant, "variant");
+        }
+        check_time(time);
+        const py::gil_scoped_release release;
+        return load_scene(bytes, std::move(name), scene, time);
+      },
+      py::arg("path"), py::kw_only(), py::arg("variant") = py::none(),
         py::arg("scene") = py::none(), py::arg("time") = py::none(),
-        py::call_guard<py::gil_scoped_release>(),
         "load(path, *, variant=None, scene=None, time=None) -> Scene\n\n"
         "Loads a glTF 2.0 file (.gltf or .glb): `variant` a KHR_materials_variants name, "
         "`scene` the index of a scene of the file (default: its default scene), `time` the "

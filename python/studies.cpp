@@ -21,31 +21,77 @@ namespace fs = std::filesystem;
 
 namespace dacrt::python {
 
+std::string path_argument(const py::handle& value, const char* keyword) {
+  PyObject* encoded = nullptr;
+  if (!PyUnicode_FSConverter(value.ptr(), &encoded)) {
+    py::error_already_set error;
+    if (error.matches(PyExc_TypeError))
+      throw py::type_error(std::string(keyword) + "= wants a path (str, bytes or os.PathLike), not " +
+                           std::string(py::str(value.get_type().attr("__name__"))));
+    throw error;  // ValueError: embedded null byte
+  }
+  const py::bytes bytes = py::reinterpret_steal<py::bytes>(encoded);
+  return std::string(bytes);
+}
+
+py::str message_text(const std::string& text) {
+  PyObject* s = PyUnicode_DecodeUTF8(text.data(), Py_ssize_t(text.size()), "backslashreplace");
+  if (!s) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(s);
+}
+
+py::str path_text(const std::string& path) {
+  PyObject* s = PyUnicode_DecodeFSDefaultAndSize(path.data(), Py_ssize_t(path.size()));
+  if (!s) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(s);
+}
+
 std::vector<std::string> keyword_options(const py::kwargs& kwargs,
                                          const std::vector<std::string>& refused,
                                          const std::string& why,
                                          const std::vector<std::string>& repeated) {
+  // The commands' options that take no value (render, bench and converge).
+  static const std::vector<std::string> flags = {"keep_sums",   "resume",   "tmax_at_hit",
+                                                 "no_reference", "noise",   "no_plot"};
   std::vector<std::string> args;
   bool progress = false;
   auto listed = [](const std::vector<std::string>& names, const std::string& name) {
     return std::find(names.begin(), names.end(), name) != names.end();
   };
+  auto type_name = [](py::handle v) {
+    return std::string(py::str(v.get_type().attr("__name__")));
+  };
   for (const auto& [key, value] : kwargs) {
     const std::string name = py::cast<std::string>(key);
-    if (name == "progress") {
-      progress = py::cast<bool>(value);
-      continue;
-    }
     if (name == "quiet") throw py::type_error("no quiet= here: progress=True shows the progress");
     if (listed(refused, name)) throw py::type_error("no " + name + "= here (" + why + ")");
+    const bool flag_option = name == "progress" || listed(flags, name);
+    if (flag_option && !value.is_none() && !py::isinstance<py::bool_>(value))
+      throw py::type_error(name + "= wants True or False, not " + type_name(value));
+    if (name == "progress") {
+      progress = !value.is_none() && py::cast<bool>(value);
+      continue;
+    }
     std::string flag = "--" + name;
     std::replace(flag.begin(), flag.end(), '_', '-');
     if (value.is_none()) continue;
-    if (py::isinstance<py::bool_>(value)) {
+    if (flag_option) {
       if (py::cast<bool>(value)) args.push_back(flag);
       continue;
     }
-    auto text = [](py::handle v) { return py::cast<std::string>(py::str(v)); };
+    // A value: a number, a str or a path, or (for a list option) a list or tuple of them.
+    auto text = [&](py::handle v) -> std::string {
+      if (py::isinstance<py::bool_>(v))
+        throw py::type_error(name + "= wants a value, not " + std::string(py::str(v)));
+      if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v))
+        return std::string(py::str(v));
+      if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v) ||
+          py::hasattr(v, "__fspath__"))
+        return path_argument(v, name.c_str());
+      throw py::type_error(name + "= wants a number, a str or a path" +
+                           (listed(repeated, name) ? std::string(", or a list of them") : "") +
+                           ", not " + type_name(v));
+    };
     const bool sequence = py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value);
     if (sequence && listed(repeated, name)) {
       for (const py::handle item : value) args.push_back(flag), args.push_back(text(item));
@@ -66,8 +112,8 @@ std::vector<std::string> keyword_options(const py::kwargs& kwargs,
 namespace {
 
 // The JSON of `dacrt bench --json` as Python data.
-py::object bench(const std::string& scene, const py::kwargs& kwargs) {
-  std::vector<std::string> args = {scene};
+py::object bench(const py::object& scene_path, const py::kwargs& kwargs) {
+  std::vector<std::string> args = {path_argument(scene_path, "scene")};
   for (std::string& a : keyword_options(kwargs, {"json", "report", "help"},
                                         "bench() returns its results: use the CLI for files"))
     args.push_back(std::move(a));
@@ -94,9 +140,10 @@ struct TemporaryDirectory {
 
 // `dacrt converge`'s CSV rows as dicts (numbers as floats), in a temporary directory removed
 // afterwards; with reference= given, the reference the CLI would keep is not kept.
-py::object converge(const std::string& scene, const py::kwargs& kwargs) {
+py::object converge(const py::object& scene_path, const py::kwargs& kwargs) {
   const TemporaryDirectory dir;
-  std::vector<std::string> args = {scene, "-o", dir.path.string(), "--no-plot"};
+  std::vector<std::string> args = {path_argument(scene_path, "scene"), "-o", dir.path.string(),
+                                   "--no-plot"};
   for (std::string& a :
        keyword_options(kwargs, {"output", "o", "no_plot", "help"},
                        "converge() returns its points: use the CLI for files", {"config"}))

@@ -15,6 +15,7 @@
 #include "dacrt/materials/texture.h"
 #include "dacrt/scene/camera.h"
 #include "dacrt/tracer/geometry.h"
+#include "dacrt/util/file_hash.h"
 
 namespace dacrt {
 
@@ -38,8 +39,9 @@ struct PunctualLight {
 
 struct Scene {
   std::string path;  // the file it came from, for messages
-  // The other files it was read from (external buffers and images), which no output may replace.
-  std::vector<std::string> files;
+  // The other files it was read from (external buffers and images), which no output may replace,
+  // with how much of each the loader read (what the render's fingerprint covers).
+  std::vector<FileRead> files;
   Geometry geometry;  // world space; geometry.material indexes `materials`
   // Per-corner shading normals, 3 per triangle (corner-major: tri*3 + corner), world space and
   // normalised. Empty when no primitive had NORMAL; primitives without it get geometric normals.
@@ -89,7 +91,10 @@ struct Scene {
     std::string unread_extensions() const;
   } ignored;
 
-  // Counts from the file, for `dacrt info`.
+  // Counts from the file, for `dacrt info`. Triangles of zero area (corners that coincide or lie
+  // on one line) are dropped by the loader, counted here: no ray can hit them, but every ray
+  // through their point would be tested against them all.
+  size_t degenerate_triangles = 0;
   size_t mesh_count = 0;
   size_t primitive_count = 0;
   size_t node_count = 0;

@@ -73,3 +73,40 @@ TEST_CASE("write_atomically: a run interrupted while writing leaves no temporary
     CHECK(files_in(dir.path()) == 0);
   }
 }
+
+TEST_CASE("OutputDirectory: made on demand, removed with its files unless kept, never if it was there") {
+  namespace fs = std::filesystem;
+  TempDir dir("output-directory");
+  {  // Made, written into, not kept (the command failed): gone, parents it made too.
+    dacrt::OutputDirectory out("--report", dir / "a/b/c");
+    CHECK(!fs::exists(dir / "a"));  // checking makes nothing
+    out.make();
+    std::ofstream(dir / "a/b/c/index.html") << "page";
+    CHECK(fs::exists(dir / "a/b/c/index.html"));
+  }
+  CHECK(!fs::exists(dir / "a"));
+  {  // Kept: stays.
+    dacrt::OutputDirectory out("--report", dir / "k");
+    out.make();
+    out.keep();
+  }
+  CHECK(fs::is_directory(dir / "k"));
+  {  // There before: never removed, whatever happens.
+    dacrt::OutputDirectory out("--report", dir / "k");
+    CHECK(out.existed());
+    out.make();
+  }
+  CHECK(fs::is_directory(dir / "k"));
+  // Where no directory can be made: refused when checked, naming the option and the path.
+  std::ofstream(dir / "file") << "x";
+  for (const std::string& bad : {dir / "file", dir / "file/sub"}) {
+    CAPTURE(bad);
+    try {
+      dacrt::OutputDirectory out("--report", bad);
+      FAIL("accepted");
+    } catch (const dacrt::Error& e) {
+      CHECK(std::string(e.what()).find("--report " + bad + ": cannot write") == 0);
+      CHECK(std::string(e.what()).find("a file, not a directory") != std::string::npos);
+    }
+  }
+}

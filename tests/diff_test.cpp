@@ -185,6 +185,33 @@ TEST_CASE("diff: -o writes the per-pixel mean of |A-B| as the one channel Y of a
   CHECK(map.attributes.at("imageA") == dir / "a.exr");
 }
 
+TEST_CASE("diff: finite images whose difference a float cannot hold: refused, naming the pixel") {
+  TempDir dir("diff-overflow");
+  Image a(3, 2), b(3, 2);
+  a.pixel(2, 1)[0] = a.pixel(2, 1)[1] = a.pixel(2, 1)[2] = 3e38f;
+  b.pixel(2, 1)[0] = b.pixel(2, 1)[1] = b.pixel(2, 1)[2] = -3e38f;
+  write_exr(dir / "a.exr", a, {});
+  write_exr(dir / "b.exr", b, {});
+  const std::string pair = "diff " + dir / "a.exr" + " " + dir / "b.exr";
+  for (const std::string& out : {" -o " + dir / "map.exr", " --preview " + dir / "map.png"}) {
+    CAPTURE(out);
+    const Run r = run(dir, pair + out);
+    CHECK(r.code == 1);
+    CHECK(lines(r.err) == 1);
+    CHECK_MESSAGE(r.err.find("pixel (2, 1) differs by 6e+38, more than the error map's") !=
+                      std::string::npos,
+                  r.err);
+    CHECK(r.out.empty());  // nothing printed before the refusal
+    CHECK(!fs::exists(dir / "map.exr"));
+    CHECK(!fs::exists(dir / "map.png"));
+  }
+  // Without a map, the measures (in double) are printed.
+  const Run measures = run(dir, pair + " --json");
+  REQUIRE_MESSAGE(measures.code == 0, measures.err);
+  CHECK(nlohmann::json::parse(measures.out)["metrics"]["RGB"]["max_abs"].get<double>() ==
+        doctest::Approx(6e38));
+}
+
 TEST_CASE("diff: the preview's colours run from viridis's first at 0 to its last at the scale") {
   TempDir dir("diff-preview");
   write_map_pair(dir);

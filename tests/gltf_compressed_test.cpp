@@ -190,6 +190,7 @@ TEST_CASE("EXT_meshopt_compression: streams encoded by meshoptimizer load exactl
   REQUIRE(!vertices.empty());
   REQUIRE(!indices.empty());
   // Buffer 0 holds the compressed streams; buffer 1 is the fallback, whose data is not in the file.
+  uint64_t vertex_view = 48;  // the vertex bufferView's byteLength (the fallback buffer's data)
   auto file = [&](const std::string& name, json vertex_ext, json index_ext) {
     GltfWriter w;
     w.doc["extensionsUsed"] = w.doc["extensionsRequired"] = {"EXT_meshopt_compression"};
@@ -200,11 +201,11 @@ TEST_CASE("EXT_meshopt_compression: streams encoded by meshoptimizer load exactl
     index_ext.update({{"buffer", 0}, {"byteOffset", views[iv]["byteOffset"]}});
     views[vv] = {{"buffer", 1},
                  {"byteOffset", 0},
-                 {"byteLength", 48},
+                 {"byteLength", vertex_view},
                  {"byteStride", 12},
                  {"extensions", {{"EXT_meshopt_compression", vertex_ext}}}};
     views[iv] = {{"buffer", 1},
-                 {"byteOffset", 48},
+                 {"byteOffset", vertex_view},
                  {"byteLength", 12},
                  {"extensions", {{"EXT_meshopt_compression", index_ext}}}};
     const int position = w.add_accessor(vv, kFloat, 4, "VEC3");
@@ -214,7 +215,8 @@ TEST_CASE("EXT_meshopt_compression: streams encoded by meshoptimizer load exactl
     w.set_scene({w.add_node(
         {{"mesh", w.add_mesh(GltfWriter::primitive(position, {{"indices", index}}))}})});
     w.more_buffers = {
-        {{"byteLength", 60}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
+        {{"byteLength", vertex_view + 12},
+         {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
     return w.write_glb(dir / name);
   };
   const json vertex = {
@@ -248,6 +250,34 @@ TEST_CASE("EXT_meshopt_compression: streams encoded by meshoptimizer load exactl
     AllocationWatch watch;
     check_error(file("huge.glb", huge, index), {"bufferView 0", "more than the bufferView"});
     CHECK(watch.peak() < (uint64_t(64) << 20));
+  }
+  SUBCASE("a stream that claims more than its length can decode to: refused before allocating") {
+    // 2^26 vertices of 12 bytes (768 MiB, within the bufferView and the budget) from a stream of
+    // a few dozen bytes: meshoptimizer would zero-fill it all before it finds the stream short.
+    vertex_view = uint64_t(12) << 26;
+    json claims = vertex;
+    claims["count"] = 1 << 26;
+    AllocationWatch watch;
+    check_error(file("claims.glb", claims, index),
+                {"bufferView 0's EXT_meshopt_compression claims 67108864 elements of 12 bytes",
+                 "-byte stream can decode to"});
+    CHECK(watch.peak() < (uint64_t(64) << 20));
+  }
+  SUBCASE("the most compressible stream (all zeros) is within the bound and loads") {
+    // 65535 zero vertices: the encoder's smallest output for their size, close to 1/64 of it.
+    const std::vector<float> zeros(3 * 65535, 0.f);
+    vertices.assign(meshopt_encodeVertexBufferBound(65535, 12), 0);
+    vertices.resize(
+        meshopt_encodeVertexBuffer(vertices.data(), vertices.size(), zeros.data(), 65535, 12));
+    CHECK(vertices.size() * 64 >= 65535 * 12);
+    CHECK(vertices.size() * 48 < 65535 * 12);  // the bound is near what the codec reaches
+    vertex_view = 12 * 65535;
+    json dense = vertex;
+    dense["byteLength"] = vertices.size();
+    dense["count"] = 65535;
+    const Scene scene = load_gltf(file("zeros.glb", dense, index));
+    CHECK(scene.geometry.size() == 0);  // the quad's corners are all at one point
+    CHECK(scene.degenerate_triangles == 2);
   }
 }
 

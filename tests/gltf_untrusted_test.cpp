@@ -94,7 +94,8 @@ TEST_CASE("gltf untrusted: a buffer file longer than its byteLength is read only
   REQUIRE(scene.geometry.size() == 1);
   CHECK(scene.geometry.vertex(0, 1) == kTriangle[1]);
   REQUIRE(scene.files.size() == 1);
-  CHECK(scene.files[0].find("long.bin") != std::string::npos);
+  CHECK(scene.files[0].path.find("long.bin") != std::string::npos);
+  CHECK(scene.files[0].bytes == w.bin.size());  // what the render's fingerprint covers
 
   // Two buffers naming the same file with different lengths each get theirs.
   json doc = w.doc;
@@ -105,6 +106,30 @@ TEST_CASE("gltf untrusted: a buffer file longer than its byteLength is read only
   j["bufferViews"].push_back({{"buffer", 1}, {"byteLength", 4}});
   dacrt::test::write_text(twice, j.dump());
   CHECK(load_gltf(twice).geometry.size() == 1);
+}
+
+TEST_CASE("gltf untrusted: a URI longer than any path is refused from the JSON, not copied") {
+  TempDir dir("long-uri");
+  // 10 MB of file name: no file can have it (PATH_MAX is 4096). Refused by the schema check, the
+  // first reader of the JSON, before the loader's paths and tinygltf's second parse copy it.
+  for (const char* element : {"buffers", "images"}) {
+    CAPTURE(element);
+    GltfWriter w = dacrt::test::triangle_file();
+    const std::string name = std::string(10000000, 'a') + ".bin";
+    if (std::string(element) == "buffers")
+      w.more_buffers = {{{"byteLength", 4}, {"uri", name}}};
+    else
+      w.doc["images"] = json::array({{{"uri", name}}});
+    const std::string path = w.write_gltf(dir / "long.gltf");
+    AllocationWatch watch;
+    check_error(path, {std::string("/") + element + (element[0] == 'b' ? "/1/uri" : "/0/uri"),
+                       "is a file name of 10000004 bytes, longer than any path can be (4096)"});
+    CHECK(watch.peak() < 60 * kMiB);  // the file, its JSON and nothing more (was over 200)
+  }
+  // A path of 4096 bytes is still looked for (and here not found).
+  GltfWriter w = dacrt::test::triangle_file();
+  w.more_buffers = {{{"byteLength", 4}, {"uri", std::string(4096, 'b')}}};
+  check_error(w.write_gltf(dir / "path.gltf"), {"buffer 1"});
 }
 
 TEST_CASE("gltf untrusted: a buffer file shorter than its byteLength is refused before reading") {
@@ -299,6 +324,46 @@ TEST_CASE(
   // A used vertex that is not finite is still an error, named by its number in the file.
   w.doc["meshes"][0]["primitives"][0]["indices"] = w.add_indices(std::vector<uint8_t>{90, 3, 70});
   check_error(w.write_gltf(dir / "nan.gltf"), {"vertex 3 ", "not finite"});
+}
+
+TEST_CASE("gltf untrusted: triangles of zero area are dropped, with their corners' attributes") {
+  TempDir dir("zero-area");
+  // Four triangles: one with an area, one of three points on a line, one of one point, another
+  // with an area; each corner with its own colour, so that a kept triangle must keep its own.
+  GltfWriter w;
+  const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0},    // kept
+                                    {0, 0, 0}, {1, 1, 1}, {2, 2, 2},    // on a line
+                                    {5, 5, 5}, {5, 5, 5}, {5, 5, 5},    // one point
+                                    {0, 0, 3}, {0, 2, 3}, {2, 0, 3}};   // kept
+  std::vector<glm::vec4> c(p.size());
+  for (size_t i = 0; i < c.size(); ++i) c[i] = glm::vec4(float(i) / 16.f, 0, 0, 1);
+  const int color = w.add_accessor(w.add_view(c.data(), c.size() * 16), kFloat, c.size(), "VEC4");
+  w.set_scene({w.add_node({{"mesh", w.add_mesh(json{{"attributes",
+                                                     {{"POSITION", w.add_vec3(p)},
+                                                      {"NORMAL", w.add_vec3(std::vector<glm::vec3>(
+                                                                     p.size(), {0, 0, 1}), false)},
+                                                      {"COLOR_0", color}}}})}})});
+  const Scene scene = load_gltf(w.write_gltf(dir / "zero.gltf"));
+  REQUIRE(scene.geometry.size() == 2);
+  CHECK(scene.degenerate_triangles == 2);
+  REQUIRE(scene.colors.size() == 6);
+  REQUIRE(scene.normals.size() == 6);
+  for (size_t t = 0; t < 2; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const size_t from = (t == 0 ? 0 : 9) + size_t(k);
+      CHECK(scene.geometry.vertex(t, k) == p[from]);
+      CHECK(scene.colors[3 * t + size_t(k)].x == doctest::Approx(c[from].x));
+    }
+
+  // 3 M zero vertices from an accessor without a bufferView (valid: all zeros), 1 M triangles at
+  // one point: none is kept, so no ray meets them.
+  GltfWriter zeros;
+  const int position = zeros.add_accessor(-1, kFloat, 3000000, "VEC3");
+  zeros.doc["accessors"][position]["min"] = zeros.doc["accessors"][position]["max"] = {0, 0, 0};
+  zeros.set_scene({zeros.add_node({{"mesh", zeros.add_mesh(GltfWriter::primitive(position))}})});
+  const Scene none = load_gltf(zeros.write_gltf(dir / "zeros.gltf"));
+  CHECK(none.geometry.size() == 0);
+  CHECK(none.degenerate_triangles == 1000000);
 }
 
 TEST_CASE("gltf untrusted: degenerate instances count as work and are bounded before it is done") {

@@ -101,16 +101,27 @@ TEST_CASE("merge: parts of any split, in any order, are the whole render bit for
   CHECK(read_exr_header(dir / "ab.exr").attributes.at("sampleRange") == "0:5");
   CHECK(has_sums(dir / "ab.exr"));
   check_same_image(dir / "ab.exr", dir / "ab-rendered.exr");
-  // The parts' tallies of dropped and clamped samples add up.
-  forge(dir / "a.exr", dir / "a-tally.exr", "samplesDropped", "2");
-  forge(dir / "b.exr", dir / "b-dropped.exr", "samplesDropped", "3");
-  forge(dir / "b-dropped.exr", dir / "b-tally.exr", "samplesClamped", "4");
-  const Run tallied = merge(dir, (dir / "a-tally.exr") + " " + (dir / "b-tally.exr") +
-                                     " --allow-gaps -o " + (dir / "tallied.exr"));
+  // The parts' tallies of dropped and clamped samples add up: under a sky of 3e38, samples that
+  // see it are clamped; a lamp of 3e38 a few decimetres away gives irradiance past float's range
+  // (infinite samples, dropped).
+  const std::string bright =
+      " --environment 3e38,3e38,3e38 --point-light 0.278,0.5,0.279=3e38,3e38,3e38 --samples ";
+  render(dir, "bright-a.exr", bright + "0:3");
+  render(dir, "bright-b.exr", bright + "3:8");
+  const Run tallied = merge(dir, (dir / "bright-a.exr") + " " + (dir / "bright-b.exr") + " -o " +
+                                     (dir / "tallied.exr"));
   REQUIRE_MESSAGE(tallied.code == 0, tallied.err);
-  const ExrHeader t = read_exr_header(dir / "tallied.exr");
-  CHECK(t.attributes.at("samplesDropped") == "5");
-  CHECK(t.attributes.at("samplesClamped") == "4");
+  auto tally = [](const std::string& file, const char* name) {
+    return std::stoull(read_exr_header(file).attributes.at(name));
+  };
+  for (const std::string name : {"samplesDropped", "samplesClamped"}) {
+    CAPTURE(name);
+    const uint64_t a = tally(dir / "bright-a.exr", name.c_str()),
+                   b = tally(dir / "bright-b.exr", name.c_str());
+    CHECK(a > 0);
+    CHECK(b > 0);
+    CHECK(tally(dir / "tallied.exr", name.c_str()) == a + b);
+  }
   const Run r = merge(dir, (dir / "c.exr") + " " + (dir / "ab.exr") + " --keep-sums -o " +
                                (dir / "abc.exr") + " --preview " + (dir / "abc.png"));
   REQUIRE_MESSAGE(r.code == 0, r.err);
@@ -128,9 +139,18 @@ TEST_CASE("merge: parts that overlap, leave gaps, are of another render or hold 
   render(dir, "embree.exr", "--samples 3:8 --backend embree");
   render(dir, "whole.exr", "");
   render(dir, "small.exr", "--samples 3:8 --width 12");
+  render(dir, "head.exr", "--samples 0:4");
   forge(dir / "c.exr", dir / "cut.exr", "sampleRangeMost", "4:9");
   forge(dir / "a.exr", dir / "lying.exr", "sampleRange", "0:4");
   forge(dir / "a.exr", dir / "format.exr", "exactSums", "fixed64 v0");
+  // Tallies that are not counts, or not the counts of the part's pixels: 2^64 - 1 and 5 would
+  // wrap to 4 if they were added.
+  forge(dir / "c.exr", dir / "wrap.exr", "samplesDropped", "18446744073709551615");
+  forge(dir / "c.exr", dir / "minus.exr", "samplesDropped", "-1");
+  forge(dir / "c.exr", dir / "letters.exr", "samplesClamped", "5x");
+  forge(dir / "c.exr", dir / "huge.exr", "samplesClamped", "99999999999999999999999");
+  forge(dir / "c.exr", dir / "dropped.exr", "samplesDropped", "5");
+  forge(dir / "c.exr", dir / "clamped.exr", "samplesClamped", "1537");  // 24 x 16 x 4 = 1536 kept
   const std::string out = dir / "out.exr";
   struct Case {
     std::string parts, message;
@@ -146,6 +166,12 @@ TEST_CASE("merge: parts that overlap, leave gaps, are of another render or hold 
       {"lying c", "took 3 samples and kept 3 (4 were to be taken)"},
       {"format c", "format.exr: its exact sums are of another format"},
       {"a missing", "missing.exr"},
+      {"head wrap", "wrap.exr: its samplesDropped 18446744073709551615 is not the 0 samples"},
+      {"head minus", "minus.exr: its samplesDropped attribute \"-1\" is not a count"},
+      {"head letters", "letters.exr: its samplesClamped attribute \"5x\" is not a count"},
+      {"head huge", "huge.exr: its samplesClamped attribute \"99999999999999999999999\" is not a count"},
+      {"head dropped", "dropped.exr: its samplesDropped 5 is not the 0 samples its pixels took and did not keep"},
+      {"head clamped", "clamped.exr: its samplesClamped 1537 is more than the 1536 samples its pixels kept"},
   };
   for (const Case& c : cases) {
     std::string parts;

@@ -5,6 +5,8 @@
 #include <doctest/doctest.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "cli.h"
@@ -100,5 +102,53 @@ TEST_CASE("mpirun: a rank that fails fails the job with its message; usage error
     CHECK(u.code == 2);
     CHECK_MESSAGE(lines(u.err) == 1, u.err);
   }
+  CHECK(!fs::exists(out));
+}
+
+TEST_CASE("mpirun: ranks whose scenes or options differ fail the job, naming the rank and the key") {
+  if (!have_mpirun()) {
+    MESSAGE("skipped: no mpirun (apt-get install openmpi-bin libopenmpi-dev)");
+    return;
+  }
+  // Two machines' copies of one scene, the second stale: one material colour differs. Each rank
+  // runs in its own directory and renders "cornell-box.gltf" there.
+  TempDir dir("mpi-agree");
+  const std::string original = slurp(scenes + "/cornell-box.gltf");
+  std::string stale = original;
+  const size_t at = stale.find("0.725");
+  REQUIRE(at != std::string::npos);
+  stale.replace(at, 5, "0.724");
+  for (const auto& [folder, text] : {std::pair{"a", original}, {"b", original}, {"c", stale}}) {
+    fs::create_directories(dir / folder);
+    std::ofstream(dir / (std::string(folder) + "/cornell-box.gltf"), std::ios::binary) << text;
+  }
+  const std::string out = dir / "out.exr";
+  auto two_ranks = [&](const std::string& second, const std::string& extra) {
+    const std::string args = "render cornell-box.gltf" + options + " -o " + out;
+    return run(dir, args,
+               mpirun(1) + " --wdir " + (dir / "a") + " " + DACRT_CLI + " " + args + extra +
+                   " : -np 1 --wdir " + (dir / second));
+  };
+  // Identical copies in different directories agree: the image of one process.
+  const Run same = two_ranks("b", "");
+  REQUIRE_MESSAGE(same.code == 0, same.err);
+  const Run one = run(dir, "render " + (dir / "a/cornell-box.gltf") + options + " --quiet -o " +
+                               (dir / "one.exr"));
+  REQUIRE_MESSAGE(one.code == 0, one.err);
+  check_same_image(out, dir / "one.exr");
+  fs::remove(out);
+  // The stale copy: one line naming rank 1 and the inputs' fingerprint, nothing written.
+  const Run stale_run = two_ranks("c", "");
+  CHECK(stale_run.code == 1);
+  CHECK_MESSAGE(lines(stale_run.err) == 1, stale_run.err);
+  CHECK_MESSAGE(stale_run.err.find("rank 1: ") == 0, stale_run.err);
+  CHECK_MESSAGE(stale_run.err.find("match.inputs is fnv1a64w:") != std::string::npos,
+                stale_run.err);
+  CHECK(!fs::exists(out));
+  // The same files but another option on rank 0 (the seed): the key is named.
+  const Run seed = two_ranks("b", " --seed 4");
+  CHECK(seed.code == 1);
+  CHECK_MESSAGE(seed.err.find("rank 1: ") == 0, seed.err);
+  CHECK_MESSAGE(seed.err.find("match.seed is 3 here, 4 on rank 0") != std::string::npos, seed.err);
   CHECK(!fs::exists(out));
 }

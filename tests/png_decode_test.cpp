@@ -91,6 +91,14 @@ TEST_CASE("PNG: data cut short, bad CRCs, CgBI and huge headers are refused") {
     CHECK(has(e, "100000 x 100000 texels is more than 2^27"));
     CHECK(watch.peak() < (1u << 20));
   }
+  // 65536 × 65537 texels: their product in 32 bits wraps to 65536, far below the limit; in 64
+  // bits it is 2^32 + 65536, far above. (10^10 wraps to 1 410 065 408, above it either way.)
+  {
+    AllocationWatch watch;
+    CHECK(has(decode_error(png_resized(good, 65536, 65537)),
+              "65536 x 65537 texels is more than 2^27"));
+    CHECK(watch.peak() < (1u << 20));
+  }
   CHECK(
       has(decode_error(png_resized(good, 1u << 28, 1)), "268435456 x 1 texels is more than 2^27"));
   CHECK(has(decode_error(png_resized(good, 0, 4)), "invalid PNG data"));

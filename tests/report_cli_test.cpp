@@ -9,6 +9,7 @@
 
 #include "bench/html_page.h"
 #include "cli.h"
+#include "gltf_writer.h"
 
 using namespace dacrt;
 using namespace dacrt::test;
@@ -183,4 +184,42 @@ TEST_CASE("converge -o DIR: the plot, the tables and every point with its band o
   else
     CHECK(html.find("No plot: gnuplot was not found") != std::string::npos);
   check_page(dir, fs::path(out) / "index.html");
+}
+
+TEST_CASE("--report: a command that fails leaves no directory behind, not even an empty one") {
+  TempDir dir("report-failed");
+  write_text(dir / "bad.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": 7}");
+  const std::string missing = dir / "missing.gltf", bad = dir / "bad.gltf";
+  const std::string unwritable = " -o " + (dir / "no-such-directory/x.exr");
+  struct Case {
+    std::string command;
+    int code;
+  };
+  const std::vector<Case> cases = {
+      {"render " + missing + " --spp 1 -o " + (dir / "x.exr"), 1},
+      {"render " + bad + " --spp 1 -o " + (dir / "x.exr"), 1},
+      {"render " + cornell + " --spp 1" + unwritable, 1},
+      {"render " + cornell + " --spp 1 --nope -o " + (dir / "x.exr"), 2},
+      {"bench " + missing + " --width 8 --height 8", 1},
+      {"bench " + bad + " --width 8 --height 8", 1},
+  };
+  for (const Case& c : cases) {
+    for (const std::string& report : {dir / "r", dir / "a/b/c"}) {
+      CAPTURE(c.command);
+      CAPTURE(report);
+      const Run r = run(dir, c.command + " --report " + report);
+      CHECK(r.code == c.code);
+      CHECK(lines(r.err) == 1);
+      CHECK(!fs::exists(dir / "r"));
+      CHECK(!fs::exists(dir / "a"));
+    }
+  }
+  // A directory that was there stays, with what was in it.
+  fs::create_directories(dir / "kept");
+  write_text(dir / "kept/notes.txt", "mine");
+  const Run r = run(dir, "render " + missing + " --spp 1 -o " + (dir / "x.exr") + " --report " +
+                             (dir / "kept"));
+  CHECK(r.code == 1);
+  CHECK(slurp(dir / "kept/notes.txt") == "mine");
+  CHECK(std::distance(fs::directory_iterator(dir / "kept"), fs::directory_iterator()) == 1);
 }

@@ -4,6 +4,7 @@
 
 #include "cli.h"
 #include "dacrt/io/exr.h"
+#include "gltf_triangle.h"
 
 using namespace dacrt;
 using namespace dacrt::test;
@@ -123,4 +124,31 @@ TEST_CASE("render --samples: a render stopped by its time limit says the range i
   CHECK(last > 2);
   CHECK(last < 4096);
   CHECK(t.attributes.at("spp") == std::to_string(last - 2));
+}
+
+TEST_CASE("render: match.inputs covers the bytes the render read, and only those") {
+  // A triangle whose buffer is an external file: bytes past its byteLength are not the scene's
+  // (the spec allows them; the loader never reads them), nor is an image no material uses.
+  TempDir dir("samples-fingerprint");
+  GltfWriter w;
+  w.add_triangles(kTriangle);
+  w.doc["images"] = nlohmann::json::array({{{"uri", "unused.png"}}});
+  const std::string scene = w.write_gltf(dir / "t.gltf", /*embed=*/false);
+  write_text(dir / "unused.png", "not even a PNG");
+  auto fingerprint = [&](const std::string& name) {
+    const Run r = run(dir, "render " + scene + " --width 8 --height 8 --spp 1 --quiet -o " +
+                               (dir / name));
+    REQUIRE_MESSAGE(r.code == 0, r.err);
+    return read_exr_header(dir / name).attributes.at("match.inputs");
+  };
+  const std::string before = fingerprint("a.exr");
+  // Longer than its byteLength (another program's data after it), another unused image: the same.
+  std::string bin = slurp(dir / "t.bin");
+  write_text(dir / "t.bin", bin + std::string(100000, 'x'));
+  write_text(dir / "unused.png", "another text");
+  CHECK(fingerprint("b.exr") == before);
+  // A byte the render reads: another fingerprint.
+  bin[bin.size() - 1] ^= 1;
+  write_text(dir / "t.bin", bin);
+  CHECK(fingerprint("c.exr") != before);
 }

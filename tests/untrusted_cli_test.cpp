@@ -263,3 +263,43 @@ TEST_CASE("untrusted cli: output to a full standard output is an error") {
   check_refused(r, 1, {"standard output"});
   CHECK(run(dir, "info " + scene).code == 0);
 }
+
+TEST_CASE("untrusted cli: triangles of zero area are dropped and counted by info and --stats") {
+  TempDir dir("zero-area-cli");
+  // One real triangle in front of the camera and 100 000 at one point behind it.
+  GltfWriter w;
+  std::vector<glm::vec3> p = {{-1, -1, -3}, {1, -1, -3}, {0, 1, -3}};
+  p.resize(3 + 300000, glm::vec3(0, 0, -2));
+  w.add_triangles(p);
+  w.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}}}}};
+  w.set_scene({0, w.add_node({{"camera", 0}})});
+  const std::string scene = w.write_gltf(dir / "z.gltf");
+  const Run info = run(dir, "info " + scene);
+  REQUIRE_MESSAGE(info.code == 0, info.err);
+  CHECK_MESSAGE(info.out.find("triangles  1 (100000 more of zero area dropped") != std::string::npos,
+                info.out);
+  const Run r = run(dir, "render " + scene + " --spp 1 --width 8 --height 8 --quiet -o " +
+                             (dir / "z.exr") + " --stats " + (dir / "z.json"));
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const nlohmann::json stats = nlohmann::json::parse(slurp(dir / "z.json"));
+  CHECK(stats.dump().find("\"degenerate_triangles\":100000") != std::string::npos);
+  CHECK(stats.dump().find("\"triangles\":1,") != std::string::npos);
+}
+
+TEST_CASE("untrusted cli: a long --frames range of a missing scene fails at once") {
+  // 100 000 frames name 100 000 outputs, each resolved once (they used to be compared in pairs:
+  // minutes of file-system walks before the missing scene was said). `timeout` turns a hang into
+  // a failure here; how fast it is, is the benchmark's business.
+  TempDir dir("frames-missing");
+  const Run r = run(dir, "render " + (dir / "missing.gltf") + " --frames 0:99999 -o " +
+                             (dir / "f.exr") + " --preview " + (dir / "f.png"),
+                    "timeout 60");
+  check_refused(r, 1, {"missing.gltf", "does not exist"});
+  // Outputs of a sequence that collide are still found (each frame's preview would be its EXR).
+  const std::string scene = small_scene(dir);
+  const Run same = run(dir, "render " + scene + " --frames 0:999 -o " + (dir / "a.exr") +
+                                " --preview " + (dir / "a.exr"),
+                       "timeout 60");
+  check_refused(same, 1, {"is the same file as"});
+  check_no_outputs(dir);
+}

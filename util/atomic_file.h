@@ -37,4 +37,31 @@ void remove_pending_file() noexcept;
 // rename could not replace). Lets a command fail before hours of work rather than after.
 void check_writable(const std::string& path);
 
+// A directory named as an output (`--report DIR`): checked before the work, made only when the
+// first file goes into it, and removed again with what was written into it when the command
+// fails (destroyed without keep()): a failed command leaves no directory behind, not even an
+// empty one. A directory that was there before is never removed.
+class OutputDirectory {
+ public:
+  // Throws Error ("<option> <dir>: cannot write: …") unless `dir` is a directory in which files
+  // can be made, or does not exist and could be made: its nearest existing ancestor is a
+  // directory in which one can be created.
+  OutputDirectory(std::string option, std::string dir);
+  ~OutputDirectory();
+  OutputDirectory(const OutputDirectory&) = delete;
+  OutputDirectory& operator=(const OutputDirectory&) = delete;
+
+  // Whether it was there before: then its files can be checked with check_writable now.
+  bool existed() const { return existed_; }
+  // Makes it and its missing parents (once); throws Error naming the option when it cannot.
+  void make();
+  // The command succeeded: what make() made stays.
+  void keep() { kept_ = true; }
+
+ private:
+  std::string option_, dir_;
+  bool existed_ = false, kept_ = false;
+  std::filesystem::path made_;  // the outermost directory make() created
+};
+
 }  // namespace dacrt

@@ -27,15 +27,20 @@ void mix(uint64_t& h, const unsigned char* bytes, size_t n) {
 
 }  // namespace
 
-uint64_t hash_files(const std::vector<std::string>& paths) {
+uint64_t hash_files(const std::vector<FileRead>& files) {
   uint64_t h = fnv_offset;
   std::vector<char> buffer(size_t(1) << 20);
-  for (const std::string& path : paths) {
+  for (const FileRead& file : files) {
+    const std::string& path = file.path;
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot be read: " + std::strerror(errno));
     in.seekg(0, std::ios::end);
-    const uint64_t size = uint64_t(std::streamoff(in.tellg()));
+    const uint64_t whole = uint64_t(std::streamoff(in.tellg()));
     in.seekg(0);
+    if (file.bytes && *file.bytes > whole)
+      throw Error(path + ": has " + std::to_string(whole) + " bytes, fewer than the " +
+                  std::to_string(*file.bytes) + " read of it (it changed while read?)");
+    const uint64_t size = file.bytes.value_or(whole);
     unsigned char length[8];
     for (int k = 0; k < 8; ++k) length[k] = (unsigned char)(size >> (8 * k));
     mix(h, length, 8);

@@ -92,6 +92,16 @@ void decode_meshopt(const Gltf& gltf, int index, const tinygltf::Value& x, Bytes
   if (offset > source.size() || length > source.size() - offset)
     gltf.fail(what + " overruns buffer " + str(buffer) + " (needs " + str(offset + length) +
               " bytes, has " + str(source.size()) + ")");
+  // The stream's length bounds what it can decode to, so a short stream claiming a large count
+  // is refused before the output is allocated. The least a stream can spend (meshoptimizer 0.18's
+  // codecs, version 0): ATTRIBUTES 2 bits of group header for 16 bytes of one byte column (1/64
+  // of the data); TRIANGLES one code byte for a triangle of 3 indices; INDICES one varint byte an
+  // index.
+  const uint64_t ratio = mode == "ATTRIBUTES" ? 64 : mode == "TRIANGLES" ? 3 * stride : stride;
+  if (bytes / ratio > length)
+    gltf.fail(what + " claims " + str(count) + " elements of " + str(stride) + " bytes (" +
+              str(bytes) + " bytes), more than its " + str(length) +
+              "-byte stream can decode to");
   reserve(gltf, bytes, what);
   out.assign(size_t(bytes), 0);
   const unsigned char* in = source.data() + offset;

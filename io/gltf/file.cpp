@@ -132,7 +132,7 @@ struct ExternalFiles {
   std::vector<bool> image_used;                         // by image index
   std::set<std::string> uri_paths;                      // of every buffer and image
   uint64_t buffer_bytes = 0, available_memory = 0;
-  std::vector<std::string> noted;  // every external file the scene names and tinygltf finds
+  std::vector<FileRead> noted;  // every external file the scene names and tinygltf finds
   std::string error;               // the first failure, a message after the scene's path
 };
 
@@ -365,7 +365,7 @@ bool read_bytes(const std::string& file, std::optional<uint64_t> want, uint64_t 
 bool read_external(std::vector<unsigned char>* out, std::string* err, const std::string& file,
                    void* user) {
   ExternalFiles& files = *static_cast<ExternalFiles*>(user);
-  files.noted.push_back(file);
+  files.noted.push_back({file, 0});  // the bytes read are set once they are
   out->clear();
   auto fail = [&](const std::string& what) {
     if (files.error.empty()) files.error = what;
@@ -387,6 +387,7 @@ bool read_external(std::vector<unsigned char>* out, std::string* err, const std:
                     *out, why))
       return fail(buffer.name + " cannot be read: " + why);
     files.buffer_bytes += out->size();
+    files.noted.back().bytes = out->size();
     return true;
   }
   if (files.image_paths.count(file) && !files.used_image_paths.count(file))
@@ -399,6 +400,7 @@ bool read_external(std::vector<unsigned char>* out, std::string* err, const std:
     return fail((name != files.image_name.end() ? name->second : "file " + one_line(file)) +
                 " cannot be read: " + why);
   }
+  files.noted.back().bytes = out->size();
   return true;
 }
 
@@ -556,7 +558,7 @@ Bytes rewritten(const Bytes& data, bool binary, size_t json_size, const nlohmann
 }
 
 tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
-                      std::vector<std::string>* files) {
+                      std::vector<FileRead>* files) {
   const Bytes* input = &original;
   Bytes changed;
   const Bytes& data = original;
@@ -613,13 +615,13 @@ tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
 }  // namespace
 
 tinygltf::Model read_gltf_model(const std::string& path, int scene,
-                                std::vector<std::string>* files) {
+                                std::vector<FileRead>* files) {
   Bytes data = read_file(path);
   return parse(path, data, scene, files);  // a GLB's BIN chunk is copied into model.buffers
 }
 
 tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size,
-                                 int scene, std::vector<std::string>* files) {
+                                 int scene, std::vector<FileRead>* files) {
   return parse(path, Bytes(data, data + size), scene, files);
 }
 

@@ -10,16 +10,18 @@
 #include <string>
 #include <vector>
 
+#include "dacrt/util/file_hash.h"
+
 namespace dacrt {
 
 // `scene` is the scene to be rendered (-1: the file's default). `files`, when given, receives the
-// paths of the external files the file names and tinygltf finds (buffers, images; the images the
-// render does not use are named but not read).
+// external files the file names and tinygltf finds (buffers, images) with the bytes read of each
+// (a buffer's byteLength; none of an image the render does not use).
 tinygltf::Model read_gltf_model(const std::string& path, int scene = -1,
-                                std::vector<std::string>* files = nullptr);
+                                std::vector<FileRead>* files = nullptr);
 // The same from bytes already in memory; `path` names them in messages, and external buffers are
 // looked up beside it.
 tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size,
-                                 int scene = -1, std::vector<std::string>* files = nullptr);
+                                 int scene = -1, std::vector<FileRead>* files = nullptr);
 
 }  // namespace dacrt

@@ -201,7 +201,7 @@ auto guarded(const std::string& path, Body body) {
 struct GltfAnimation::Impl {
   std::string path;
   GltfOptions options;
-  std::vector<std::string> files;
+  std::vector<FileRead> files;
   tinygltf::Model model;
   std::vector<gltf::Animation> animations;
 
@@ -226,7 +226,7 @@ struct GltfAnimation::Impl {
 };
 
 GltfAnimation::GltfAnimation(const std::string& path, const GltfOptions& options)
-    : impl_(std::make_unique<Impl>(path, options, [&](std::vector<std::string>& files) {
+    : impl_(std::make_unique<Impl>(path, options, [&](std::vector<FileRead>& files) {
         return read_gltf_model(path, options.scene, &files);
       })) {}
 
@@ -265,7 +265,7 @@ Scene load_gltf(const std::string& path, const GltfOptions& options) {
 Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
                        const GltfOptions& options) {
   return guarded(path, [&] {
-    std::vector<std::string> files;
+    std::vector<FileRead> files;
     tinygltf::Model model = parse_gltf_model(path, data, size, options.scene, &files);
     gltf::Gltf gltf(path, model);
     Scene scene = gltf::run(gltf, options, gltf::read_animations(gltf));

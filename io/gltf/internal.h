@@ -245,6 +245,7 @@ class MeshLoader {
   struct Transform;
 
   void start_normals();
+  void drop_degenerate();
   void add_primitive(int mesh, int index, const Transform& xf, bool first_instance);
   void use_textures(const Material& m);
   uint32_t material_for(int index, const std::string& where);

@@ -350,6 +350,17 @@ class Checker {
   void string(const json& v, const Pointer& at) const {
     if (!v.is_string()) fail(at, describe(v) + " is not a string");
   }
+  // A buffer's or image's URI: a data URI, or a path relative to the file, which on Linux has at
+  // most PATH_MAX (4096) bytes. A longer one names no file: refused here, before tinygltf parses
+  // the JSON again and the loader copies it into paths and messages.
+  void uri(const json& v, const Pointer& at) const {
+    string(v, at);
+    const std::string& text = v.get_ref<const std::string&>();
+    constexpr size_t kMaxPath = 4096;
+    if (text.size() > kMaxPath && text.rfind("data:", 0) != 0)
+      fail(at, "is a file name of " + str(text.size()) + " bytes, longer than any path can be (" +
+                   str(kMaxPath) + ")");
+  }
   void boolean(const json& v, const Pointer& at) const {
     if (!v.is_boolean()) fail(at, describe(v) + " is not true or false");
   }
@@ -504,7 +515,7 @@ class Checker {
 
   void buffer(const json& b, const Pointer& at) {
     integer(need(b, at, "byteLength"), at / "byteLength", 1);
-    if (const json* uri = has(b, at, "uri")) string(*uri, at / "uri");
+    if (const json* u = has(b, at, "uri")) uri(*u, at / "uri");
   }
 
   void buffer_view(const json& v, const Pointer& at) {
@@ -580,7 +591,7 @@ class Checker {
   void image(const json& i, const Pointer& at) {
     const json* uri = has(i, at, "uri");
     const json* view = has(i, at, "bufferView");
-    if (uri) string(*uri, at / "uri");
+    if (uri) this->uri(*uri, at / "uri");
     if (view) index(*view, at / "bufferView", "bufferViews");
     if (uri && view) fail(at, "has both a uri and a bufferView (it must have one)");
     if (!uri && !view) fail(at, "has neither a uri nor a bufferView (it must have one)");
