@@ -486,7 +486,9 @@ int render(const std::vector<std::string>& args) {
     for (const std::string& file : display_input_files())
       inputs.push_back({"the display configuration's file", file});
   }
-  for (const NamedFile& out : outputs) check_writable(out.path);
+  std::vector<std::string> output_paths;
+  for (const NamedFile& out : outputs) output_paths.push_back(out.path);
+  check_writable(output_paths);
   for (const NamedFile& out : report_files) {
     if (report_dir->existed()) check_writable(out.path);
     outputs.push_back(out);

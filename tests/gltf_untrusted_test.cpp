@@ -126,6 +126,17 @@ TEST_CASE("gltf untrusted: a URI longer than any path is refused from the JSON, 
                        "is a file name of 10000004 bytes, longer than any path can be (4096)"});
     CHECK(watch.peak() < 60 * kMiB);  // the file, its JSON and nothing more (was over 200)
   }
+  // A data URI of the same size is a buffer: decoded by tinygltf from the text it parses, not
+  // first copied into paths, names and a second JSON value (the peak was 8 times the file).
+  {
+    GltfWriter w = dacrt::test::triangle_file();
+    w.bin.resize(7500000, 0);
+    const std::string path = w.write_gltf(dir / "data.gltf");
+    const uint64_t file = std::filesystem::file_size(path);
+    AllocationWatch watch;
+    CHECK(load_gltf(path).geometry.size() == 1);
+    CHECK(watch.peak() < 6 * file);
+  }
   // A path of 4096 bytes is still looked for (and here not found).
   GltfWriter w = dacrt::test::triangle_file();
   w.more_buffers = {{{"byteLength", 4}, {"uri", std::string(4096, 'b')}}};

@@ -12,6 +12,7 @@
 #include <ext/stdio_filebuf.h>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <system_error>
 
 #include "dacrt/util/error.h"
@@ -202,7 +203,11 @@ void write_atomically(const std::string& path, const std::string& what,
   if (ec) throw fail(ec.message());
 }
 
-void check_writable(const std::string& path) {
+namespace {
+
+// check_writable, making the probe file only where `probed` (when given) holds no earlier probe
+// in the same directory with a name of the same length (what decides whether one can be made).
+void check_target(const std::string& path, std::set<std::string>* probed) {
   if (path.empty()) return;
   const fs::path target = output_target(path);
   const std::string named = target == fs::absolute(path).lexically_normal()
@@ -232,6 +237,10 @@ void check_writable(const std::string& path) {
                  ", so it cannot be replaced");
   // Whether a file can be made there is known only by making one: permissions, a read-only file
   // system, /proc and /sys, quotas.
+  if (probed &&
+      !probed->insert(dir.string() + '\0' + std::to_string(target.filename().string().size()))
+           .second)
+    return;
   std::string probe;
   PendingFile pending;
   errno = 0;
@@ -240,6 +249,17 @@ void check_writable(const std::string& path) {
     throw refuse("no file can be created in " + dir.string() + " (" + system_message(errno) + ")");
   ::close(fd);
   ::unlink(probe.c_str());
+}
+
+}  // namespace
+
+void check_writable(const std::string& path) {
+  check_target(path, nullptr);
+}
+
+void check_writable(const std::vector<std::string>& paths) {
+  std::set<std::string> probed;
+  for (const std::string& path : paths) check_target(path, &probed);
 }
 
 }  // namespace dacrt

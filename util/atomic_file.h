@@ -9,6 +9,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace dacrt {
 
@@ -36,6 +37,9 @@ void remove_pending_file() noexcept;
 // directory, FIFO or device, and it is not another user's file in a sticky directory (which the
 // rename could not replace). Lets a command fail before hours of work rather than after.
 void check_writable(const std::string& path);
+// The same for many outputs (a sequence's frames): each checked, but a file made once in a
+// directory for names of one length (200 000 outputs of --frames 0:99999 made 200 000 probes).
+void check_writable(const std::vector<std::string>& paths);
 
 // A directory named as an output (`--report DIR`): checked before the work, made only when the
 // first file goes into it, and removed again with what was written into it when the command

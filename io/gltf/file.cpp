@@ -296,15 +296,17 @@ void plan_external_files(const nlohmann::json& doc, const std::string& base_dir,
                          ExternalFiles& files) {
   auto named = [](const char* kind, size_t i, const nlohmann::json& uri) {
     return std::string(kind) + " " + std::to_string(i) + " (" +
-           one_line(uri.get<std::string>().substr(0, 200)) + ")";
+           one_line(uri.get_ref<const std::string&>().substr(0, 200)) + ")";
   };
   const nlohmann::json& buffers = member(doc, "buffers");
   for (size_t i = 0; i < array_size(doc, "buffers"); ++i) {
     const nlohmann::json& uri = member(buffers[i], "uri");
     const nlohmann::json& length = member(buffers[i], "byteLength");
     if (!uri.is_string() || !length.is_number_unsigned()) continue;  // the schema refused these
-    files.buffers.push_back({uri_path(base_dir, uri.get<std::string>()), length.get<uint64_t>(),
-                             named("buffer", i, uri)});
+    // Data URIs are no files (and may be hundreds of MB: not copied into paths).
+    if (uri.get_ref<const std::string&>().rfind("data:", 0) == 0) continue;
+    files.buffers.push_back({uri_path(base_dir, uri.get_ref<const std::string&>()),
+                             length.get<uint64_t>(), named("buffer", i, uri)});
     files.uri_paths.insert(files.buffers.back().path);
   }
   files.image_used = used_images(doc, scene);
@@ -313,7 +315,7 @@ void plan_external_files(const nlohmann::json& doc, const std::string& base_dir,
     const nlohmann::json& uri = member(images[i], "uri");
     // Data URIs are no files: tinygltf decodes some, decode_data_uris the others.
     if (!uri.is_string() || uri.get_ref<const std::string&>().rfind("data:", 0) == 0) continue;
-    const std::string path = uri_path(base_dir, uri.get<std::string>());
+    const std::string path = uri_path(base_dir, uri.get_ref<const std::string&>());
     files.uri_paths.insert(path);
     files.image_paths.insert(path);
     if (files.image_used[i]) files.used_image_paths.insert(path);
@@ -592,6 +594,13 @@ tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
   ExternalFiles external;
   external.available_memory = available_memory();
   plan_external_files(doc, base_dir, scene, external);
+  // The buffers' data URIs are tinygltf's to decode (from the text it parses): this copy of
+  // them, as large as the file, goes before tinygltf makes its own.
+  if (auto buffers = doc.find("buffers"); buffers != doc.end() && buffers->is_array())
+    for (nlohmann::json& buffer : *buffers)
+      if (auto uri = buffer.find("uri"); uri != buffer.end() && uri->is_string() &&
+                                         uri->get_ref<const std::string&>().rfind("data:", 0) == 0)
+        *uri = "data:";
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&keep_encoded_image, &external);
