@@ -160,9 +160,16 @@ int merge_main(const std::vector<std::string>& args) {
     read_film_state(p.file, headers[i], into, p.last - p.first, p.last - p.first);
     if (done > 0) film.merge(*part);  // tallies too
     const auto& attributes = headers[i].attributes;
-    seconds += std::strtod(attributes.count("renderSeconds") ? attributes.at("renderSeconds").c_str()
-                                                             : "0",
-                           nullptr);
+    // Render times add up: each must be a number of seconds (a forged inf, NaN or 1e308 would
+    // make the sum infinite).
+    if (const auto it = attributes.find("renderSeconds"); it != attributes.end()) {
+      char* end = nullptr;
+      const double s = std::strtod(it->second.c_str(), &end);
+      if (it->second.empty() || *end != '\0' || !(s >= 0.0 && s < 1e12))
+        throw Error(p.file + ": its renderSeconds attribute \"" + one_line(it->second.substr(0, 40)) +
+                    "\" is not a number of seconds");
+      seconds += s;
+    }
     if (attributes.count("backend")) backends.insert(attributes.at("backend"));
     progress.update(++done, 0);
   }

@@ -151,6 +151,7 @@ TEST_CASE("merge: parts that overlap, leave gaps, are of another render or hold 
   forge(dir / "c.exr", dir / "huge.exr", "samplesClamped", "99999999999999999999999");
   forge(dir / "c.exr", dir / "dropped.exr", "samplesDropped", "5");
   forge(dir / "c.exr", dir / "clamped.exr", "samplesClamped", "1537");  // 24 x 16 x 4 = 1536 kept
+  forge(dir / "c.exr", dir / "seconds.exr", "renderSeconds", "inf");
   const std::string out = dir / "out.exr";
   struct Case {
     std::string parts, message;
@@ -171,6 +172,7 @@ TEST_CASE("merge: parts that overlap, leave gaps, are of another render or hold 
       {"head letters", "letters.exr: its samplesClamped attribute \"5x\" is not a count"},
       {"head huge", "huge.exr: its samplesClamped attribute \"99999999999999999999999\" is not a count"},
       {"head dropped", "dropped.exr: its samplesDropped 5 is not the 0 samples its pixels took and did not keep"},
+      {"head seconds", "seconds.exr: its renderSeconds attribute \"inf\" is not a number of seconds"},
       {"head clamped", "clamped.exr: its samplesClamped 1537 is more than the 1536 samples its pixels kept"},
   };
   for (const Case& c : cases) {
