@@ -42,6 +42,7 @@ void forge(const std::string& from, const std::string& to, const std::string& na
            const std::string& value) {
   Imf::InputFile in(from.c_str());
   Imf::Header header = in.header();
+  header.erase(name);  // whatever its type was
   header.insert(name, Imf::StringAttribute(value));
   const Imath::Box2i window = header.dataWindow();
   const size_t width = size_t(window.max.x - window.min.x + 1);
