@@ -40,14 +40,15 @@ GltfWriter rich_file() {
   int indices = w.add_indices(std::vector<uint16_t>{0, 1, 2});
   const unsigned char image_bytes[4] = {1, 2, 3, 4};
   int image_view = w.add_view(image_bytes, 4);
-  std::vector<uint16_t> sparse_indices = {1};
-  std::vector<glm::vec3> sparse_values = {{2, 0, 0}};
-  int sparse_index_view = w.add_view(sparse_indices.data(), 2);
-  int sparse_value_view = w.add_view(sparse_values.data(), 12);
-  // Accessor 2: zeros (no bufferView) with one vertex replaced (the second primitive's POSITION).
+  std::vector<uint16_t> sparse_indices = {1, 2};
+  std::vector<glm::vec3> sparse_values = {{2, 0, 0}, {0, 2, 0}};
+  int sparse_index_view = w.add_view(sparse_indices.data(), 4);
+  int sparse_value_view = w.add_view(sparse_values.data(), 24);
+  // Accessor 2: zeros (no bufferView) with two vertices replaced (the second primitive's
+  // POSITION: a triangle with an area, which the loader keeps).
   int sparse = w.add_accessor(-1, dacrt::test::kFloat, 3, "VEC3");
   w.doc["accessors"][sparse]["sparse"] = {
-      {"count", 1},
+      {"count", 2},
       {"indices",
        {{"bufferView", sparse_index_view}, {"componentType", dacrt::test::kUnsignedShort}}},
       {"values", {{"bufferView", sparse_value_view}}}};

@@ -471,7 +471,7 @@ TEST_CASE("gltf: sparse accessors and accessors without bufferView") {
   GltfWriter w;
   w.add_triangles(kTriangle);
   std::vector<uint16_t> indices = {2, 0};
-  std::vector<glm::vec3> values = {{5, 5, 5}, {-1, -1, -1}};
+  std::vector<glm::vec3> values = {{5, 6, 7}, {-1, -1, -1}};
   int index_view = w.add_view(indices.data(), 4);
   int value_view = w.add_view(values.data(), sizeof(glm::vec3) * 2);
   json sparse = {
@@ -483,13 +483,13 @@ TEST_CASE("gltf: sparse accessors and accessors without bufferView") {
   REQUIRE(scene.geometry.size() == 1);
   CHECK(scene.geometry.vertex(0, 0) == glm::vec3(-1));
   CHECK(scene.geometry.vertex(0, 1) == kTriangle[1]);
-  CHECK(scene.geometry.vertex(0, 2) == glm::vec3(5));
+  CHECK(scene.geometry.vertex(0, 2) == glm::vec3(5, 6, 7));
 
-  w.doc["accessors"][0].erase("bufferView");  // zeros, then patched
+  w.doc["accessors"][0].erase("bufferView");  // zeros, then patched (not on one line)
   scene = load_gltf(w.write_gltf(dir / "zeros.gltf"));
   REQUIRE(scene.geometry.size() == 1);
   CHECK(scene.geometry.vertex(0, 1) == glm::vec3(0));
-  CHECK(scene.geometry.vertex(0, 2) == glm::vec3(5));
+  CHECK(scene.geometry.vertex(0, 2) == glm::vec3(5, 6, 7));
 }
 
 TEST_CASE("gltf: scene selection") {
@@ -510,13 +510,23 @@ TEST_CASE("gltf: scene selection") {
 
 TEST_CASE("gltf: a zero scale gives degenerate triangles but no NaN") {
   TempDir dir("zero-scale");
+  // Scale 0 along x: the triangle in the x-y plane has no area left (dropped, counted); the one
+  // in the y-z plane keeps its shape, and its normal through the singular transform is no NaN.
   GltfWriter w;
   std::vector<glm::vec3> normals(3, glm::vec3(0, 0, 1));
-  int mesh = w.add_mesh(
+  int flat = w.add_mesh(
       json{{"attributes",
             {{"POSITION", w.add_vec3(kTriangle)}, {"NORMAL", w.add_vec3(normals, false)}}}});
-  w.set_scene({w.add_node({{"mesh", mesh}, {"scale", {0, 1, 1}}})});
+  const std::vector<glm::vec3> upright = {{0, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  std::vector<glm::vec3> across(3, glm::vec3(1, 0, 0));
+  int kept = w.add_mesh(
+      json{{"attributes",
+            {{"POSITION", w.add_vec3(upright)}, {"NORMAL", w.add_vec3(across, false)}}}});
+  w.set_scene({w.add_node({{"mesh", flat}, {"scale", {0, 1, 1}}}),
+               w.add_node({{"mesh", kept}, {"scale", {0, 1, 1}}})});
   Scene scene = load_gltf(w.write_gltf(dir / "zero.gltf"));
+  CHECK(scene.degenerate_triangles == 1);
+  REQUIRE(scene.geometry.size() == 1);
   REQUIRE(scene.normals.size() == 3);
   for (const glm::vec3& n : scene.normals) CHECK(glm::length(n) == doctest::Approx(1.f));
 }

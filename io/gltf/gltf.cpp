@@ -241,6 +241,7 @@ void GltfAnimation::pose(double time, Scene& scene) const {
   at.time = time;
   Scene posed = impl_->load(at, true);
   scene.geometry = std::move(posed.geometry);
+  scene.degenerate_triangles = posed.degenerate_triangles;  // a pose can collapse triangles
   scene.normals = std::move(posed.normals);
   for (int set = 0; set < 2; ++set) scene.texcoords[set] = std::move(posed.texcoords[set]);
   scene.colors = std::move(posed.colors);
