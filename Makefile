@@ -48,24 +48,29 @@ test-sanitize: deps
 	cmake --build build-sanitize -j $(JOBS)
 	cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 
-# libFuzzer on the glTF loader and on the EXR environment map reader (clang), FUZZ_SECONDS each.
-# The corpora grow in build-fuzz/corpus (from scenes/ and the kept findings in tests/fuzz/) and
-# build-fuzz/corpus-exr (from the seeds in tests/fuzz-exr/); new findings land in fuzz/findings/:
-# copy each into tests/fuzz/ or tests/fuzz-exr/ (the suite loads them all under the sanitizers)
-# once it is fixed.
-FUZZ_SECONDS ?= 300
+# libFuzzer on the glTF loader, on the EXR environment map reader and on the part file reader of
+# `dacrt merge` and `render --resume` (clang), FUZZ_SECONDS each: 10 minutes in all by default.
+# The corpora grow in build-fuzz/corpus (from scenes/, the kept findings in tests/fuzz/, the
+# compressed-geometry seeds in fuzz/seeds-gltf/ and the optimisers' files in tests/published/),
+# build-fuzz/corpus-exr (from the seeds in tests/fuzz-exr/) and build-fuzz/corpus-part (from the
+# parts in tests/fuzz-part/); new findings land in fuzz/findings/: copy each into tests/fuzz/,
+# tests/fuzz-exr/ or tests/fuzz-part/ (the suite loads them all under the sanitizers) once it is
+# fixed.
+FUZZ_SECONDS ?= 200
 fuzz:
 	@bash tools/install-deps.sh clang libclang-rt-14-dev
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDACRT_FUZZ=ON \
 	  -DDACRT_TESTS=OFF -DDACRT_WITH_EMBREE=OFF
-	cmake --build build-fuzz -j $(JOBS) --target gltf-fuzzer exr-fuzzer
-	@mkdir -p build-fuzz/corpus build-fuzz/corpus-exr fuzz/findings
+	cmake --build build-fuzz -j $(JOBS) --target gltf-fuzzer exr-fuzzer part-fuzzer
+	@mkdir -p build-fuzz/corpus build-fuzz/corpus-exr build-fuzz/corpus-part fuzz/findings
 	status=0; \
 	build-fuzz/gltf-fuzzer -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
 	  -dict=fuzz/gltf.dict -artifact_prefix=fuzz/findings/ build-fuzz/corpus scenes tests/fuzz \
-	  || status=1; \
+	  fuzz/seeds-gltf tests/published || status=1; \
 	build-fuzz/exr-fuzzer -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
 	  -artifact_prefix=fuzz/findings/exr- build-fuzz/corpus-exr tests/fuzz-exr || status=1; \
+	build-fuzz/part-fuzzer -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
+	  -artifact_prefix=fuzz/findings/part- build-fuzz/corpus-part tests/fuzz-part || status=1; \
 	exit $$status
 
 clean:

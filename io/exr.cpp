@@ -27,6 +27,7 @@
 #include <filesystem>
 #include <fstream>
 #include <istream>
+#include <map>
 #include <mutex>
 #include <system_error>
 #include <thread>
@@ -304,6 +305,18 @@ HeaderScan scan_header(std::istream& in, const std::string& name) {
         r.fail(what + " of type " + type + " has " + std::to_string(size) + " bytes, not " +
                std::to_string(n));
     };
+    // OpenEXR reads the types of a fixed size at that size whatever size the file declares: a
+    // box2i declaring 0 bytes is read as 16, and from there OpenEXR sees other attributes than
+    // this scan did (a fuzzed file made it read a string of 1.9 GB). Every such type's declared
+    // size must be its own.
+    static const std::map<std::string, int32_t> fixed_sizes = {
+        {"compression", 1}, {"lineOrder", 1}, {"envmap", 1},     {"deepImageState", 1},
+        {"int", 4},         {"float", 4},     {"v2i", 8},        {"v2f", 8},
+        {"double", 8},      {"rational", 8},  {"timecode", 8},   {"tiledesc", 9},
+        {"v3i", 12},        {"v3f", 12},      {"box2i", 16},     {"box2f", 16},
+        {"v2d", 16},        {"v3d", 24},      {"keycode", 28},   {"chromaticities", 32},
+        {"m33f", 36},       {"m44f", 64},     {"m33d", 72},      {"m44d", 128}};
+    if (const auto known = fixed_sizes.find(type); known != fixed_sizes.end()) fixed(known->second);
     if (type == "chlist") {
       int64_t n = 0;
       for (;;) {

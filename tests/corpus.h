@@ -1,4 +1,5 @@
-// The files of a kept fuzzing corpus (tests/fuzz/, tests/fuzz-exr/), read whole, for the tests that
+// The files of a kept fuzzing corpus (tests/fuzz/, tests/fuzz-exr/, tests/fuzz-part/,
+// fuzz/seeds-gltf/), read whole, for the tests that
 // run each through the fuzz target's function.
 #pragma once
 
