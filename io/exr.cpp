@@ -381,7 +381,8 @@ HeaderScan scan_header(std::istream& in, const std::string& name) {
   if (width < 1 || height < 1) r.fail("its data window is empty");
   const std::string pixels_text = std::to_string(width) + " x " + std::to_string(height) +
                                   " pixels in " + std::to_string(channel_count) + " channels";
-  if (width * height > kMaxExrPixels)
+  // Each side first: a window's sides reach 2^32, whose product overflows 64 bits.
+  if (width > kMaxExrPixels || height > kMaxExrPixels || width * height > kMaxExrPixels)
     r.fail(std::to_string(width) + " x " + std::to_string(height) +
            " pixels is more than the 2^27 accepted");
   // At most 2^27 pixels, and channels bounded by the file's size: no overflow.
@@ -550,7 +551,8 @@ ExrFile read_exr_file(const std::string& path) {
                   height = int64_t(window.max.y) - window.min.y + 1;
     int64_t count = 0;
     for (auto it = header.channels().begin(); it != header.channels().end(); ++it) ++count;
-    if (width < 1 || height < 1 || width * height * std::max<int64_t>(count, 1) > kMaxExrPixels)
+    if (width < 1 || height < 1 || width > kMaxExrPixels || height > kMaxExrPixels ||
+        width * height > kMaxExrPixels / std::max<int64_t>(count, 1))
       throw Error("cannot read EXR '" + path + "': " + std::to_string(width) + " x " +
                   std::to_string(height) + " pixels in " + std::to_string(count) +
                   " channels is empty or more than the 2^27 values accepted");
