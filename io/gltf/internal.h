@@ -245,7 +245,6 @@ class MeshLoader {
   struct Transform;
 
   void start_normals();
-  void drop_degenerate();
   void add_primitive(int mesh, int index, const Transform& xf, bool first_instance);
   void use_textures(const Material& m);
   uint32_t material_for(int index, const std::string& where);
@@ -263,6 +262,7 @@ class MeshLoader {
   std::vector<bool> mesh_seen_;
   size_t skipped_modes_ = 0, skipped_unpositioned_ = 0, untangented_anisotropic_ = 0;
   uint64_t work_ = 0;  // triangles asked for, every instance and primitive counted
+  size_t degenerate_ = 0;  // triangles of zero area left out
 };
 
 // The file's animations, checked; one error line names the element ("animations[0].samplers[1]

@@ -79,49 +79,11 @@ void MeshLoader::add_mesh(int mesh, const glm::dmat4& world, int node, const Mes
 }
 
 void MeshLoader::finish() {
-  drop_degenerate();
+  scene_.degenerate_triangles = degenerate_;
   if (keep_normals_) scene_.normals = std::move(normals_);
   for (int set = 0; set < 2; ++set) scene_.texcoords[set] = std::move(texcoords_[set].data);
   scene_.colors = std::move(colors_.data);
   scene_.tangents = std::move(tangents_.data);
-}
-
-// Triangles of zero area (their edges' cross product, in double, is zero) are taken out, with
-// their corners' attributes: no ray hits them, and a file of millions of them at one point would
-// send every ray there through all of them.
-void MeshLoader::drop_degenerate() {
-  Geometry& g = scene_.geometry;
-  size_t kept = 0;
-  auto move_corners = [&](auto& corners, size_t from, size_t to) {
-    if (!corners.empty())
-      for (size_t k = 0; k < 3; ++k) corners[3 * to + k] = corners[3 * from + k];
-  };
-  for (size_t t = 0; t < g.size(); ++t) {
-    const glm::dvec3 n = g.normal_double(t);
-    if (n.x == 0.0 && n.y == 0.0 && n.z == 0.0) continue;
-    if (kept != t) {
-      for (auto& corner : g.p)
-        for (auto& axis : corner) axis[kept] = axis[t];
-      g.material[kept] = g.material[t];
-      move_corners(normals_, t, kept);
-      for (auto& set : texcoords_) move_corners(set.data, t, kept);
-      move_corners(colors_.data, t, kept);
-      move_corners(tangents_.data, t, kept);
-    }
-    ++kept;
-  }
-  scene_.degenerate_triangles = g.size() - kept;
-  if (kept == g.size()) return;
-  for (auto& corner : g.p)
-    for (auto& axis : corner) axis.resize(kept);
-  g.material.resize(kept);
-  auto shrink = [&](auto& corners) {
-    if (!corners.empty()) corners.resize(3 * kept);
-  };
-  shrink(normals_);
-  for (auto& set : texcoords_) shrink(set.data);
-  shrink(colors_.data);
-  shrink(tangents_.data);
 }
 
 // The material's textures are needed once a primitive uses it (only those are decoded).
@@ -432,9 +394,19 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   // (Without either, anisotropy follows an arbitrary frame: scene/surface.cpp.)
   untangented_anisotropic_ += anisotropic && corner_tangents.empty() && !corners.empty();
 
+  // Triangles of zero area (their edges' cross product, in double, is zero) are left out, with
+  // their corners' attributes, and counted: no ray hits them, and a file of millions of them at
+  // one point (80 M zero vertices of an accessor without a bufferView) would send every ray
+  // there through all of them.
   Geometry& geometry = scene_.geometry;
   for (size_t t = 0; t < corners.size(); ++t) {
     const std::array<uint32_t, 3>& c = corners[t];
+    const glm::dvec3 a(points[c[0]]);
+    const glm::dvec3 n = glm::cross(glm::dvec3(points[c[1]]) - a, glm::dvec3(points[c[2]]) - a);
+    if (n.x == 0.0 && n.y == 0.0 && n.z == 0.0) {
+      ++degenerate_;
+      continue;
+    }
     geometry.add(points[c[0]], points[c[1]], points[c[2]], material);
     for (int k = 0; k < 3; ++k) {
       const uint32_t i = c[size_t(k)];
