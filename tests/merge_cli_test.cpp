@@ -3,6 +3,7 @@
 // resumed is the uninterrupted render bit for bit. Parts that overlap, leave gaps, belong to
 // another render or hold no exact sums are refused with one line naming the files.
 #include <ImfChannelList.h>
+#include <ImfDoubleAttribute.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
@@ -42,8 +43,11 @@ void forge(const std::string& from, const std::string& to, const std::string& na
            const std::string& value) {
   Imf::InputFile in(from.c_str());
   Imf::Header header = in.header();
-  header.erase(name);  // whatever its type was
-  header.insert(name, Imf::StringAttribute(value));
+  // Of the attribute's own type (OpenEXR 3.1's Header::erase leaks the attribute it erases).
+  if (header.findTypedAttribute<Imf::DoubleAttribute>(name))
+    header.insert(name, Imf::DoubleAttribute(std::stod(value)));
+  else
+    header.insert(name, Imf::StringAttribute(value));
   const Imath::Box2i window = header.dataWindow();
   const size_t width = size_t(window.max.x - window.min.x + 1);
   const size_t pixels = width * size_t(window.max.y - window.min.y + 1);
