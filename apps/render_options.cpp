@@ -67,6 +67,10 @@ std::optional<double> parse_real(const std::string& text) {
   return v;
 }
 
+bool valid_time(double t) {
+  return t >= 0.0 && t < 1e9;
+}
+
 double parse_seconds(const std::string& flag, const std::string& text) {
   const std::optional<double> v = parse_real(text);
   if (!v || !(*v > 0.0 && *v < 1e30))
@@ -163,7 +167,7 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
     const std::string v = value();
     char* end = nullptr;
     const double t = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !(t >= 0.0 && t < 1e9))
+    if (v.empty() || *end != '\0' || !valid_time(t))
       throw UsageError("--time wants seconds, a number >= 0, got '" + v + "'");
     r.gltf.time = t;
   } else if (a == "--frames") {

@@ -76,5 +76,8 @@ void check_render_choices(const RenderArgs& r, const std::vector<std::string>& b
 long parse_int(const std::string& flag, const std::string& text, long lo, long hi);
 // A positive finite number (seconds, distances) for `flag`, else UsageError.
 double parse_seconds(const std::string& flag, const std::string& text);
+// Whether `t` is a time an animation is posed at (`--time`, Python's load(time=)): seconds,
+// finite, >= 0 and below 1e9.
+bool valid_time(double t);
 
 }  // namespace dacrt

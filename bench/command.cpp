@@ -134,15 +134,15 @@ int bench_command(const std::vector<std::string>& argv, std::ostream& out) {
     return 0;
   }
   std::vector<NamedFile> outputs = {{"--json", a.json}};
-  // The report's directory is made when the report is written, and goes again if that fails.
+  check_writable(a.json);
+  // The report's directory is made when the report is written, and goes again if that fails;
+  // its page can be checked now only when it is there already.
   std::optional<OutputDirectory> report_dir;
   if (!a.report.empty()) {
     report_dir.emplace("--report", a.report);
     if (report_dir->existed()) check_writable(HtmlPage::file_in(a.report));
     outputs.push_back({"--report", HtmlPage::file_in(a.report)});
   }
-  for (const NamedFile& o : outputs)
-    if (o.option != "--report") check_writable(o.path);
   check_outputs(outputs, {{"the scene", a.scene}});
 
   const BenchReport report = bench_report(a, outputs);

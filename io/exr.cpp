@@ -329,18 +329,15 @@ HeaderScan scan_header(std::istream& in, const std::string& name) {
       if (r.pos() != value_end) r.fail(what + " does not fill its declared size");
       if (attr == "channels") channel_count = n;
     } else if (type == "compression") {
-      fixed(1);
       const int c = r.u8(what);
       if (attr == "compression") {
         if (!lines_per_block(c)) r.fail("unknown compression " + std::to_string(c));
         compression = c;
       }
     } else if (type == "box2i" && attr == "dataWindow") {
-      fixed(16);
       for (int32_t& v : window) v = r.i32(what);
       have_window = true;
     } else if (type == "tiledesc" && attr == "tiles") {
-      fixed(9);
       tile_x = r.u32(what), tile_y = r.u32(what);
       tile_mode = r.u8(what);
     } else if (type == "string" && attr == "type") {

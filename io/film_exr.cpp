@@ -68,8 +68,9 @@ void read_film_state(const std::string& path, const ExrHeader& header, Film& fil
   if (!bad.empty()) throw Error(path + ": " + bad);
   // Every sample a pixel took and did not keep was dropped; every clamped one was kept. So the
   // tallies are bounded by the counts, and adding parts cannot wrap them.
-  uint64_t kept = 0, taken = 0;
-  for (size_t p = 0; p < film.pixels(); ++p) kept += film.count(p), taken += film.taken(p);
+  const uint64_t kept = film.total_count();
+  uint64_t taken = 0;
+  for (size_t p = 0; p < film.pixels(); ++p) taken += film.taken(p);
   if (dropped != taken - kept)
     throw Error(path + ": its samplesDropped " + std::to_string(dropped) + " is not the " +
                 std::to_string(taken - kept) + " samples its pixels took and did not keep");

@@ -58,7 +58,7 @@ using ScenePtr = std::shared_ptr<LoadedScene>;
 
 // Seconds as `--time` takes them: finite, >= 0 and below 1e9 (ValueError otherwise).
 void check_time(std::optional<double> time) {
-  if (time && !(*time >= 0.0 && *time < 1e9))
+  if (time && !valid_time(*time))
     throw py::value_error("time= wants seconds, a number >= 0 and below 1e9, got " +
                           std::string(py::str(py::float_(*time))));
 }

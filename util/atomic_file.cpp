@@ -266,6 +266,21 @@ void check_writable(const std::vector<std::string>& paths) {
 
 namespace dacrt {
 
+namespace {
+
+// The outermost directory of `dir` that does not exist yet (`dir` itself when its parent exists):
+// what making it creates first.
+fs::path outermost_missing(const std::string& dir) {
+  std::error_code ec;
+  fs::path missing = fs::absolute(dir, ec).lexically_normal();
+  while (missing.has_parent_path() && missing.parent_path() != missing &&
+         !fs::exists(fs::status(missing.parent_path(), ec)))
+    missing = missing.parent_path();
+  return missing;
+}
+
+}  // namespace
+
 OutputDirectory::OutputDirectory(std::string option, std::string dir)
     : option_(std::move(option)), dir_(std::move(dir)) {
   auto refuse = [&](const std::string& why) {
@@ -277,21 +292,15 @@ OutputDirectory::OutputDirectory(std::string option, std::string dir)
   existed_ = fs::exists(status);
   if (existed_) {
     if (!fs::is_directory(status))
-      throw refuse(std::string("it is ") +
-                   (fs::is_regular_file(status) ? "a file" : file_kind(status)) +
-                   ", not a directory");
+      throw refuse(std::string("it is ") + file_kind(status) + ", not a directory");
     return;
   }
   // The nearest ancestor that exists must be a directory in which the first missing one can be
   // made (check_writable makes and removes a file there).
-  fs::path missing = path;
-  while (missing.has_parent_path() && missing.parent_path() != missing &&
-         !fs::exists(fs::status(missing.parent_path(), ec)))
-    missing = missing.parent_path();
+  const fs::path missing = outermost_missing(dir_);
   const fs::file_status above = fs::status(missing.parent_path(), ec);
   if (!fs::is_directory(above))
-    throw refuse(missing.parent_path().string() + " is " +
-                 (fs::is_regular_file(above) ? "a file" : file_kind(above)) + ", not a directory");
+    throw refuse(missing.parent_path().string() + " is " + file_kind(above) + ", not a directory");
   check_writable(missing.string());
 }
 
@@ -303,11 +312,8 @@ OutputDirectory::~OutputDirectory() {
 
 void OutputDirectory::make() {
   if (existed_ || !made_.empty()) return;
+  const fs::path outermost = outermost_missing(dir_);
   std::error_code ec;
-  fs::path outermost = fs::absolute(dir_, ec).lexically_normal();
-  while (outermost.has_parent_path() && outermost.parent_path() != outermost &&
-         !fs::exists(fs::status(outermost.parent_path(), ec)))
-    outermost = outermost.parent_path();
   fs::create_directories(dir_, ec);
   if (ec) throw Error(option_ + ": cannot create " + dir_ + ": " + ec.message());
   made_ = outermost;

@@ -24,6 +24,8 @@ const char* file_kind(const fs::file_status& status) {
       return "a character device";
     case fs::file_type::block:
       return "a block device";
+    case fs::file_type::regular:
+      return "a file";
     default:
       return "not a regular file";
   }

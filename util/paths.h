@@ -15,7 +15,7 @@ namespace dacrt {
 // ("environment map", "OCIO config").
 void check_input_file(const std::string& path, const std::string& what);
 
-// "a directory", "a FIFO", "a character device"…, for messages about a file that is not regular.
+// "a directory", "a FIFO", "a character device", "a file"…, for messages about what a path is.
 const char* file_kind(const std::filesystem::file_status& status);
 
 // The absolute path with its symbolic links resolved, `.` and `..` removed, for a file that may

@@ -177,6 +177,11 @@ std::optional<size_t> index_at(const nlohmann::json& object, const char* key, si
   return size_t(d);
 }
 
+// Whether a URI is a data URI (its bytes in the string), not a file's name.
+bool is_data_uri(const nlohmann::json& uri) {
+  return uri.is_string() && uri.get_ref<const std::string&>().starts_with("data:");
+}
+
 const nlohmann::json& member(const nlohmann::json& j, const char* key) {
   static const nlohmann::json none;
   if (!j.is_object()) return none;
@@ -304,7 +309,7 @@ void plan_external_files(const nlohmann::json& doc, const std::string& base_dir,
     const nlohmann::json& length = member(buffers[i], "byteLength");
     if (!uri.is_string() || !length.is_number_unsigned()) continue;  // the schema refused these
     // Data URIs are no files (and may be hundreds of MB: not copied into paths).
-    if (uri.get_ref<const std::string&>().rfind("data:", 0) == 0) continue;
+    if (is_data_uri(uri)) continue;
     files.buffers.push_back({uri_path(base_dir, uri.get_ref<const std::string&>()),
                              length.get<uint64_t>(), named("buffer", i, uri)});
     files.uri_paths.insert(files.buffers.back().path);
@@ -314,7 +319,7 @@ void plan_external_files(const nlohmann::json& doc, const std::string& base_dir,
   for (size_t i = 0; i < array_size(doc, "images"); ++i) {
     const nlohmann::json& uri = member(images[i], "uri");
     // Data URIs are no files: tinygltf decodes some, decode_data_uris the others.
-    if (!uri.is_string() || uri.get_ref<const std::string&>().rfind("data:", 0) == 0) continue;
+    if (!uri.is_string() || is_data_uri(uri)) continue;
     const std::string path = uri_path(base_dir, uri.get_ref<const std::string&>());
     files.uri_paths.insert(path);
     files.image_paths.insert(path);
@@ -598,9 +603,7 @@ tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
   // them, as large as the file, goes before tinygltf makes its own.
   if (auto buffers = doc.find("buffers"); buffers != doc.end() && buffers->is_array())
     for (nlohmann::json& buffer : *buffers)
-      if (auto uri = buffer.find("uri"); uri != buffer.end() && uri->is_string() &&
-                                         uri->get_ref<const std::string&>().rfind("data:", 0) == 0)
-        *uri = "data:";
+      if (auto uri = buffer.find("uri"); uri != buffer.end() && is_data_uri(*uri)) *uri = "data:";
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&keep_encoded_image, &external);
