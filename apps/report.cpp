@@ -13,9 +13,9 @@ namespace dacrt {
 
 MaterialCounts count_materials(const Scene& scene) {
   MaterialCounts c;
-  for (uint32_t m : scene.geometry.material) c.emissive_triangles += scene.materials[m].emissive();
+  for (uint32_t m : scene.geometry.material) c.emissive_triangles += scene.materials[m].emitter();
   for (const Material& m : scene.materials) {
-    c.emissive += m.emissive();
+    c.emissive += m.emitter();
     c.textured += m.textured();
     c.masked += m.alpha_mode == Material::AlphaMode::mask;
     c.blended += m.alpha_mode == Material::AlphaMode::blend;

@@ -83,7 +83,7 @@ ShadowTargets::ShadowTargets(const Scene& scene) : lights_(scene.lights.size()) 
   std::vector<double> area;
   for (uint32_t tri = 0; tri < scene.geometry.size(); ++tri) {
     const double a = scene.geometry.area(tri);
-    if (!scene.materials[scene.geometry.material[tri]].emissive() || !(a > 0.0)) continue;
+    if (!scene.materials[scene.geometry.material[tri]].emitter() || !(a > 0.0)) continue;
     triangles_.push_back(tri);
     area.push_back(a);
   }

@@ -36,7 +36,9 @@ LightSampling::LightSampling(const Scene& scene, std::span<const PunctualLight> 
     const uint32_t tri = lights_.triangle(entry);
     const Material& m = scene.materials[g.material[tri]];
     const LightSampler::Emitter& e = *lights_.emitter(tri);
-    if (m.emissive_texture || m.unlit || m.alpha_mode != Material::AlphaMode::opaque) continue;
+    if (m.emissive_texture || m.unlit || m.clearcoat > 0.f ||
+        m.alpha_mode != Material::AlphaMode::opaque)
+      continue;
     if (!(e.area >= 0x1p-60 && e.area <= 0x1p60)) continue;
     area_emitters_[entry] = AreaEmitter{{g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2)},
                                         e.normal,
@@ -129,15 +131,15 @@ bool LightSampling::emitter(const glm::vec3& p, const ShadingPoint& x, float pic
     ls.point = glm::vec3(p0 + b1 * e1 + b2 * e2);
   }
   const Material& light = scene_.materials[g.material[ls.triangle]];
-  glm::vec3 emission = emission_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
-  // An alpha-tested emitter shines only as much as it stops rays there.
-  if (light.alpha_mode != Material::AlphaMode::opaque)
-    emission *= coverage_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
   // In double: the squared distance over- or underflows float in scenes scaled by 1e±30.
   const glm::dvec3 to = glm::dvec3(ls.point) - glm::dvec3(p);
   const double dist2 = glm::dot(to, to);
   if (!(dist2 > 0.0)) return false;
   const glm::vec3 wi(to / std::sqrt(dist2));
+  glm::vec3 emission = emission_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y, -wi);
+  // An alpha-tested emitter shines only as much as it stops rays there.
+  if (light.alpha_mode != Material::AlphaMode::opaque)
+    emission *= coverage_at(scene_, ls.triangle, ls.barycentric.x, ls.barycentric.y);
   const LightSampler::Emitter& e = *lights_.emitter(ls.triangle);
   const glm::vec3 nl = e.normal;
   float cos_light = -glm::dot(wi, nl);

@@ -17,12 +17,13 @@ namespace {
 glm::vec3 average_emission(const Scene& scene, uint32_t tri) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
   const bool covered = m.alpha_mode == Material::AlphaMode::opaque;
-  if (!m.emissive_texture && covered) return m.emission;
+  if (!m.emissive_texture && covered && !(m.clearcoat > 0.f)) return m.emission;
   constexpr float third = 1.f / 3.f, near = 2.f / 3.f, far = 1.f / 6.f;
   const glm::vec2 points[4] = {{third, third}, {far, far}, {near, far}, {far, near}};
   glm::vec3 sum(0.f);
   for (const glm::vec2& b : points)
-    sum += emission_at(scene, tri, b.x, b.y) * (covered ? 1.f : coverage_at(scene, tri, b.x, b.y));
+    sum += emission_at(scene, tri, b.x, b.y, scene.geometry.unit_normal(tri)) *
+           (covered ? 1.f : coverage_at(scene, tri, b.x, b.y));
   return 0.25f * sum;
 }
 
@@ -34,7 +35,7 @@ LightSampler::LightSampler(const Scene& scene, std::span<const PunctualLight> li
   std::vector<double> power;
   for (uint32_t tri = 0; tri < g.size(); ++tri) {
     const Material& m = scene.materials[g.material[tri]];
-    if (!m.emissive()) continue;
+    if (!m.emitter()) continue;
     double p = glm::pi<double>() * luminance(average_emission(scene, tri)) * g.area(tri) *
                (m.double_sided ? 2 : 1);
     if (!(p > 0.0)) continue;  // zero-area or black emitters can never be sampled usefully

@@ -85,7 +85,7 @@ std::unique_ptr<const EnvironmentMap> uniform_environment(const Scene& scene, co
     // Where nothing else is sampled, every shadow ray and light sample would be new work: the
     // dragon under a sky of 1 (1024², 64 spp) took 1.68x the time with them.
     bool lights = !shot.lights.empty();
-    for (const Material& m : scene.materials) lights |= m.emissive();
+    for (const Material& m : scene.materials) lights |= m.emitter();
     if (!lights) {
       stats.skipped.push_back("environment light samples (no other light is sampled; "
                               "--sample-environment on)");
@@ -281,6 +281,8 @@ void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i)
   const uint32_t path = rays.path[i], tri = hits.prim[i];
   const Material& m = scene_.materials[g.material[tri]];
   if (!m.emissive()) return;
+  // An unlit surface is seen by camera rays only (materials/material.h).
+  if (m.unlit && paths_.depth[path] > 0) return;
   const glm::vec3 d = rays.direction(i);
   const float cos = glm::dot(g.unit_normal(tri), d);
   if (!(cos < 0.f || m.double_sided)) return;
@@ -289,7 +291,7 @@ void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i)
     weight = lights_.emitter_weight(paths_.bsdf_pdf[path], tri, rays.origin(i), hits.t[i],
                                     std::abs(cos), g.area(tri));
   paths_.radiance[path] +=
-      paths_.throughput[path] * emission_at(scene_, tri, hits.u[i], hits.v[i]) * weight;
+      paths_.throughput[path] * emission_at(scene_, tri, hits.u[i], hits.v[i], -d) * weight;
 }
 
 // Stage 5: a path at the depth limit ends, and from roulette_depth on Russian roulette ends paths
@@ -337,7 +339,7 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   const Frame frame(ns);
   const ShadingPoint x{ng,
                        frame,
-                       stack ? Bsdf::volume(framed_params(h), media_.eta(*stack, mat, front))
+                       stack ? Bsdf::volume(framed_params(h), media_.eta(*stack, mat, front), front)
                              : Bsdf(brdf_at(h, tri)),
                        frame.to_local(-d),
                        offset_ray_origin({p, h.p_error}, ng),

@@ -1,10 +1,12 @@
 // KHR_materials_clearcoat's coat: a GGX dielectric (IOR 1.5: Schlick's Fresnel with F0 = 0.04,
 // F90 = 1) of its own roughness around its own normal (clearcoatNormalTexture's, else the
-// interpolated normal), layered over the material (gltf_brdf.h does the layering):
-//   f = clearcoat · F(wo·h) · D_c · V_c + (1 − clearcoat · max(F(wo·n_c), F(wi·n_c))) · f_base
-// The specification's fresnel_coat weights the base by 1 − clearcoat · F(N·V); the max over both
-// directions is that whenever wi is no more grazing than wo, and keeps eval reciprocal (the same
-// choice KHR_materials_sheen's albedo scaling makes with its min).
+// interpolated normal), layered over the material (materials/layers.h does the layering) as the
+// extension's fresnel_coat writes it: with F_c = F(wo·n_c) at the viewing direction,
+//   f = clearcoat · F_c · D_c · V_c + (1 − clearcoat · F_c) · f_base
+// and the base's emission, seen through the coat, is likewise multiplied by 1 − clearcoat · F_c.
+// (One Fresnel for the pair, taken at wo: eval is not reciprocal, f(wo, wi) ≠ f(wi, wo), which a
+// path tracer that always evaluates towards the viewer does not need; a white smooth coat over
+// a white mirror still reflects everything, F_c + (1 − F_c).)
 // The coat lobe is sampled by visible normals (Heitz 2018) in the coat normal's frame; directions
 // below the shading surface are rejected (eval is 0 there), so the pdf stays the lobe's density.
 #pragma once
@@ -31,19 +33,18 @@ inline float coat_fresnel(float cos_theta) {
   return 0.04f + 0.96f * (m2 * m2 * m);
 }
 
-// What the coat leaves the layers below it: 1 − clearcoat · max(F(wo·n_c), F(wi·n_c)) (a
-// transmitted wi, below the surface, counts as its mirror image above).
-inline float coat_base_weight(const Coat& c, const glm::vec3& wo, const glm::vec3& wi) {
-  const float ci = glm::dot(glm::vec3(wi.x, wi.y, std::abs(wi.z)), c.normal);
-  return 1.f - c.weight * std::max(coat_fresnel(glm::dot(wo, c.normal)), coat_fresnel(ci));
+// What the coat leaves the layers below it, and the emission under it: 1 − clearcoat · F(wo·n_c).
+inline float coat_base_weight(const Coat& c, const glm::vec3& wo) {
+  return 1.f - c.weight * coat_fresnel(glm::dot(wo, c.normal));
 }
 
-// The coat lobe clearcoat · F · D · V (without the cosine), for wi above the shading surface.
+// The coat lobe clearcoat · F(wo·n_c) · D · V (without the cosine), for wi above the shading
+// surface.
 inline float coat_eval(const Coat& c, const glm::vec3& wo, const glm::vec3& wi) {
   const float co = glm::dot(wo, c.normal), ci = glm::dot(wi, c.normal);
   if (co <= 0.f || ci <= 0.f || wi.z <= 0.f) return 0.f;
   const glm::vec3 h = glm::normalize(wo + wi);
-  return c.weight * coat_fresnel(glm::dot(wo, h)) * ggx_d(glm::dot(h, c.normal), c.alpha) *
+  return c.weight * coat_fresnel(co) * ggx_d(glm::dot(h, c.normal), c.alpha) *
          ggx_visibility(co, ci, c.alpha);
 }
 

@@ -13,6 +13,18 @@
 // checks them by χ²). An index-matched interface (η = 1 to within 1e-4) is a pass-through:
 // wi = −wo with weight tint, a delta (eval 0, pdf ∞), whatever the roughness.
 //
+// The glTF material's other lobes act on the interface as they do on the opaque BRDF:
+// - KHR_materials_specular: the reflectance is the exact F mapped onto the glTF base's Schlick
+//   endpoints, R = specular · (F0' + (1 − F0') · (F − F0) / (1 − F0)) per channel, with F0 the
+//   interface's ((η − 1)/(η + 1))² and F0' = min(F0 · specularColor, 1): specular 1 and colour 1
+//   are F exactly, specular 0 reflects nothing and refracts everything. Refraction takes
+//   1 − max(R). Under total internal reflection R is 1 whatever the factors (light cannot leave).
+// - KHR_materials_iridescence (front faces: the film is on the outside): R = mix(R, R_film,
+//   iridescence), R_film the thin film's over a base of F0' · specular (materials/iridescence.h).
+// - KHR_materials_anisotropy: D and G are the stretched GGX of materials/anisotropy.h, for
+//   reflection and refraction alike.
+// Sampling reflects with probability lum(R) / (lum(R) + 1 − max R), which is F without them.
+//
 // Directions are in the local frame (z = normal) with wo above (z > 0); wi is above for
 // reflection and below for refraction.
 #pragma once
@@ -20,6 +32,7 @@
 #include <glm/glm.hpp>
 #include <optional>
 
+#include "dacrt/materials/anisotropy.h"
 #include "dacrt/materials/gltf_brdf.h"
 
 namespace dacrt {
@@ -42,6 +55,9 @@ class RoughDielectric {
   // eta: η_below / η_above; alpha: GGX α (kept at GltfBrdf::min_alpha or above); tint: what
   // refraction is multiplied by (glTF's baseColor), clamped to [0, 1].
   RoughDielectric(float eta, float alpha, const glm::vec3& tint);
+  // The interface of a glTF material p (its roughness, baseColor as the tint, specular, and
+  // anisotropy in the shading frame; its iridescence where `front`, arriving from outside).
+  RoughDielectric(float eta, const BrdfParams& p, bool front);
 
   glm::vec3 eval(const glm::vec3& wo, const glm::vec3& wi) const;  // without the cosine
   float pdf(const glm::vec3& wo, const glm::vec3& wi) const;
@@ -55,10 +71,30 @@ class RoughDielectric {
  private:
   // The microfacet normal (h.z > 0) of the pair, or nullopt where the BSDF is zero.
   std::optional<glm::vec3> half_vector(const glm::vec3& wo, const glm::vec3& wi) const;
+  // What the interface reflects (per channel) and refracts at cos θ = wo·h, and the probability
+  // of sampling the reflection.
+  struct Split {
+    glm::vec3 reflect;
+    float refract, p_reflect;
+  };
+  Split split(float cos_oh) const;
+  // The microfacet distribution D(h), the visibility G₂ / (4 cos_o |cos_i|), G₁(wo), and a
+  // visible normal: isotropic or stretched.
+  float d(const glm::vec3& h) const;
+  float visibility(const glm::vec3& wo, const glm::vec3& wi) const;
+  float g1(const glm::vec3& wo) const;
+  glm::vec3 sample_normal(const glm::vec3& wo, float u1, float u2) const;
 
   float eta_, alpha_;
   glm::vec3 tint_;
   bool matched_;
+  // KHR_materials_specular and _iridescence (plain_: neither, R = F).
+  bool plain_ = true;
+  float f0_ = 0.f, specular_ = 1.f;
+  glm::vec3 f0_glTF_{0.f};  // F0' = min(F0 · specularColor, 1)
+  float iridescence_ = 0.f, film_ior_ = 1.3f, film_thickness_ = 0.f;
+  bool anisotropic_ = false;
+  Anisotropy anisotropy_;
 };
 
 }  // namespace dacrt

@@ -7,7 +7,6 @@
 
 #include "dacrt/materials/iridescence.h"
 #include "dacrt/materials/sampling.h"
-#include "dacrt/materials/sheen.h"
 
 namespace dacrt {
 
@@ -70,16 +69,9 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
   film_thickness_ = p.iridescence_thickness;
   lambertian_ = metallic_ == 0.f && transmission_ == 0.f && f90_ == 0.f && f0_ == glm::vec3(0.f) &&
                 iridescence_ == 0.f;
-  // The layers (materials/gltf_layers.cpp).
-  const float coat_roughness = std::clamp(p.clearcoat_roughness, 0.f, 1.f);
-  coat_ = {std::clamp(p.clearcoat, 0.f, 1.f),
-           std::max(min_alpha, coat_roughness * coat_roughness),
-           p.clearcoat_normal.z > 0.f ? glm::normalize(p.clearcoat_normal) : glm::vec3(0, 0, 1)};
-  sheen_color_ = glm::clamp(p.sheen_color, 0.f, 1.f);
-  sheen_max_ = std::max({sheen_color_.x, sheen_color_.y, sheen_color_.z});
-  sheen_roughness_ = std::clamp(p.sheen_roughness, 0.f, 1.f);
-  sheen_alpha_ = sheen_alpha(sheen_roughness_);
-  layered_ = coat_.weight > 0.f || sheen_max_ > 0.f;
+  // The layers (materials/layers.h).
+  layers_ = MaterialLayers(p, min_alpha);
+  layered_ = layers_.any();
   // KHR_materials_anisotropy: α_t = mix(α, 1, strength²) along the direction, α_b = α across
   // (an isotropic material stops at the first test).
   anisotropic_ = false;

@@ -24,11 +24,11 @@
 // and the lobes' sampling weights, follow. A film of thickness 0 is no film.
 //
 // Layers over that base (each skipped, at no cost, where the material lacks it; a material with
-// neither is exactly the BRDF above):
-//   f = coat + (1 − clearcoat · F_c) · (sheen + (1 − max(sheenColor) · E_sheen) · f_base)
-// KHR_materials_clearcoat's coat (materials/clearcoat.h) and KHR_materials_sheen's sheen
-// (materials/sheen.h). Sampling picks the coat, the sheen or the base by their estimated albedos
-// at wo, and pdf() is again the mixture's.
+// neither is exactly the BRDF above): KHR_materials_clearcoat's coat over KHR_materials_sheen's
+// sheen, as materials/layers.h writes them,
+//   f = coat + (1 − clearcoat · F_c(wo·n_c)) · (sheen + s(wo, wi) · f_base).
+// Sampling picks the coat, the sheen or the base by their estimated albedos at wo, and pdf() is
+// again the mixture's.
 //
 // Directions are in the local shading frame (z = normal) and point away from the surface: wo
 // towards the viewer (above the surface), wi towards the light: above for reflection, below for
@@ -40,6 +40,7 @@
 
 #include "dacrt/materials/anisotropy.h"
 #include "dacrt/materials/clearcoat.h"
+#include "dacrt/materials/layers.h"
 
 namespace dacrt {
 
@@ -98,6 +99,7 @@ class GltfBrdf {
   bool lambertian() const { return lambertian_ && !layered_; }
   // True when a coat or a sheen lies over the base.
   bool layered() const { return layered_; }
+  const MaterialLayers& layers() const { return layers_; }
   // True when the specular lobe is anisotropic (strength > 0, α < 1, and not Lambert's).
   bool anisotropic() const { return anisotropic_; }
 
@@ -106,12 +108,6 @@ class GltfBrdf {
   glm::vec3 base_eval(const glm::vec3& wo, const glm::vec3& wi) const;
   float base_pdf(const glm::vec3& wo, const glm::vec3& wi) const;
   std::optional<Sample> base_sample(const glm::vec3& wo, float u_lobe, float u1, float u2) const;
-  // The probabilities of sampling the coat, the sheen and the base from wo (they sum to 1).
-  struct Layers {
-    float coat, sheen, base;
-  };
-  Layers layers(const glm::vec3& wo) const;
-
   // Schlick's Fresnel at cos θ (between wo and the microfacet normal): the dielectric's F, the
   // metal's, and what KHR_materials_specular's fresnel_mix leaves the diffuse base, 1 − max F_d
   // (one number: a coloured specular does not tint the diffuse).
@@ -141,9 +137,7 @@ class GltfBrdf {
   float iridescence_, film_ior_, film_thickness_;  // the thin film (iridescence_ 0: none)
   bool lambertian_;  // the base is Lambert's
   bool layered_;     // a coat or a sheen
-  Coat coat_;
-  glm::vec3 sheen_color_;
-  float sheen_max_, sheen_roughness_, sheen_alpha_;
+  MaterialLayers layers_;
   bool anisotropic_;
   Anisotropy anisotropy_;  // (used only when anisotropic_)
 };

@@ -44,8 +44,11 @@ struct Material {
   float iridescence_ior = 1.3f;                // iridescenceIor
   float iridescence_thickness_min = 100.f;     // iridescenceThicknessMinimum (nm)
   float iridescence_thickness_max = 400.f;     // iridescenceThicknessMaximum (nm)
-  // KHR_materials_unlit: the surface emits its base colour (× texture × vertex colour), to every
-  // ray, and reflects nothing (`emission` holds baseColorFactor.rgb; brdf() is black).
+  // KHR_materials_unlit: a pre-lit surface. Camera rays see its base colour (× texture × vertex
+  // colour) as emitted radiance; it casts no light (it is not sampled as an emitter, and a path
+  // that scattered before reaching it gets nothing from it) and reflects nothing: to every other
+  // ray it is a black occluder. (`emission` holds baseColorFactor.rgb; brdf() is black.) The
+  // extension's "not lit", as Blender's importer builds it (an emission seen by camera rays only).
   bool unlit = false;
   glm::vec3 emission{0.f};        // emissiveFactor × KHR_materials_emissive_strength (radiance)
   bool double_sided = false;      // emitters emit from their back face too
@@ -108,10 +111,16 @@ struct Material {
     return false;
   }
 
-  // A volume's boundary: thick and transmissive (a volume without transmission has no effect, as
-  // KHR_materials_volume says: no light enters it).
-  bool volume() const { return thickness > 0.f && transmission > 0.f && metallic < 1.f; }
+  // A volume's boundary: thick and transmissive somewhere (a volume without transmission has no
+  // effect, as KHR_materials_volume says: no light enters it). Decided from the factors and the
+  // range their textures can give (metallic × a texel may be below a metallicFactor of 1); the
+  // path tracer enters it only where the textured values transmit.
+  bool volume() const {
+    return thickness > 0.f && transmission > 0.f && (metallic < 1.f || metallic_roughness_texture);
+  }
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
+  // Casts light: emissive and not unlit (an unlit surface's colour is seen, not shone).
+  bool emitter() const { return emissive() && !unlit; }
   // (One object returned on every path, so that it is built in place: this runs at every hit.)
   BrdfParams brdf() const {
     BrdfParams p;

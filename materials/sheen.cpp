@@ -20,8 +20,29 @@ float sheen_d(float cos_h, float alpha) {
   return (2.f + inv) * std::pow(sin2, 0.5f * inv) * (0.5f * glm::one_over_pi<float>());
 }
 
-float sheen_visibility(float cos_o, float cos_i) {
-  return 1.f / (4.f * (cos_i + cos_o - cos_i * cos_o));
+namespace {
+
+// Estevez & Kulla's fit of the Charlie lobe's shadowing exponent: its five coefficients
+// interpolated in (1 − α)² between their values at α = 1 and α = 0.
+float charlie_l(float x, float alpha) {
+  const float t = (1.f - alpha) * (1.f - alpha);
+  const float a = glm::mix(21.5473f, 25.3245f, t), b = glm::mix(3.82987f, 3.32435f, t);
+  const float c = glm::mix(0.19823f, 0.16801f, t), d = glm::mix(-1.97760f, -1.27393f, t);
+  const float e = glm::mix(-4.32054f, -4.85967f, t);
+  return a / (1.f + b * std::pow(x, c)) + d * x + e;
+}
+
+}  // namespace
+
+float sheen_lambda(float cos_theta, float alpha) {
+  const float x = std::clamp(std::abs(cos_theta), 0.f, 1.f);
+  return x < 0.5f ? std::exp(charlie_l(x, alpha))
+                  : std::exp(2.f * charlie_l(0.5f, alpha) - charlie_l(1.f - x, alpha));
+}
+
+float sheen_visibility(float cos_o, float cos_i, float alpha) {
+  return 1.f /
+         ((1.f + sheen_lambda(cos_o, alpha) + sheen_lambda(cos_i, alpha)) * (4.f * cos_o * cos_i));
 }
 
 // Midpoint rule over the hemisphere in (cos θi, φ), φ over [0, π] twice (the lobe is symmetric
@@ -29,18 +50,21 @@ float sheen_visibility(float cos_o, float cos_i) {
 // compares the table with the lobe's albedo by importance sampling).
 float sheen_albedo_integral(float cos_o, float roughness) {
   const float alpha = sheen_alpha(roughness);
-  const float co = std::clamp(cos_o, 0.f, 1.f);
+  // (V grows as 1 / cos θo at grazing: μ = 0 is taken as 1e-4, where the table's first node
+  // stands for what rays that graze the surface see.)
+  const float co = std::clamp(cos_o, 1e-4f, 1.f);
   const glm::vec3 wo(std::sqrt(std::max(0.f, 1.f - co * co)), 0.f, co);
   constexpr int n_t = 128, n_phi = 64;
   double sum = 0.0;
   for (int i = 0; i < n_t; ++i) {
     const float ci = (float(i) + 0.5f) / n_t, si = std::sqrt(1.f - ci * ci);
+    const double v = sheen_visibility(co, ci, alpha);
     double ring = 0.0;
     for (int j = 0; j < n_phi; ++j) {
       const float phi = glm::pi<float>() * (float(j) + 0.5f) / n_phi;
       const glm::vec3 wi(si * std::cos(phi), si * std::sin(phi), ci);
       const glm::vec3 h = glm::normalize(wo + wi);
-      ring += double(sheen_d(h.z, alpha)) * sheen_visibility(co, ci);
+      ring += double(sheen_d(h.z, alpha)) * v;
     }
     sum += ring * ci;
   }

@@ -28,7 +28,7 @@ namespace {
 bool has_emitters(const Scene& scene, const std::vector<PunctualLight>& lights) {
   if (!lights.empty()) return true;
   for (uint32_t m : scene.geometry.material)
-    if (scene.materials[m].emissive()) return true;
+    if (scene.materials[m].emitter()) return true;
   return false;
 }
 }  // namespace

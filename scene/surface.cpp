@@ -3,6 +3,7 @@
 #include <cmath>
 #include <optional>
 
+#include "dacrt/materials/clearcoat.h"
 #include "dacrt/materials/sampling.h"
 
 namespace dacrt {
@@ -73,6 +74,25 @@ void anisotropy_at(const Scene& scene, const Material& m, uint32_t tri, float u,
     const Frame arbitrary(s.normal);
     s.anisotropy_direction = arbitrary.s * d.x + arbitrary.t * d.y;
   }
+}
+
+// KHR_materials_clearcoat: the emission under a coat, seen from `towards`, is darkened by
+// 1 − clearcoat · F(towards · n_c), with the coat's factor and normal there
+// (materials/clearcoat.h).
+float coat_emission_weight(const Scene& scene, const Material& m, uint32_t tri, float u, float v,
+                           const glm::vec3& towards) {
+  float c = m.clearcoat;
+  if (m.clearcoat_texture) c *= lookup(scene, m.clearcoat_texture, tri, u, v, false).r;
+  glm::vec3 n = scene.geometry.unit_normal(tri);
+  if (!scene.normals.empty()) {
+    const glm::vec3 interpolated = interpolate(&scene.normals[3 * size_t(tri)], u, v);
+    const float len = glm::length(interpolated);
+    if (len > 0.f) n = interpolated / len;
+  }
+  if (m.clearcoat_normal_texture)
+    n = normal_mapped(scene, m.clearcoat_normal_texture, m.clearcoat_normal_scale, tri, u, v, n);
+  // (The back of a double-sided emitter is seen through the coat on its side.)
+  return 1.f - c * coat_fresnel(std::abs(glm::dot(towards, n)));
 }
 
 }  // namespace
@@ -168,13 +188,16 @@ void prefetch_surface(const Scene& scene, uint32_t tri, float u, float v) {
   }
 }
 
-glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v) {
+glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v,
+                      const glm::vec3& towards) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
   glm::vec3 e = m.emission;
   if (m.unlit && !scene.colors.empty())  // an unlit surface's vertex colours
     e *= glm::vec3(interpolate(&scene.colors[3 * size_t(tri)], u, v));
-  if (!m.emissive_texture || !m.emissive()) return e;
-  return e * glm::vec3(lookup(scene, m.emissive_texture, tri, u, v, true));
+  if (m.emissive_texture && m.emissive())
+    e *= glm::vec3(lookup(scene, m.emissive_texture, tri, u, v, true));
+  if (m.clearcoat > 0.f && !m.unlit) e *= coat_emission_weight(scene, m, tri, u, v, towards);
+  return e;
 }
 
 }  // namespace dacrt

@@ -43,8 +43,10 @@ float coverage_at(const Scene& scene, uint32_t tri, float u, float v);
 // Asks the cache for the texels surface_at would read there (materials/texture.h: prefetch).
 void prefetch_surface(const Scene& scene, uint32_t tri, float u, float v);
 
-// Just the emitted radiance there (what next-event estimation needs of a light sample).
-glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v);
+// Just the emitted radiance there towards unit direction `towards` (what next-event estimation
+// needs of a light sample): the emission, its texture and (unlit) vertex colours, and under a
+// clearcoat, × 1 − clearcoat · F(towards · n_c) (KHR_materials_clearcoat's "Emission").
+glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v, const glm::vec3& towards);
 
 // A per-corner attribute interpolated at (u, v).
 template <class T>

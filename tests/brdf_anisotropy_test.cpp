@@ -221,8 +221,9 @@ TEST_CASE("the χ² test notices an anisotropic pdf turned or stretched slightly
 
 TEST_CASE("anisotropic BRDF is reciprocal and zero below the surface without transmission") {
   Pcg32 rng(8);
-  for (const Config& c : configs()) {
+  for (Config c : configs()) {
     if (c.params.transmission > 0.f) continue;
+    c.params.clearcoat = 0.f;  // (the coat's Fresnel is at the view only: not reciprocal)
     INFO(c.label());
     dacrt::test::check_reciprocal_reflection(GltfBrdf(c.params), rng, 1e-3f);
   }

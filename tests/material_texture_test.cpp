@@ -82,7 +82,8 @@ TEST_CASE("textures: metallic-roughness (G, B), emissive (sRGB) and the sampler'
   CHECK(green.brdf.metallic == 0.f);
   CHECK(green.brdf.roughness == doctest::Approx(1.f));
   CHECK(near(green.emission, glm::vec3(0, 1, 0)));
-  CHECK(near(emission_at(scene, 0, 0.f, 0.75f), green.emission));  // the point (0.75, 0.75)
+  CHECK(near(emission_at(scene, 0, 0.f, 0.75f, glm::vec3(0.f, 0.f, 1.f)),
+             green.emission));  // the point (0.75, 0.75)
 }
 
 TEST_CASE("textures: KHR_materials_transmission's factor × transmissionTexture (R)") {
