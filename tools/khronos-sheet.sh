@@ -29,7 +29,7 @@ while IFS= read -r file; do
   [ -n "$shot" ] || { echo "khronos-sheet: $model has no screenshot" >&2; exit 1; }
   # The screenshot's aspect, for the render's height (a GIF: its first frame; identify finds
   # fault with some JPEGs' XMP packets, harmlessly).
-  read -r sw sh < <(identify -format '%w %h\n' "$shot[0]" 2> /dev/null)
+  read -r sw sh < <(identify -format '%w %h\n' "${shot}[0]" 2> /dev/null)
   height=$(((256 * sh + sw / 2) / sw))
   height=$((height < 128 ? 128 : height > 384 ? 384 : height))
   start=$(date +%s.%N)
@@ -37,7 +37,7 @@ while IFS= read -r file; do
     --height "$height" --spp "$spp" --time 0 --environment 1,1,1 --quiet 2> "$out/$name.log"
   printf '%-28s %6.1f s\n' "$name" "$(echo "$(date +%s.%N) - $start" | bc)"
   sed 's/^/    /' "$out/$name.log"  # warnings, if any
-  tiles+=(-label "$name: reference" "$shot[0]" -label "$name: dacrt" "$out/$name.png")
+  tiles+=(-label "$name: reference" "${shot}[0]" -label "$name: dacrt" "$out/$name.png")
 done < <(find "$samples" \( -name '*.gltf' -o -name '*.glb' \) | sort)
 # Three pairs a row, each tile fitted into 256 × 256.
 montage "${tiles[@]}" -tile 6x -geometry 256x256+3+3 -pointsize 13 -background "#202020" \
