@@ -761,6 +761,12 @@ TEST_CASE("gltf schema: extensions used but not read are named in one warning, w
   w.doc["materials"][1]["extensions"]["KHR_materials_diffuse_transmission"] = {{"diffuseTransmissionFactor", 0.5}};
   w.doc["nodes"][0]["extensions"]["EXT_vendor_thing"] = json::object();
   w.doc["materials"][0]["occlusionTexture"] = {{"index", 0}};
+  // Metadata (KHR_xmp_json_ld, and the older KHR_xmp) has nothing to render: not named.
+  w.doc["extensionsUsed"].push_back("KHR_xmp_json_ld");
+  w.doc["extensionsUsed"].push_back("KHR_xmp");
+  w.doc["extensions"]["KHR_xmp_json_ld"] = {{"packets", json::array({json::object()})}};
+  w.doc["nodes"][0]["extensions"]["KHR_xmp_json_ld"] = {{"packet", 0}};
+  w.doc["extensions"]["KHR_xmp"] = json::object();
   const std::string path = w.write_gltf(dir / "unread.gltf");
   Scene scene;
   const std::string err = stderr_of([&] { scene = load_gltf(path); });

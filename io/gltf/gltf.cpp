@@ -45,6 +45,14 @@ namespace {
 // KHR_texture_basisu is not read, but its textures' fallbacks are, and counted apart
 // (ktx2_textures).
 constexpr std::string_view kBasisu = "KHR_texture_basisu";
+// Extensions that carry metadata only (authorship, licences): nothing in them is rendered, so
+// nothing is left out by not reading them.
+constexpr std::string_view kMetadata[] = {"KHR_xmp_json_ld", "KHR_xmp"};
+bool metadata(const std::string& name) {
+  for (std::string_view m : kMetadata)
+    if (name == m) return true;
+  return false;
+}
 
 // The extensions the file uses that the loader does not read, by the kind of element carrying
 // them (a material, a node, the file...), and the materials with an occlusion texture.
@@ -52,7 +60,8 @@ void note_unread(const Gltf& gltf, Scene::Ignored& ignored) {
   const tinygltf::Model& m = gltf.model;
   auto note = [&](const tinygltf::ExtensionMap& extensions, const char* kind) {
     for (const auto& [name, value] : extensions)
-      if (!gltf_extension_supported(name) && name != kBasisu) ++ignored.extensions[name][kind];
+      if (!gltf_extension_supported(name) && name != kBasisu && !metadata(name))
+        ++ignored.extensions[name][kind];
   };
   auto each = [&](const auto& elements, const char* kind) {
     for (const auto& e : elements) note(e.extensions, kind);
@@ -73,7 +82,7 @@ void note_unread(const Gltf& gltf, Scene::Ignored& ignored) {
   each(m.animations, "animation");
   each(m.skins, "skin");
   for (const std::string& name : m.extensionsUsed)
-    if (!gltf_extension_supported(name) && name != kBasisu)
+    if (!gltf_extension_supported(name) && name != kBasisu && !metadata(name))
       ignored.extensions[name];  // at least listed
   for (const tinygltf::Material& material : m.materials)
     ignored.occlusion_textures += material.occlusionTexture.index >= 0;
