@@ -780,4 +780,6 @@ TEST_CASE("gltf schema: extensions used but not read are named in one warning, w
   CHECK(scene.ignored.occlusion_textures == 2);  // and the rich file's textured material
   // Extensions that are read are not named; nothing unread, no warning.
   CHECK(scene.ignored.extensions.count("KHR_texture_transform") == 0);
+  CHECK(err.find("KHR_xmp") == std::string::npos);
+  CHECK(scene.ignored.extensions.count("KHR_xmp_json_ld") == 0);
 }
