@@ -312,6 +312,40 @@ TEST_CASE("volume: a glass whose metallic comes from its texture (factor 1) is a
   Material metal = m;
   metal.metallic_roughness_texture = TextureRef{};
   CHECK_FALSE(metal.volume());
+
+  // Rendered: a slab 1 thick of index-matched glass that absorbs to 0.25 over a distance of 2,
+  // seen head-on under a sky of 1, transmits 0.25^(1/2) = 0.5 (thin-walled, it would be 1).
+  GltfWriter box;
+  const std::vector<glm::vec3> corners = {{-9, -9, 0}, {9, -9, 0}, {9, 9, 0}, {-9, 9, 0},
+                                          {-9, -9, 1}, {9, -9, 1}, {9, 9, 1}, {-9, 9, 1}};
+  const std::vector<glm::vec2> uv(8, glm::vec2(0.5f));
+  const std::vector<uint8_t> faces = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                      1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+  box.add_material({{"pbrMetallicRoughness",
+                     {{"metallicRoughnessTexture", {{"index", 0}}}, {"roughnessFactor", 0}}},
+                    {"extensions",
+                     {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+                      {"KHR_materials_ior", {{"ior", 1}}},
+                      {"KHR_materials_volume",
+                       {{"thicknessFactor", 1},
+                        {"attenuationColor", {0.25, 0.25, 0.25}},
+                        {"attenuationDistance", 2}}}}}});
+  add_texture(box, png8(1, 1, 4, {255, 255, 0, 255}), kNearest);
+  const int mesh = box.add_mesh(
+      {{"attributes",
+        {{"POSITION", box.add_vec3(corners)},
+         {"TEXCOORD_0", box.add_accessor(box.add_view(uv.data(), 64), kFloat, 8, "VEC2")}}},
+       {"indices", box.add_indices(faces)},
+       {"material", 0}});
+  box.set_scene({box.add_node({{"mesh", mesh}})});
+  Scene slab = load_gltf(box.write_gltf(tmp / "slab.gltf"));
+  Camera down = looking_at(glm::vec3(0.f, 0.f, 5.f), glm::vec3(0.f), 1.f);
+  down.orthographic = true, down.ymag = 0.5f;
+  slab.cameras = {down};
+  RenderSettings s;
+  s.width = s.height = 8, s.spp = 4, s.environment = glm::vec3(1.f);
+  const Image image = render(slab, s).film.resolve();
+  for (float v : image.rgb) CHECK(v == doctest::Approx(0.5f).epsilon(1e-3));
 }
 
 TEST_CASE("unlit: camera rays see its colour; it lights nothing") {
