@@ -67,7 +67,7 @@ double charlie_v(double cos_o, double cos_i, double alpha) {
 double charlie_albedo(double mu, double roughness) {
   const double alpha = std::max(0.01, roughness * roughness);
   const glm::dvec3 wo(std::sqrt(1.0 - mu * mu), 0.0, mu);
-  const int n = 600, m = 300;
+  const int n = 400, m = 200;
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
     const double ci = (i + 0.5) / n, si = std::sqrt(1.0 - ci * ci);
@@ -116,7 +116,7 @@ std::vector<Variant> layered_glasses() {
 // albedo is the mean sample weight times that η² (as tests/dielectric_test.cpp's furnace).
 std::pair<double, double> furnace(const Bsdf& b, const glm::vec3& wo, float eta, uint64_t seed) {
   Pcg32 rng(seed);
-  const int n = 100000;
+  const int n = 50000;
   double sum = 0.0, sum2 = 0.0;
   for (int k = 0; k < n; ++k) {
     const auto s = b.sample(wo, rng.uniform(), rng.uniform(), rng.uniform());
@@ -230,7 +230,7 @@ TEST_CASE("volume: glass carries every layer: each changes it, and the layered B
                   const auto s = layered.sample(wo, r.uniform(), r.uniform(), r.uniform());
                   return s ? std::optional<glm::vec3>(s->wi) : std::nullopt;
                 },
-                [&](const glm::vec3& wi) { return layered.pdf(wo, wi); }, ++seed, 200000, 32) >
+                [&](const glm::vec3& wi) { return layered.pdf(wo, wi); }, ++seed, 100000, 16) >
             level);
       Pcg32 r(seed);
       for (int k = 0; k < 300; ++k) {
