@@ -83,9 +83,9 @@ class LightSampling {
   bool solid_angle() const { return triangles_ != TriangleSampling::area; }
 
   // What the Lambert lanes (integrators/lambert_lanes.h) take of the emitter `pick` chooses, when
-  // it is an emissive triangle they can sample: opaque, untextured, of an area within float's
-  // range, and the scene has no environment map to sample. Null otherwise (a punctual light, say):
-  // emitter() then samples it.
+  // it is an emissive triangle they can sample: opaque, untextured, uncoated, of an area within
+  // float's range, and the scene has no environment map to sample. Null otherwise (a punctual
+  // light, say): emitter() then samples it.
   struct AreaEmitter {
     glm::vec3 corner[3], normal, centre, radiance;
     float radius2, area, pmf;
