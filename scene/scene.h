@@ -46,11 +46,15 @@ struct Scene {
   // Per-corner shading normals, 3 per triangle (corner-major: tri*3 + corner), world space and
   // normalised. Empty when no primitive had NORMAL; primitives without it get geometric normals.
   std::vector<glm::vec3> normals;
-  // More per-corner attributes, each empty when nothing needs it: TEXCOORD_0 and _1 (kept only if a
-  // material samples that set), COLOR_0 as linear RGBA (1 where a primitive has none), and
+  // More per-corner attributes, each empty when nothing needs it: TEXCOORD_n (kept only if a
+  // material samples set n), COLOR_0 as linear RGBA (1 where a primitive has none), and
   // tangents (xyz, w = bitangent sign; world space, from TANGENT or generated; kept only when a
   // material has a normal map; zero where none could be made).
-  std::vector<glm::vec2> texcoords[2];
+  // texcoords[k] is TEXCOORD_n for n = texcoord_sets[k] (TextureRef::texcoord is k): 0 and 1 are
+  // always TEXCOORD_0 and _1, the later sets a material samples follow in order, so that their
+  // count is bounded by the file's texture references, never by the numbers they give.
+  std::vector<std::vector<glm::vec2>> texcoords = std::vector<std::vector<glm::vec2>>(2);
+  std::vector<uint32_t> texcoord_sets = {0, 1};
   std::vector<glm::vec4> colors;
   std::vector<glm::vec4> tangents;
   // One per glTF image and texture; images that no material uses are left undecoded (empty).
