@@ -686,7 +686,8 @@ int info(const std::vector<std::string>& args) {
   }
   GltfOptions options;
   const char* usage = "info needs one SCENE, and optionally --scene INDEX and --animation NAME";
-  if (args.empty() || (args[0].size() > 1 && args[0][0] == '-')) throw UsageError(usage);
+  if (args.empty()) throw UsageError(usage);
+  if (args[0].size() > 1 && args[0][0] == '-') throw UsageError("info: unknown option " + args[0]);
   for (size_t i = 1; i < args.size(); i += 2) {
     if (args[i] != "--scene" && args[i] != "--animation")
       throw UsageError(args[i].size() > 1 && args[i][0] == '-' ? "info: unknown option " + args[i]
