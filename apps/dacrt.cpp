@@ -565,8 +565,8 @@ int render(const std::vector<std::string>& args) {
       run.build_seconds = seconds_since(t0);
       RenderJob job(scene, *backend, s, shot);
       if (r.frames) r.gltf.time = frame_time(frame);  // each frame's own time (match.time)
-      const auto keys = match_keys(r, shot, animation, view_text(shot.camera), inputs_hash,
-                                 run.backend);
+      const auto keys =
+          match_keys(r, shot, animation, view_text(shot.camera), inputs_hash, run.backend);
       if (spread) check_ranks_agree(keys);
       std::optional<Film> earlier;
       if (r.resume) earlier = film_to_resume(run.output, job, keys, first, last, r.quiet);
@@ -771,10 +771,11 @@ int info(const std::vector<std::string>& args) {
     for (size_t a = 0; a < all.size() && a < 1000; ++a) {
       std::string shares;
       for (size_t b : all[a].shares) shares += (shares.empty() ? "" : ", ") + std::to_string(b);
-      std::printf("  animation %zu%s: keyframes to %g s%s%s\n", a,
-                  all[a].name.empty() ? "" : (" \"" + one_line(all[a].name.substr(0, 200)) + "\"").c_str(),
-                  all[a].end, all[a].plays ? ", plays" : "",
-                  shares.empty() ? "" : (", animates targets of " + shares + " too").c_str());
+      std::printf(
+          "  animation %zu%s: keyframes to %g s%s%s\n", a,
+          all[a].name.empty() ? "" : (" \"" + one_line(all[a].name.substr(0, 200)) + "\"").c_str(),
+          all[a].end, all[a].plays ? ", plays" : "",
+          shares.empty() ? "" : (", animates targets of " + shares + " too").c_str());
     }
     if (all.size() > 1000) std::printf("  ... (%zu in all)\n", all.size());
   }

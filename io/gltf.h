@@ -29,9 +29,9 @@ struct GltfOptions {
 
 // One of a file's animations as `dacrt info` lists it.
 struct AnimationSummary {
-  std::string name;     // as the file names it (may be empty)
-  double end = 0.0;     // its last keyframe time, in seconds
-  bool plays = false;   // GltfOptions::animation chose it
+  std::string name;            // as the file names it (may be empty)
+  double end = 0.0;            // its last keyframe time, in seconds
+  bool plays = false;          // GltfOptions::animation chose it
   std::vector<size_t> shares;  // the other animations that animate one of its targets too
 };
 

@@ -192,10 +192,10 @@ py::object render(const py::object& scene_or_path, const py::kwargs& kwargs) {
     throw UsageError("variant= and the scene index are the loaded scene's: give them to load()");
   // The animations that play are the loaded scene's: animation= may only repeat them.
   if (loaded && kwargs.contains("animation") && r.gltf.animation != loaded->options.animation)
-    throw UsageError("animation= is the loaded scene's (" +
-                     (loaded->options.animation.empty() ? std::string("the first")
-                                                        : loaded->options.animation) +
-                     "): give it to load()");
+    throw UsageError(
+        "animation= is the loaded scene's (" +
+        (loaded->options.animation.empty() ? std::string("the first") : loaded->options.animation) +
+        "): give it to load()");
   check_render_choices(r, {r.backend});
   r.backend_options.threads = r.threads;
 

@@ -79,9 +79,10 @@ bool has(const std::string& text, const std::string& part) {
 TEST_CASE("cli: --animation plays the first clip, one by index or name, or all of them") {
   TempDir dir;
   const std::string scene = two_clips(dir);
-  const std::string common = "render " + scene +
-                             " --width 40 --height 40 --spp 1 --integrator albedo --time 1 --quiet -o " +
-                             (dir / "out.exr") + " ";
+  const std::string common =
+      "render " + scene +
+      " --width 40 --height 40 --spp 1 --integrator albedo --time 1 --quiet -o " +
+      (dir / "out.exr") + " ";
   struct Case {
     std::string option;
     glm::vec2 centre;
@@ -104,8 +105,9 @@ TEST_CASE("cli: --animation plays the first clip, one by index or name, or all o
     const bool noted = has(r.err, "note: ");
     CHECK(noted == (c.option.empty() || c.option == "--animation all"));
     if (c.option.empty()) {
-      CHECK(has(r.err, "animation 0 (\"walk\") plays, not 1 (\"run\") (of which 1 (\"run\") "
-                       "animates the same targets) (--animation NAME|INDEX|all chooses)"));
+      CHECK(has(r.err,
+                "animation 0 (\"walk\") plays, not 1 (\"run\") (of which 1 (\"run\") "
+                "animates the same targets) (--animation NAME|INDEX|all chooses)"));
       CHECK(lines(r.err) == 1);
     }
     if (c.option == "--animation all")
@@ -138,7 +140,8 @@ TEST_CASE("cli: dacrt info lists the animations; an unknown one is a usage error
   const Run info = run(dir, "info " + scene);
   REQUIRE(info.code == 0);
   CHECK(has(info.out, "animation  2 animations, keyframes to 1 s"));
-  CHECK(has(info.out, "  animation 0 \"walk\": keyframes to 1 s, plays, animates targets of 1 too"));
+  CHECK(
+      has(info.out, "  animation 0 \"walk\": keyframes to 1 s, plays, animates targets of 1 too"));
   CHECK(has(info.out, "  animation 1 \"run\": keyframes to 1 s, animates targets of 0 too"));
   const Run second = run(dir, "info " + scene + " --animation run");
   REQUIRE(second.code == 0);
@@ -212,8 +215,9 @@ TEST_CASE("a still sequence of a file without a camera renders identical frames"
       {{"samplers", {{{"input", in}, {"output", out}}}},
        {"channels", {{{"sampler", 0}, {"target", {{"node", empty}, {"path", "translation"}}}}}}}};
   const std::string scene = w.write_gltf(dir / "still.gltf");
-  const Run r = run(dir, "render " + scene + " --width 24 --height 24 --spp 4 --frames 0:2 --fps 2 " +
-                             "--quiet -o " + (dir / "s.exr"));
+  const Run r =
+      run(dir, "render " + scene + " --width 24 --height 24 --spp 4 --frames 0:2 --fps 2 " +
+                   "--quiet -o " + (dir / "s.exr"));
   REQUIRE(r.code == 0);
   const Image first = read_exr(dir / "s.0000.exr");
   for (const char* name : {"s.0001.exr", "s.0002.exr"}) {

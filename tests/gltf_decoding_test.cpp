@@ -78,8 +78,7 @@ namespace {
 std::string meshopt_animation(const TempDir& dir, int bits, const std::vector<float>& moves) {
   GltfWriter w;
   w.doc["extensionsUsed"] = w.doc["extensionsRequired"] = {"EXT_meshopt_compression"};
-  const int node =
-      w.add_triangles({{0.6f, 0.f, 0.f}, {0.7f, 0.f, 0.f}, {0.6f, 0.1f, 0.f}});
+  const int node = w.add_triangles({{0.6f, 0.f, 0.f}, {0.7f, 0.f, 0.f}, {0.6f, 0.1f, 0.f}});
   const int times = floats(w, {0, 1}, "SCALAR", 1);
   const float h = std::sqrt(0.5f);
   const std::vector<float> turns = {0, 0, 0, 1, 0, 0, h, h};
@@ -95,9 +94,12 @@ std::string meshopt_animation(const TempDir& dir, int bits, const std::vector<fl
     out.resize(meshopt_encodeVertexBuffer(out.data(), out.size(), raw.data(), 2, stride));
     REQUIRE(!out.empty());
     const int view = w.add_view(out.data(), out.size());
-    const json ext = {{"buffer", 0},         {"byteOffset", views[view]["byteOffset"]},
-                      {"byteLength", out.size()}, {"byteStride", stride},
-                      {"count", 2},          {"mode", "ATTRIBUTES"},
+    const json ext = {{"buffer", 0},
+                      {"byteOffset", views[view]["byteOffset"]},
+                      {"byteLength", out.size()},
+                      {"byteStride", stride},
+                      {"count", 2},
+                      {"mode", "ATTRIBUTES"},
                       {"filter", filter}};
     views[view] = {{"buffer", 1},
                    {"byteOffset", fallback},
@@ -110,7 +112,8 @@ std::string meshopt_animation(const TempDir& dir, int bits, const std::vector<fl
   w.doc["accessors"][rotation]["normalized"] = true;
   const int translation = w.add_accessor(compressed(exps, 12, "EXPONENTIAL"), kFloat, 2, "VEC3");
   w.doc["animations"] = {
-      {{"samplers", {{{"input", times}, {"output", rotation}}, {{"input", times}, {"output", translation}}}},
+      {{"samplers",
+        {{{"input", times}, {"output", rotation}}, {{"input", times}, {"output", translation}}}},
        {"channels",
         {{{"sampler", 0}, {"target", {{"node", node}, {"path", "rotation"}}}},
          {{"sampler", 1}, {"target", {{"node", node}, {"path", "translation"}}}}}}}};
@@ -182,16 +185,20 @@ TEST_CASE("skins: a turned and moved joint places its vertices by global(joint) 
   GltfWriter w;
   const std::vector<uint8_t> joints = {0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0};
   const std::vector<float> weights = {0.25f, 0.75f, 0, 0, 0.25f, 0.75f, 0, 0, 0.25f, 0.75f, 0, 0};
-  const int mesh = w.add_mesh(json{
-      {"attributes",
-       {{"POSITION", w.add_vec3(triangle)},
-        {"JOINTS_0", w.add_accessor(w.add_view(joints.data(), joints.size()), kUnsignedByte, 3, "VEC4")},
-        {"WEIGHTS_0", floats(w, weights, "VEC4", 4)}}}});
+  const int mesh =
+      w.add_mesh(json{{"attributes",
+                       {{"POSITION", w.add_vec3(triangle)},
+                        {"JOINTS_0", w.add_accessor(w.add_view(joints.data(), joints.size()),
+                                                    kUnsignedByte, 3, "VEC4")},
+                        {"WEIGHTS_0", floats(w, weights, "VEC4", 4)}}}});
   const glm::mat4 ibm[2] = {glm::mat4(glm::inverse(rest1)), glm::mat4(glm::inverse(rest2))};
   const int ibm_accessor = w.add_accessor(w.add_view(ibm, sizeof ibm), kFloat, 2, "MAT4");
   const glm::dquat q30 = turn30;
-  w.add_node({{"mesh", mesh}, {"skin", 0}, {"translation", {5, 5, 0}}, {"rotation", {0, 0.6, 0, 0.8}}});
-  w.add_node({{"children", {2}}, {"translation", {0.1, 0.2, 0}}, {"rotation", {q30.x, q30.y, q30.z, q30.w}}});
+  w.add_node(
+      {{"mesh", mesh}, {"skin", 0}, {"translation", {5, 5, 0}}, {"rotation", {0, 0.6, 0, 0.8}}});
+  w.add_node({{"children", {2}},
+              {"translation", {0.1, 0.2, 0}},
+              {"rotation", {q30.x, q30.y, q30.z, q30.w}}});
   w.add_node({{"translation", {0.2, 0, 0}}});
   w.doc["skins"] = {{{"joints", {1, 2}}, {"inverseBindMatrices", ibm_accessor}}};
   w.set_scene({0, 1});

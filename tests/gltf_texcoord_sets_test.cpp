@@ -14,8 +14,8 @@ using nlohmann::json;
 namespace {
 
 // A 4 × 1 image: red, green, blue, white; texel k is at u = (k + 0.5) / 4.
-const std::vector<uint8_t> kFour = {255, 0,   0,   255, 0,   255, 0,   255,
-                                    0,   0,   255, 255, 255, 255, 255, 255};
+const std::vector<uint8_t> kFour = {255, 0, 0,   255, 0,   255, 0,   255,
+                                    0,   0, 255, 255, 255, 255, 255, 255};
 const glm::vec3 kColours[4] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
 
 // The unit quad whose TEXCOORD_k (k = 0..3, every vertex alike) points at texel k, and whose
@@ -42,14 +42,13 @@ TEST_CASE("TEXCOORD sets: a texture on TEXCOORD_2 or TEXCOORD_3 shows that set's
   TempDir dir("gltf-texcoord-sets");
   for (int set = 0; set < 4; ++set) {
     INFO("texCoord " << set);
-    const Scene scene =
-        load_gltf(four_sets({{"index", 0}, {"texCoord", set}})
-                      .write_gltf(dir / ("set" + std::to_string(set) + ".gltf")));
+    const Scene scene = load_gltf(four_sets({{"index", 0}, {"texCoord", set}})
+                                      .write_gltf(dir / ("set" + std::to_string(set) + ".gltf")));
     CHECK(near(colour_at_middle(scene), kColours[set]));
   }
   // KHR_texture_transform's texCoord overrides the textureInfo's: set 3 again.
-  GltfWriter w = four_sets(
-      {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 3}}}}}});
+  GltfWriter w =
+      four_sets({{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 3}}}}}});
   w.doc["extensionsUsed"] = {"KHR_texture_transform"};
   const Scene transformed = load_gltf(w.write_gltf(dir / "transform.gltf"));
   CHECK(near(colour_at_middle(transformed), kColours[3]));
@@ -63,7 +62,8 @@ TEST_CASE("TEXCOORD sets: numbered as materials name them, bounded by the file's
   // Material 0 (no primitive uses it) names set 5 first; the primitive's material 1 samples set 3:
   // the kept streams are 0, 1 (TEXCOORD_0 and _1, empty), 5 (empty) and 3.
   GltfWriter w = four_sets({{"index", 0}, {"texCoord", 5}});
-  w.add_material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 3}}}}}});
+  w.add_material(
+      {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 3}}}}}});
   w.doc["meshes"][0]["primitives"][0]["material"] = 1;
   const Scene scene = load_gltf(w.write_gltf(dir / "numbers.gltf"));
   CHECK(scene.texcoord_sets == std::vector<uint32_t>{0, 1, 5, 3});
@@ -83,7 +83,7 @@ TEST_CASE("TEXCOORD sets: numbered as materials name them, bounded by the file's
   CHECK(near(colour_at_middle(far), kColours[2]));
   // A set the primitive lacks is refused, naming it.
   attributes.erase("TEXCOORD_2000000000");
-  check_error(big.write_gltf(dir / "missing.gltf"),
-              {"mesh 0 primitive 0", "samples TEXCOORD_2000000000",
-               "which the primitive does not have"});
+  check_error(
+      big.write_gltf(dir / "missing.gltf"),
+      {"mesh 0 primitive 0", "samples TEXCOORD_2000000000", "which the primitive does not have"});
 }

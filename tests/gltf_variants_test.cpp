@@ -6,12 +6,12 @@
 #include <string>
 
 #include "dacrt/io/gltf.h"
+#include "dacrt/util/error.h"
 #include "tests/cli.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_triangle.h"
 #include "tests/gltf_writer.h"
 #include "tests/texture_fixtures.h"
-#include "dacrt/util/error.h"
 
 using namespace dacrt;
 using namespace dacrt::test;

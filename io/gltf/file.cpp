@@ -653,7 +653,8 @@ tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
 tinygltf::Model read_gltf_model(const std::string& path, int scene, std::vector<FileRead>* files,
                                 const std::string& variant) {
   Bytes data = read_file(path);
-  return parse(path, data, scene, files, variant);  // a GLB's BIN chunk is copied into model.buffers
+  // A GLB's BIN chunk is copied into model.buffers.
+  return parse(path, data, scene, files, variant);
 }
 
 tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size,

@@ -206,8 +206,8 @@ struct GltfAnimation::Impl {
   tinygltf::Model model;
   std::vector<gltf::Animation> animations;  // those that play (GltfOptions::animation)
   std::vector<AnimationSummary> summaries;  // every animation of the file
-  std::string choice;                        // "none", "all" or the index that plays
-  std::string note;                          // animation_note's
+  std::string choice;                       // "none", "all" or the index that plays
+  std::string note;                         // animation_note's
   // The camera made for a file without one, framing its rest pose (made once it is needed).
   mutable std::once_flag rest_made;
   mutable Camera rest_camera;
@@ -222,7 +222,7 @@ struct GltfAnimation::Impl {
       const std::vector<size_t> chosen = gltf::choose_animations(gltf, options.animation);
       summaries = gltf::summarize_animations(gltf, all, chosen);
       note = gltf::animation_note(gltf, summaries, options.animation);
-      choice = all.empty()                 ? "none"
+      choice = all.empty()                  ? "none"
                : options.animation == "all" ? "all"
                                             : std::to_string(chosen[0]);
       for (size_t a : chosen) animations.push_back(std::move(all[a]));

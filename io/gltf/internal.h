@@ -266,7 +266,7 @@ class MeshLoader {
   std::vector<glm::vec3> normals_;  // per corner; kept once any primitive has NORMAL
   bool keep_normals_ = false;
   std::vector<CornerStream<glm::vec2>> texcoords_;  // by slot (Gltf::texcoord_sets)
-  std::vector<uint32_t> kept_texcoords_;             // the slots whose stream is on
+  std::vector<uint32_t> kept_texcoords_;            // the slots whose stream is on
   CornerStream<glm::vec4> colors_, tangents_;
   std::vector<bool> texture_used_;  // by a material some primitive uses
   int default_material_ = -1;

@@ -309,9 +309,9 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
       mat.normal_texture || !coat_map ? mat.normal_texture : mat.clearcoat_normal_texture;
   const bool anisotropic = mat.anisotropic();
   const bool wants_tangents = normal_map || anisotropic;
-  const uint32_t tangent_set = normal_map                ? normal_map.texcoord
+  const uint32_t tangent_set = normal_map               ? normal_map.texcoord
                                : mat.anisotropy_texture ? mat.anisotropy_texture.texcoord
-                                                         : 0u;
+                                                        : 0u;
   // Texture coordinates, only for the sets some material samples (and, for an anisotropic
   // material without TANGENT, the set its tangents come from, if the primitive has it); by slot
   // (Gltf::texcoord_sets: TEXCOORD_0 and _1, then the later sets materials name).
@@ -322,8 +322,9 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   for (const TextureRef* ref : mat.sampled_textures())
     if (ref && *ref) needed[ref->texcoord] = true;
   for (uint32_t slot = 0; slot < slots; ++slot) {
-    const bool for_tangents = anisotropic && slot == tangent_set &&
-                              !(prim.attributes.count("TANGENT") && prim.attributes.count("NORMAL"));
+    const bool for_tangents =
+        anisotropic && slot == tangent_set &&
+        !(prim.attributes.count("TANGENT") && prim.attributes.count("NORMAL"));
     if (!needed[slot] && !for_tangents) continue;
     const std::string name = "TEXCOORD_" + str(gltf_.texcoord_sets[slot]);
     auto attribute = prim.attributes.find(name);
@@ -377,8 +378,8 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
 
   // Shading normals per corner, as stored: computed once, when they are kept or tangents are
   // generated from them.
-  const bool generate = tangents.empty() && wants_tangents && tangent_set < slots &&
-                        !uv[tangent_set].empty();
+  const bool generate =
+      tangents.empty() && wants_tangents && tangent_set < slots && !uv[tangent_set].empty();
   std::vector<glm::vec3> corner_normals;  // 3 per triangle of `corners`
   if (keep_normals_ || generate) {
     corner_normals.reserve(3 * corners.size());
