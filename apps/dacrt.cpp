@@ -359,7 +359,7 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
   meta.integrator = s.integrator;
   meta.render_seconds = outcome.seconds;
   const Camera& camera = shot.camera;
-  const Box b = scene.bounds();
+  const Box b = scene.framing_bounds();
   meta.extra = {
       {"scene", r.scene},
       {"camera", std::to_string(shot.camera_index) +

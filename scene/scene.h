@@ -104,6 +104,11 @@ struct Scene {
   size_t node_count = 0;
 
   Box bounds() const { return geometry.bounds(); }
+  // What views are framed on (the camera made for a file without one, a --look-from without
+  // --look-at): the rest pose's bounds when the loader posed the scene, so that every frame of
+  // a sequence gets one view; else (empty) the geometry's.
+  Box view_bounds{};
+  Box framing_bounds() const { return view_bounds.empty() ? bounds() : view_bounds; }
 
   // The shading work this scene does not need, in words, for `dacrt info` and the render's
   // statistics: texture lookups and uv interpolation (no textured material), vertex colours,

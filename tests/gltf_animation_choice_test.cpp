@@ -189,6 +189,14 @@ TEST_CASE("cli: a sequence of a file without a camera keeps one view; each frame
   CHECK(headers[0].attributes.at("match.time") == "0");
   CHECK(headers[1].attributes.at("match.time") == "0.5");
   CHECK(headers[2].attributes.at("match.time") == "1");
+  // --look-from without --look-at looks at the rest pose's centre in every frame too.
+  REQUIRE(
+      run(dir, common + "--quiet --look-from 0.5,0.5,3 --frames 0:2 --fps 2 -o " + (dir / "l.exr"))
+          .code == 0);
+  const std::string looking = read_exr_header(dir / "l.0000.exr").attributes.at("match.camera");
+  CHECK(read_exr_header(dir / "l.0001.exr").attributes.at("match.camera") == looking);
+  CHECK(read_exr_header(dir / "l.0002.exr").attributes.at("match.camera") == looking);
+  CHECK(looking != headers[0].attributes.at("match.camera"));
   // --time renders the frame of that time, pixel for pixel (the same view).
   REQUIRE(run(dir, common + "--quiet --time 0.5 -o " + (dir / "t.exr")).code == 0);
   const Image frame = read_exr(dir / "f.0001.exr"), at_time = read_exr(dir / "t.exr");

@@ -208,8 +208,10 @@ struct GltfAnimation::Impl {
   std::vector<AnimationSummary> summaries;  // every animation of the file
   std::string choice;                       // "none", "all" or the index that plays
   std::string note;                         // animation_note's
-  // The camera made for a file without one, framing its rest pose (made once it is needed).
+  // The rest pose's bounds, and the camera made for a file without one, framing them (made once
+  // they are needed).
   mutable std::once_flag rest_made;
+  mutable Box rest_bounds;
   mutable Camera rest_camera;
 
   template <typename Read>
@@ -235,16 +237,20 @@ struct GltfAnimation::Impl {
       Scene scene = gltf::run(gltf, at, animations, geometry_only);
       scene.files = files;
       if (at.time && !geometry_only && !note.empty()) print_message(note);
-      // Posed, a file without a camera is framed as at rest: every time, every frame of a
-      // sequence the same view (framing each pose's bounds would shake the view as they change).
-      if (at.time && !animations.empty() && scene.cameras_from_file == 0) {
+      // Posed, the scene is framed as at rest (the camera made for a file without one, a
+      // --look-from without --look-at): every time, every frame of a sequence the same view
+      // (framing each pose's bounds would shake the view as they change).
+      if (at.time && !animations.empty()) {
         std::call_once(rest_made, [&] {
           GltfOptions rest = at;
           rest.time.reset();
           gltf::Gltf again(path, model);
-          rest_camera = gltf::run(again, rest, animations, true).cameras.at(0);
+          const Scene still = gltf::run(again, rest, animations, true);
+          rest_bounds = still.bounds();
+          rest_camera = still.cameras.at(0);
         });
-        scene.cameras.at(0) = rest_camera;
+        scene.view_bounds = rest_bounds;
+        if (scene.cameras_from_file == 0) scene.cameras.at(0) = rest_camera;
       }
       return scene;
     });
@@ -274,6 +280,7 @@ void GltfAnimation::pose(double time, Scene& scene) const {
   scene.tangents = std::move(posed.tangents);
   scene.cameras = std::move(posed.cameras);
   scene.cameras_from_file = posed.cameras_from_file;
+  scene.view_bounds = posed.view_bounds;
   scene.lights = std::move(posed.lights);
 }
 
