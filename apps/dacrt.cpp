@@ -140,7 +140,8 @@ constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer 
 
 Usage:
   dacrt render SCENE [options]   render a glTF 2.0 scene (.gltf or .glb) to OpenEXR
-  dacrt info SCENE [--scene N]   triangles, meshes, materials, variants, lights, animations,
+  dacrt info SCENE [--scene N] [--animation NAME|INDEX|all]
+                                 triangles, meshes, materials, variants, lights, animations,
                                  cameras, bounds
   dacrt views                    the display views a preview can use (`render --view`), from
                                  $OCIO when it is set
@@ -210,8 +211,10 @@ Image
   --scene INDEX              which of the file's scenes (default: the file's default scene)
   --variant NAME             the KHR_materials_variants variant to render (dacrt info lists them)
 Animation
-  --time SECONDS             evaluate the file's animations at this time (all of them play;
-                             default: the rest pose, nodes and morph weights as the file gives them)
+  --time SECONDS             evaluate the file's animations at this time (default: the rest pose,
+                             nodes and morph weights as the file gives them)
+  --animation NAME|INDEX|all which of the file's animations play (default: the first, index 0;
+                             all: every one at once); `dacrt info` lists them
   --frames FIRST:LAST        render frames FIRST..LAST, frame f at time f / fps, to OUT.%04d.exr
                              (and PREVIEW.%04d.png); each frame's geometry is re-made in place, and
                              the time that takes and each backend's build time are printed (and
@@ -288,6 +291,7 @@ std::string format_hex(float v) {
 // dacrt, dacrt-naive and brute share one and find the same hits bit for bit, Embree's differ in
 // the last bits.
 std::vector<std::pair<std::string, std::string>> match_keys(const RenderArgs& r, const Shot& shot,
+                                                            const std::string& animation,
                                                             const std::string& camera,
                                                             const std::string& inputs_hash,
                                                             const std::string& backend) {
@@ -313,6 +317,7 @@ std::vector<std::pair<std::string, std::string>> match_keys(const RenderArgs& r,
           {"match.gltfScene", std::to_string(r.gltf.scene)},
           {"match.variant", r.gltf.variant},
           {"match.time", r.gltf.time ? real(*r.gltf.time) : "rest pose"},
+          {"match.animation", r.gltf.time ? animation : "rest pose"},
           {"match.size", std::to_string(shot.width) + "x" + std::to_string(shot.height)},
           {"match.camera", camera},
           {"match.integrator", s.integrator},
@@ -354,7 +359,7 @@ void write_outputs(const RenderArgs& r, const Scene& scene, const Shot& shot, co
   meta.integrator = s.integrator;
   meta.render_seconds = outcome.seconds;
   const Camera& camera = shot.camera;
-  const Box b = scene.bounds();
+  const Box b = scene.framing_bounds();
   meta.extra = {
       {"scene", r.scene},
       {"camera", std::to_string(shot.camera_index) +
@@ -508,6 +513,7 @@ int render(const std::vector<std::string>& args) {
   auto t_load = std::chrono::steady_clock::now();
   std::optional<GltfAnimation> file(std::in_place, r.scene, r.gltf);
   Scene scene = file->load();
+  const std::string animation = file->animation_choice();  // which play (match.animation)
   // One frame is never posed again: the file's buffers (as large as the scene's) go now.
   if (frames.size() == 1) file.reset();
   double load_seconds = seconds_since(t_load);
@@ -559,7 +565,8 @@ int render(const std::vector<std::string>& args) {
       run.build_seconds = seconds_since(t0);
       RenderJob job(scene, *backend, s, shot);
       if (r.frames) r.gltf.time = frame_time(frame);  // each frame's own time (match.time)
-      const auto keys = match_keys(r, shot, view_text(shot.camera), inputs_hash, run.backend);
+      const auto keys =
+          match_keys(r, shot, animation, view_text(shot.camera), inputs_hash, run.backend);
       if (spread) check_ranks_agree(keys);
       std::optional<Film> earlier;
       if (r.resume) earlier = film_to_resume(run.output, job, keys, first, last, r.quiet);
@@ -674,17 +681,23 @@ int render(const std::vector<std::string>& args) {
 
 int info(const std::vector<std::string>& args) {
   if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help")) {
-    std::puts("Usage: dacrt info SCENE [--scene INDEX]");
+    std::puts("Usage: dacrt info SCENE [--scene INDEX] [--animation NAME|INDEX|all]");
     return 0;
   }
   GltfOptions options;
-  for (size_t i = 0; i < args.size(); ++i)
-    if (args[i].size() > 1 && args[i][0] == '-' && !(i == 1 && args[i] == "--scene"))
-      throw UsageError("info: unknown option " + args[i]);
-  if (args.size() == 3 && args[1] == "--scene")
-    options.scene = int(parse_int(args[1], args[2], 0, 1 << 20));
-  else if (args.size() != 1)
-    throw UsageError("info needs one SCENE, and optionally --scene INDEX");
+  const char* usage = "info needs one SCENE, and optionally --scene INDEX and --animation NAME";
+  if (args.empty()) throw UsageError(usage);
+  if (args[0].size() > 1 && args[0][0] == '-') throw UsageError("info: unknown option " + args[0]);
+  for (size_t i = 1; i < args.size(); i += 2) {
+    if (args[i] != "--scene" && args[i] != "--animation")
+      throw UsageError(args[i].size() > 1 && args[i][0] == '-' ? "info: unknown option " + args[i]
+                                                               : std::string(usage));
+    if (i + 1 >= args.size()) throw UsageError(args[i] + " needs a value");
+    if (args[i] == "--scene")
+      options.scene = int(parse_int(args[i], args[i + 1], 0, 1 << 20));
+    else if ((options.animation = args[i + 1]).empty())
+      throw UsageError("--animation needs a name, an index or all");
+  }
   const GltfAnimation file(args[0], options);
   Scene scene = file.load();
   const Geometry& g = scene.geometry;
@@ -717,8 +730,9 @@ int info(const std::vector<std::string>& args) {
               double(image_bytes) / 1e6, scene.images.size());
   std::string attributes = "POSITION";
   if (!scene.normals.empty()) attributes += ", NORMAL";
-  if (!scene.texcoords[0].empty()) attributes += ", TEXCOORD_0";
-  if (!scene.texcoords[1].empty()) attributes += ", TEXCOORD_1";
+  for (size_t slot = 0; slot < scene.texcoords.size(); ++slot)
+    if (!scene.texcoords[slot].empty())
+      attributes += ", TEXCOORD_" + std::to_string(scene.texcoord_sets[slot]);
   if (!scene.colors.empty()) attributes += ", COLOR_0";
   if (!scene.tangents.empty()) attributes += ", tangents (from the file or generated)";
   std::printf("attributes %s\n", attributes.c_str());
@@ -748,10 +762,23 @@ int info(const std::vector<std::string>& args) {
     std::printf("variants   %zu (render --variant NAME): %s\n", scene.variants.size(),
                 one_line(names).c_str());
   }
-  if (file.animation_count())
+  if (file.animation_count()) {
     std::printf(
-        "animation  %zu animations, keyframes to %g s (render --time T, --frames A:B --fps F)\n",
+        "animation  %zu animations, keyframes to %g s (render --animation NAME|INDEX|all, --time "
+        "T, --frames A:B --fps F)\n",
         file.animation_count(), file.end());
+    const std::vector<AnimationSummary>& all = file.animations();
+    for (size_t a = 0; a < all.size() && a < 1000; ++a) {
+      std::string shares;
+      for (size_t b : all[a].shares) shares += (shares.empty() ? "" : ", ") + std::to_string(b);
+      std::printf(
+          "  animation %zu%s: keyframes to %g s%s%s\n", a,
+          all[a].name.empty() ? "" : (" \"" + one_line(all[a].name.substr(0, 200)) + "\"").c_str(),
+          all[a].end, all[a].plays ? ", plays" : "",
+          shares.empty() ? "" : (", animates targets of " + shares + " too").c_str());
+    }
+    if (all.size() > 1000) std::printf("  ... (%zu in all)\n", all.size());
+  }
   std::printf("cameras    %zu%s\n", scene.cameras_from_file,
               scene.cameras_from_file ? "" : " (renders frame the scene's bounds)");
   for (size_t c = 0; c < scene.cameras.size(); ++c) {

@@ -163,6 +163,10 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
   } else if (a == "--variant") {
     r.gltf.variant = value();
     if (r.gltf.variant.empty()) throw UsageError("--variant needs a name (see dacrt info SCENE)");
+  } else if (a == "--animation") {
+    r.gltf.animation = value();
+    if (r.gltf.animation.empty())
+      throw UsageError("--animation needs a name, an index or all (see dacrt info SCENE)");
   } else if (a == "--time") {
     const std::string v = value();
     char* end = nullptr;

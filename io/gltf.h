@@ -15,10 +15,24 @@ struct GltfOptions {
   // KHR_materials_variants: the variant whose materials the primitives take; empty: their own.
   // A name the file does not have is a SettingError naming those it has.
   std::string variant{};
-  // The time in seconds the file's animations are evaluated at (every animation plays at once,
-  // each held at its ends); none: the rest pose (the nodes as the file gives them, morph weights
-  // their defaults: the node's, else the mesh's, else 0).
+  // The time in seconds the file's animations are evaluated at (those `animation` chooses, each
+  // held at its ends); none: the rest pose (the nodes as the file gives them, morph weights their
+  // defaults: the node's, else the mesh's, else 0). A file without a camera is framed on its rest
+  // pose at every time, so that the frames of a sequence share one view.
   std::optional<double> time{};
+  // Which of the file's animations play: empty, the first (animation 0); "all", every one at once
+  // (a target that several animate takes the last one's value); digits, the animation of that
+  // index; anything else, the animation of that name (the first of equal names). An index the
+  // file lacks or an unknown name is a SettingError naming the animations it has.
+  std::string animation{};
+};
+
+// One of a file's animations as `dacrt info` lists it.
+struct AnimationSummary {
+  std::string name;            // as the file names it (may be empty)
+  double end = 0.0;            // its last keyframe time, in seconds
+  bool plays = false;          // GltfOptions::animation chose it
+  std::vector<size_t> shares;  // the other animations that animate one of its targets too
 };
 
 Scene load_gltf(const std::string& path, const GltfOptions& options = {});
@@ -39,12 +53,19 @@ class GltfAnimation {
   // Re-makes `scene` (which load() made) at `time`: its triangles and per-corner attributes, its
   // cameras and lights; materials and textures are kept as they are.
   void pose(double time, Scene& scene) const;
-  // The last keyframe time of the file's animations (0 without any).
+  // The last keyframe time of the animations that play (0 without any).
   double end() const;
+  // Every animation of the file, whether it plays or not.
   size_t animation_count() const;
+  const std::vector<AnimationSummary>& animations() const;
+  // What GltfOptions::animation chose, as match keys and messages say it: "none" (a file without
+  // animations), "all", or the index.
+  std::string animation_choice() const;
 
  private:
   struct Impl;
+  friend Scene load_gltf_memory(const std::string&, const unsigned char*, size_t,
+                                const GltfOptions&);
   std::unique_ptr<Impl> impl_;
 };
 

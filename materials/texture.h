@@ -39,7 +39,9 @@ struct Texture {
 // which TEXCOORD set, and the affine uv transform (offset · rotation · scale).
 struct TextureRef {
   int32_t texture = -1;  // into Scene::textures; -1: none
-  uint8_t texcoord = 0;
+  // Which of Scene::texcoords: TEXCOORD_0 and _1 are 0 and 1, later sets as the loader numbers
+  // them (Scene::texcoord_sets says which set each is).
+  uint32_t texcoord = 0;
   glm::mat3x2 transform{1.f};
 
   explicit operator bool() const { return texture >= 0; }

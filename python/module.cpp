@@ -64,10 +64,12 @@ void check_time(std::optional<double> time) {
 }
 
 ScenePtr load_scene(const std::string& path, std::optional<std::string> variant,
-                    std::optional<int> scene_index, std::optional<double> time) {
+                    std::optional<int> scene_index, std::optional<double> time,
+                    std::optional<std::string> animation) {
   auto s = std::make_shared<LoadedScene>();
   s->path = path;
   if (variant) s->options.variant = *variant;
+  if (animation) s->options.animation = *animation;
   if (scene_index) s->options.scene = *scene_index;
   GltfOptions at = s->options;
   at.time = time;
@@ -108,6 +110,16 @@ py::dict scene_info(const LoadedScene& s) {
   info["variants"] = scene.variants;
   info["animations"] = s.file->animation_count();
   info["animation_end"] = s.file->end();
+  py::list clips;  // each animation: name, last keyframe time, whether it plays
+  for (const AnimationSummary& a : s.file->animations()) {
+    py::dict clip;
+    clip["name"] = message_text(a.name);
+    clip["end"] = a.end;
+    clip["plays"] = a.plays;
+    clip["shares_targets_with"] = a.shares;
+    clips.append(clip);
+  }
+  info["animation_list"] = clips;
   info["bounds"] = py::make_tuple(py::make_tuple(b.lo.x, b.lo.y, b.lo.z),
                                   py::make_tuple(b.hi.x, b.hi.y, b.hi.z));
   info["skipped"] = skipped;
@@ -178,6 +190,12 @@ py::object render(const py::object& scene_or_path, const py::kwargs& kwargs) {
     throw UsageError("--backend: one backend a call (" + r.backend + ")");
   if (loaded && (r.gltf.variant != loaded->options.variant || r.gltf.scene != loaded->options.scene))
     throw UsageError("variant= and the scene index are the loaded scene's: give them to load()");
+  // The animations that play are the loaded scene's: animation= may only repeat them.
+  if (loaded && kwargs.contains("animation") && r.gltf.animation != loaded->options.animation)
+    throw UsageError(
+        "animation= is the loaded scene's (" +
+        (loaded->options.animation.empty() ? std::string("the first") : loaded->options.animation) +
+        "): give it to load()");
   check_render_choices(r, {r.backend});
   r.backend_options.threads = r.threads;
 
@@ -363,7 +381,7 @@ PYBIND11_MODULE(dacrt, m) {
   m.def(
       "load",
       [](const py::object& path, const py::object& variant, std::optional<int> scene,
-         std::optional<double> time) {
+         std::optional<double> time, const py::object& animation) {
         const std::string bytes = path_argument(path, "path");
         // A variant name as the CLI takes it: any bytes (a str with surrogate escapes too).
         std::optional<std::string> name;
@@ -373,16 +391,35 @@ PYBIND11_MODULE(dacrt, m) {
                                  std::string(py::str(variant.get_type().attr("__name__"))));
           name = path_argument(variant, "variant");
         }
+        // An animation as --animation takes it: a name (str or bytes), an index, or "all".
+        std::optional<std::string> clip;
+        if (!animation.is_none()) {
+          if (py::isinstance<py::bool_>(animation) ||
+              !(py::isinstance<py::int_>(animation) || py::isinstance<py::str>(animation) ||
+                py::isinstance<py::bytes>(animation)))
+            throw py::type_error("animation= wants a name, an index or 'all', not " +
+                                 std::string(py::str(animation.get_type().attr("__name__"))));
+          if (py::isinstance<py::int_>(animation)) {
+            const long long index = py::cast<long long>(animation);
+            if (index < 0) throw py::value_error("animation= wants an index >= 0");
+            clip = std::to_string(index);
+          } else {
+            clip = path_argument(animation, "animation");
+            if (clip->empty()) throw py::value_error("animation= wants a name, an index or 'all'");
+          }
+        }
         check_time(time);
         const py::gil_scoped_release release;
-        return load_scene(bytes, std::move(name), scene, time);
+        return load_scene(bytes, std::move(name), scene, time, std::move(clip));
       },
       py::arg("path"), py::kw_only(), py::arg("variant") = py::none(),
         py::arg("scene") = py::none(), py::arg("time") = py::none(),
-        "load(path, *, variant=None, scene=None, time=None) -> Scene\n\n"
+        py::arg("animation") = py::none(),
+        "load(path, *, variant=None, scene=None, time=None, animation=None) -> Scene\n\n"
         "Loads a glTF 2.0 file (.gltf or .glb): `variant` a KHR_materials_variants name, "
-        "`scene` the index of a scene of the file (default: its default scene), `time` the "
-        "seconds its animations are evaluated at (default: the rest pose; render(time=...) "
+        "`scene` the index of a scene of the file (default: its default scene), `animation` "
+        "which of its animations play (a name, an index or 'all'; default: the first), `time` "
+        "the seconds they are evaluated at (default: the rest pose; render(time=...) "
         "poses it again). Raises dacrt.Error with the loader's one-line message.");
 
   m.def("render", &render, py::arg("scene"),
@@ -394,7 +431,8 @@ PYBIND11_MODULE(dacrt, m) {
         "backend= ('dacrt', 'dacrt-naive', 'embree', 'brute'), integrator=, seed=, "
         "samples=(first, last) (sample indices of the spp render), aovs=[...] (albedo, normal, "
         "depth, position, variance, samples: returned in a dict of (height, width[, 3]) arrays), "
-        "camera= (an index), time= (seconds), max_depth=, threads=, sampler=, look_from=(x, y, "
+        "camera= (an index), time= (seconds), animation= (a name, an index or 'all'; a loaded "
+        "scene's is given to load()), max_depth=, threads=, sampler=, look_from=(x, y, "
         "z), ...; True gives a bare flag. progress=True shows the progress bar on stderr. Bad "
         "options raise ValueError, a bad scene dacrt.Error. The GIL is released while rendering; "
         "Ctrl-C stops the render at its next wavefront and raises KeyboardInterrupt.");

@@ -41,7 +41,7 @@ Shot make_shot(const Scene& scene, const RenderSettings& s) {
   shot.camera_index = s.camera;
   shot.camera = scene.cameras[size_t(s.camera)];
   if (s.camera_override.any()) {
-    const Box b = scene.bounds();
+    const Box b = scene.framing_bounds();
     shot.camera = override_camera(shot.camera, s.camera_override,
                                   b.empty() ? glm::vec3(0.f) : b.center());
   }

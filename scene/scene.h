@@ -46,11 +46,15 @@ struct Scene {
   // Per-corner shading normals, 3 per triangle (corner-major: tri*3 + corner), world space and
   // normalised. Empty when no primitive had NORMAL; primitives without it get geometric normals.
   std::vector<glm::vec3> normals;
-  // More per-corner attributes, each empty when nothing needs it: TEXCOORD_0 and _1 (kept only if a
-  // material samples that set), COLOR_0 as linear RGBA (1 where a primitive has none), and
+  // More per-corner attributes, each empty when nothing needs it: TEXCOORD_n (kept only if a
+  // material samples set n), COLOR_0 as linear RGBA (1 where a primitive has none), and
   // tangents (xyz, w = bitangent sign; world space, from TANGENT or generated; kept only when a
   // material has a normal map; zero where none could be made).
-  std::vector<glm::vec2> texcoords[2];
+  // texcoords[k] is TEXCOORD_n for n = texcoord_sets[k] (TextureRef::texcoord is k): 0 and 1 are
+  // always TEXCOORD_0 and _1, the later sets a material samples follow in order, so that their
+  // count is bounded by the file's texture references, never by the numbers they give.
+  std::vector<std::vector<glm::vec2>> texcoords = std::vector<std::vector<glm::vec2>>(2);
+  std::vector<uint32_t> texcoord_sets = {0, 1};
   std::vector<glm::vec4> colors;
   std::vector<glm::vec4> tangents;
   // One per glTF image and texture; images that no material uses are left undecoded (empty).
@@ -100,6 +104,11 @@ struct Scene {
   size_t node_count = 0;
 
   Box bounds() const { return geometry.bounds(); }
+  // What views are framed on (the camera made for a file without one, a --look-from without
+  // --look-at): the rest pose's bounds when the loader posed the scene, so that every frame of
+  // a sequence gets one view; else (empty) the geometry's.
+  Box view_bounds{};
+  Box framing_bounds() const { return view_bounds.empty() ? bounds() : view_bounds; }
 
   // The shading work this scene does not need, in words, for `dacrt info` and the render's
   // statistics: texture lookups and uv interpolation (no textured material), vertex colours,

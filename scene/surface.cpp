@@ -9,7 +9,8 @@
 namespace dacrt {
 namespace {
 
-glm::vec2 texcoord(const Scene& scene, uint32_t tri, int set, float u, float v) {
+glm::vec2 texcoord(const Scene& scene, uint32_t tri, uint32_t set, float u, float v) {
+  if (set >= scene.texcoords.size()) return glm::vec2(0.f);
   const std::vector<glm::vec2>& uv = scene.texcoords[set];
   return uv.empty() ? glm::vec2(0.f) : interpolate(&uv[3 * size_t(tri)], u, v);
 }

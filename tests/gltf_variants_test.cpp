@@ -6,11 +6,12 @@
 #include <string>
 
 #include "dacrt/io/gltf.h"
+#include "dacrt/util/error.h"
 #include "tests/cli.h"
 #include "tests/gltf_check.h"
 #include "tests/gltf_triangle.h"
 #include "tests/gltf_writer.h"
-#include "dacrt/util/error.h"
+#include "tests/texture_fixtures.h"
 
 using namespace dacrt;
 using namespace dacrt::test;
@@ -92,4 +93,54 @@ TEST_CASE("KHR_materials_variants: broken lists and mappings are schema errors")
   w.doc["extensions"]["KHR_materials_variants"]["variants"][1].erase("name");
   check_error(w.write_gltf(dir / "name.gltf"),
               {"/extensions/KHR_materials_variants/variants/1", "name"});
+}
+
+TEST_CASE("KHR_materials_variants: a variant reads the images only it uses, .gltf and .glb alike") {
+  TempDir dir("gltf-variants-images");
+  const struct {
+    Embed embed;
+    const char* name;
+  } cases[] = {{Embed::file, "file.gltf"},
+               {Embed::data_uri, "data-uri.gltf"},
+               {Embed::buffer_view, "view.glb"}};
+  for (const auto& c : cases) {
+    INFO(c.name);
+    // The quad is red by its own material; variant "blue" maps it to material 1, textured by a
+    // blue image that nothing else uses; variant "plain" maps nothing.
+    GltfWriter w = quad_file({{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}}}});
+    add_texture(w, png8(1, 1, 4, {0, 0, 255, 255}), kNearest, c.embed, dir.path().string());
+    w.add_material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+    w.doc["extensionsUsed"] = {"KHR_materials_variants"};
+    w.doc["extensions"]["KHR_materials_variants"]["variants"] = {{{"name", "blue"}},
+                                                                 {{"name", "plain"}}};
+    w.doc["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]["mappings"] = {
+        {{"material", 1}, {"variants", {0}}}};
+    const std::string path =
+        c.embed == Embed::buffer_view ? w.write_glb(dir / c.name) : w.write_gltf(dir / c.name);
+    auto colour = [&](const std::string& variant) {
+      GltfOptions o;
+      o.variant = variant;
+      return quad_surface(load_gltf(path, o), 0.5f, 0.25f).brdf.base_color;
+    };
+    CHECK(near(colour(""), {1, 0, 0}));
+    CHECK(near(colour("blue"), {0, 0, 1}));
+    CHECK(near(colour("plain"), {1, 0, 0}));
+    if (c.embed == Embed::file) {
+      // The image file is read (and in the render's fingerprint) for the variant that uses it only.
+      auto image_bytes = [&](const std::string& variant) {
+        GltfOptions o;
+        o.variant = variant;
+        for (const FileRead& f : load_gltf(path, o).files)
+          if (f.path.find("image0.png") != std::string::npos) return f.bytes.value_or(0);
+        return uint64_t(0);
+      };
+      CHECK(image_bytes("") == 0);
+      CHECK(image_bytes("blue") > 0);
+    }
+    // The CLI renders the variant.
+    const Run r = run(dir, "render " + path + " --variant blue --width 4 --height 4 --spp 1 " +
+                               "--integrator albedo --quiet -o " + (dir / "blue.exr"));
+    INFO(r.err);
+    CHECK(r.code == 0);
+  }
 }

@@ -276,6 +276,97 @@ std::vector<NodePose> pose_at(const std::vector<Animation>& animations, size_t n
   return pose;
 }
 
+namespace {
+
+// "animation 2 ("run")", or "animation 2" for an unnamed one.
+std::string animation_name(const tinygltf::Model& model, size_t a) {
+  const std::string& name = model.animations[a].name;
+  return str(a) + (name.empty() ? "" : " (\"" + one_line(name.substr(0, 60)) + "\")");
+}
+
+// "0 ("walk"), 1 ("run")", at most the first 20.
+std::string animation_list(const tinygltf::Model& model, const std::vector<size_t>& which) {
+  std::string out;
+  for (size_t k = 0; k < which.size() && k < 20; ++k)
+    out += (k ? ", " : "") + animation_name(model, which[k]);
+  if (which.size() > 20) out += ", ... (" + str(which.size()) + " in all)";
+  return out;
+}
+
+}  // namespace
+
+std::vector<size_t> choose_animations(const Gltf& gltf, const std::string& choice) {
+  const size_t count = gltf.model.animations.size();
+  std::vector<size_t> all(count);
+  for (size_t a = 0; a < count; ++a) all[a] = a;
+  if (choice == "all") return all;
+  if (choice.empty()) return count ? std::vector<size_t>{0} : std::vector<size_t>{};
+  const std::string has =
+      count ? "it has " + str(count) + ": " + animation_list(gltf.model, all) : "it has none";
+  // Digits are an index (so that every animation can be chosen, whatever its name: "all" too).
+  if (choice.size() <= 9 &&
+      std::all_of(choice.begin(), choice.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    const size_t index = std::stoul(choice);
+    if (index < count) return {index};
+    throw SettingError(gltf.path + ": --animation " + choice +
+                       " is not an animation index of the file (" + has + ")");
+  }
+  for (size_t a = 0; a < count; ++a)
+    if (gltf.model.animations[a].name == choice) return {a};
+  throw SettingError(gltf.path + ": --animation \"" + one_line(choice.substr(0, 100)) +
+                     "\" is not an animation of the file (" + has + ")");
+}
+
+std::vector<AnimationSummary> summarize_animations(const Gltf& gltf,
+                                                   const std::vector<Animation>& animations,
+                                                   const std::vector<size_t>& chosen) {
+  std::vector<AnimationSummary> out(animations.size());
+  // Each target (node, path) and the animations that animate it.
+  std::map<std::pair<uint32_t, int>, std::vector<size_t>> by_target;
+  for (size_t a = 0; a < animations.size(); ++a) {
+    out[a].name = gltf.model.animations[a].name;
+    for (const AnimationChannel& ch : animations[a].channels) {
+      out[a].end = std::max(out[a].end, double(animations[a].samplers[ch.sampler].input.back()));
+      std::vector<size_t>& list = by_target[{ch.node, int(ch.path)}];
+      if (list.empty() || list.back() != a) list.push_back(a);
+    }
+  }
+  for (size_t a : chosen) out[a].plays = true;
+  for (const auto& [target, list] : by_target)
+    for (size_t a : list)
+      for (size_t b : list)
+        if (a != b) out[a].shares.push_back(b);
+  for (AnimationSummary& s : out) {
+    std::sort(s.shares.begin(), s.shares.end());
+    s.shares.erase(std::unique(s.shares.begin(), s.shares.end()), s.shares.end());
+  }
+  return out;
+}
+
+std::string animation_note(const Gltf& gltf, const std::vector<AnimationSummary>& summaries,
+                           const std::string& choice) {
+  const std::string how = " (--animation NAME|INDEX|all chooses)";
+  if (choice == "all") {
+    std::vector<size_t> sharing;
+    for (size_t a = 0; a < summaries.size(); ++a)
+      if (!summaries[a].shares.empty()) sharing.push_back(a);
+    if (sharing.empty()) return "";
+    return "note: " + gltf.path + ": every animation plays (--animation all), and animations " +
+           animation_list(gltf.model, sharing) +
+           " animate the same targets: a target they share takes the last one's value" + how;
+  }
+  if (!choice.empty() || summaries.size() < 2) return "";
+  std::vector<size_t> others;
+  for (size_t a = 1; a < summaries.size(); ++a) others.push_back(a);
+  const std::vector<size_t>& shares = summaries[0].shares;
+  std::string text = "note: " + gltf.path + ": animation " + animation_name(gltf.model, 0) +
+                     " plays, not " + animation_list(gltf.model, others);
+  if (!shares.empty())
+    text += " (of which " + animation_list(gltf.model, shares) + " animate" +
+            (shares.size() == 1 ? "s" : "") + " the same targets)";
+  return text + how;
+}
+
 double animation_end(const std::vector<Animation>& animations) {
   double end = 0.0;
   for (const Animation& a : animations)

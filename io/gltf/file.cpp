@@ -196,10 +196,11 @@ size_t array_size(const nlohmann::json& doc, const char* key) {
 
 // The images the render of scene `scene` (-1: the default) can show: those of the textures in
 // the material slots the loader samples (Material::sampled_textures) of the materials of the
-// triangle primitives of the meshes of the nodes under the scene's roots. A superset of what the
+// triangle primitives (those `variant` maps them to, if it names a KHR_materials_variants
+// variant) of the meshes of the nodes under the scene's roots. A superset of what the
 // loader decodes (which leaves out primitives a failure skips, and materials whose emission
 // rounds to 0 as float).
-std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
+std::vector<bool> used_images(const nlohmann::json& doc, int scene, const std::string& variant) {
   const size_t nodes = array_size(doc, "nodes"), meshes = array_size(doc, "meshes"),
                materials = array_size(doc, "materials"), textures = array_size(doc, "textures"),
                images = array_size(doc, "images");
@@ -223,6 +224,16 @@ std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
     if (auto m = index_at(node, "mesh", meshes)) mesh_used[*m] = true;
     push_all(member(node, "children"));
   }
+  // The KHR_materials_variants variant named `variant`, by index (none: the primitives' own
+  // materials).
+  std::optional<size_t> chosen;
+  const nlohmann::json& variants =
+      member(member(member(doc, "extensions"), "KHR_materials_variants"), "variants");
+  if (!variant.empty() && variants.is_array())
+    for (size_t v = 0; v < variants.size() && !chosen; ++v)
+      if (const nlohmann::json& name = member(variants[v], "name");
+          name.is_string() && name.get_ref<const std::string&>() == variant)
+        chosen = v;
   for (size_t m = 0; m < meshes; ++m) {
     const nlohmann::json& primitives = member(doc["meshes"][m], "primitives");
     if (mesh_used[m] && primitives.is_array())
@@ -230,8 +241,21 @@ std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
         // Points, lines and primitives without POSITION are skipped.
         const bool drawn = index_at(p, "mode", 7).value_or(4) >= 4 &&
                            member(member(p, "attributes"), "POSITION").is_number();
-        if (auto material = index_at(p, "material", materials); drawn && material)
-          material_used[*material] = true;
+        std::optional<size_t> material = index_at(p, "material", materials);
+        // KHR_materials_variants: the material the chosen variant maps the primitive to, as
+        // io/gltf/primitives.cpp's variant_material picks it.
+        bool mapped = false;
+        const nlohmann::json& mappings =
+            member(member(member(p, "extensions"), "KHR_materials_variants"), "mappings");
+        if (chosen && mappings.is_array())
+          for (const nlohmann::json& mapping : mappings) {
+            const nlohmann::json& variants = member(mapping, "variants");
+            if (mapped || !variants.is_array()) continue;
+            for (const nlohmann::json& v : variants)
+              if (v.is_number() && v.get<double>() == double(*chosen)) mapped = true;
+            if (mapped) material = index_at(mapping, "material", materials);
+          }
+        if (drawn && material) material_used[*material] = true;
       }
   }
   for (size_t i = 0; i < materials; ++i) {
@@ -298,7 +322,7 @@ std::vector<bool> used_images(const nlohmann::json& doc, int scene) {
 
 // Works out what the file's buffers and images ask for (ExternalFiles).
 void plan_external_files(const nlohmann::json& doc, const std::string& base_dir, int scene,
-                         ExternalFiles& files) {
+                         const std::string& variant, ExternalFiles& files) {
   auto named = [](const char* kind, size_t i, const nlohmann::json& uri) {
     return std::string(kind) + " " + std::to_string(i) + " (" +
            one_line(uri.get_ref<const std::string&>().substr(0, 200)) + ")";
@@ -314,7 +338,7 @@ void plan_external_files(const nlohmann::json& doc, const std::string& base_dir,
                              length.get<uint64_t>(), named("buffer", i, uri)});
     files.uri_paths.insert(files.buffers.back().path);
   }
-  files.image_used = used_images(doc, scene);
+  files.image_used = used_images(doc, scene, variant);
   const nlohmann::json& images = member(doc, "images");
   for (size_t i = 0; i < array_size(doc, "images"); ++i) {
     const nlohmann::json& uri = member(images[i], "uri");
@@ -565,7 +589,7 @@ Bytes rewritten(const Bytes& data, bool binary, size_t json_size, const nlohmann
 }
 
 tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
-                      std::vector<FileRead>* files) {
+                      std::vector<FileRead>* files, const std::string& variant) {
   const Bytes* input = &original;
   Bytes changed;
   const Bytes& data = original;
@@ -598,7 +622,7 @@ tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
   ExternalFiles external;
   external.available_memory = available_memory();
-  plan_external_files(doc, base_dir, scene, external);
+  plan_external_files(doc, base_dir, scene, variant, external);
   // The buffers' data URIs are tinygltf's to decode (from the text it parses): this copy of
   // them, as large as the file, goes before tinygltf makes its own.
   if (auto buffers = doc.find("buffers"); buffers != doc.end() && buffers->is_array())
@@ -626,15 +650,17 @@ tinygltf::Model parse(const std::string& path, const Bytes& original, int scene,
 
 }  // namespace
 
-tinygltf::Model read_gltf_model(const std::string& path, int scene,
-                                std::vector<FileRead>* files) {
+tinygltf::Model read_gltf_model(const std::string& path, int scene, std::vector<FileRead>* files,
+                                const std::string& variant) {
   Bytes data = read_file(path);
-  return parse(path, data, scene, files);  // a GLB's BIN chunk is copied into model.buffers
+  // A GLB's BIN chunk is copied into model.buffers.
+  return parse(path, data, scene, files, variant);
 }
 
 tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size,
-                                 int scene, std::vector<FileRead>* files) {
-  return parse(path, Bytes(data, data + size), scene, files);
+                                 int scene, std::vector<FileRead>* files,
+                                 const std::string& variant) {
+  return parse(path, Bytes(data, data + size), scene, files, variant);
 }
 
 }  // namespace dacrt

@@ -14,14 +14,18 @@
 
 namespace dacrt {
 
-// `scene` is the scene to be rendered (-1: the file's default). `files`, when given, receives the
-// external files the file names and tinygltf finds (buffers, images) with the bytes read of each
-// (a buffer's byteLength; none of an image the render does not use).
+// `scene` is the scene to be rendered (-1: the file's default), `variant` the
+// KHR_materials_variants variant its primitives take their materials from (empty: their own).
+// `files`, when given, receives the external files the file names and tinygltf finds (buffers,
+// images) with the bytes read of each (a buffer's byteLength; none of an image the render does
+// not use).
 tinygltf::Model read_gltf_model(const std::string& path, int scene = -1,
-                                std::vector<FileRead>* files = nullptr);
+                                std::vector<FileRead>* files = nullptr,
+                                const std::string& variant = "");
 // The same from bytes already in memory; `path` names them in messages, and external buffers are
 // looked up beside it.
 tinygltf::Model parse_gltf_model(const std::string& path, const unsigned char* data, size_t size,
-                                 int scene = -1, std::vector<FileRead>* files = nullptr);
+                                 int scene = -1, std::vector<FileRead>* files = nullptr,
+                                 const std::string& variant = "");
 
 }  // namespace dacrt

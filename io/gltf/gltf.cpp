@@ -31,6 +31,7 @@
 // the textures the placed meshes use. accessors.cpp and tangents.cpp serve them (internal.h).
 #include "dacrt/io/gltf.h"
 
+#include <mutex>
 #include <new>
 
 #include "dacrt/io/gltf/file.h"
@@ -212,7 +213,15 @@ struct GltfAnimation::Impl {
   GltfOptions options;
   std::vector<FileRead> files;
   tinygltf::Model model;
-  std::vector<gltf::Animation> animations;
+  std::vector<gltf::Animation> animations;  // those that play (GltfOptions::animation)
+  std::vector<AnimationSummary> summaries;  // every animation of the file
+  std::string choice;                       // "none", "all" or the index that plays
+  std::string note;                         // animation_note's
+  // The rest pose's bounds, and the camera made for a file without one, framing them (made once
+  // they are needed).
+  mutable std::once_flag rest_made;
+  mutable Box rest_bounds;
+  mutable Camera rest_camera;
 
   template <typename Read>
   Impl(const std::string& path, const GltfOptions& options, Read read)
@@ -220,7 +229,14 @@ struct GltfAnimation::Impl {
     guarded(path, [&] {
       model = read(files);
       gltf::Gltf gltf(path, model);
-      animations = gltf::read_animations(gltf);
+      std::vector<gltf::Animation> all = gltf::read_animations(gltf);
+      const std::vector<size_t> chosen = gltf::choose_animations(gltf, options.animation);
+      summaries = gltf::summarize_animations(gltf, all, chosen);
+      note = gltf::animation_note(gltf, summaries, options.animation);
+      choice = all.empty()                  ? "none"
+               : options.animation == "all" ? "all"
+                                            : std::to_string(chosen[0]);
+      for (size_t a : chosen) animations.push_back(std::move(all[a]));
       return 0;
     });
   }
@@ -229,6 +245,22 @@ struct GltfAnimation::Impl {
       gltf::Gltf gltf(path, model);
       Scene scene = gltf::run(gltf, at, animations, geometry_only);
       scene.files = files;
+      if (at.time && !geometry_only && !note.empty()) print_message(note);
+      // Posed, the scene is framed as at rest (the camera made for a file without one, a
+      // --look-from without --look-at): every time, every frame of a sequence the same view
+      // (framing each pose's bounds would shake the view as they change).
+      if (at.time && !animations.empty()) {
+        std::call_once(rest_made, [&] {
+          GltfOptions rest = at;
+          rest.time.reset();
+          gltf::Gltf again(path, model);
+          const Scene still = gltf::run(again, rest, animations, true);
+          rest_bounds = still.bounds();
+          rest_camera = still.cameras.at(0);
+        });
+        scene.view_bounds = rest_bounds;
+        if (scene.cameras_from_file == 0) scene.cameras.at(0) = rest_camera;
+      }
       return scene;
     });
   }
@@ -236,7 +268,7 @@ struct GltfAnimation::Impl {
 
 GltfAnimation::GltfAnimation(const std::string& path, const GltfOptions& options)
     : impl_(std::make_unique<Impl>(path, options, [&](std::vector<FileRead>& files) {
-        return read_gltf_model(path, options.scene, &files);
+        return read_gltf_model(path, options.scene, &files, options.variant);
       })) {}
 
 GltfAnimation::~GltfAnimation() = default;
@@ -252,11 +284,12 @@ void GltfAnimation::pose(double time, Scene& scene) const {
   scene.geometry = std::move(posed.geometry);
   scene.degenerate_triangles = posed.degenerate_triangles;  // a pose can collapse triangles
   scene.normals = std::move(posed.normals);
-  for (int set = 0; set < 2; ++set) scene.texcoords[set] = std::move(posed.texcoords[set]);
+  scene.texcoords = std::move(posed.texcoords);
   scene.colors = std::move(posed.colors);
   scene.tangents = std::move(posed.tangents);
   scene.cameras = std::move(posed.cameras);
   scene.cameras_from_file = posed.cameras_from_file;
+  scene.view_bounds = posed.view_bounds;
   scene.lights = std::move(posed.lights);
 }
 
@@ -265,7 +298,15 @@ double GltfAnimation::end() const {
 }
 
 size_t GltfAnimation::animation_count() const {
-  return impl_->animations.size();
+  return impl_->summaries.size();
+}
+
+const std::vector<AnimationSummary>& GltfAnimation::animations() const {
+  return impl_->summaries;
+}
+
+std::string GltfAnimation::animation_choice() const {
+  return impl_->choice;
 }
 
 Scene load_gltf(const std::string& path, const GltfOptions& options) {
@@ -274,14 +315,11 @@ Scene load_gltf(const std::string& path, const GltfOptions& options) {
 
 Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
                        const GltfOptions& options) {
-  return guarded(path, [&] {
-    std::vector<FileRead> files;
-    tinygltf::Model model = parse_gltf_model(path, data, size, options.scene, &files);
-    gltf::Gltf gltf(path, model);
-    Scene scene = gltf::run(gltf, options, gltf::read_animations(gltf));
-    scene.files = std::move(files);
-    return scene;
+  const GltfAnimation::Impl file(path, options, [&](std::vector<FileRead>& files) {
+    return parse_gltf_model(path, data, size, options.scene, &files, options.variant);
   });
+  Scene scene = file.load(options, false);
+  return scene;
 }
 
 }  // namespace dacrt

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "dacrt/io/gltf.h"
 #include "dacrt/scene/scene.h"
 #include "dacrt/util/error.h"
 
@@ -74,12 +75,21 @@ struct Gltf {
   mutable std::set<int> sourceless_textures, unknown_lights;
   // The animated values of each node at the time rendered (empty: the rest pose).
   std::vector<NodePose> pose;
+  // The TEXCOORD sets materials refer to, by Scene::texcoords slot (Scene::texcoord_sets), and
+  // the slot of each set: 0 and 1 are themselves, later sets numbered as they come.
+  mutable std::vector<uint32_t> texcoord_sets = {0, 1};
+  mutable std::map<uint32_t, uint32_t> texcoord_slots = {{0, 0}, {1, 1}};
 
   Gltf(const std::string& path, const tinygltf::Model& model) : path(path), model(model) {
     for (const std::string& name : model.extensionsUsed)
       quantized |= name == "KHR_mesh_quantization";
   }
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
+  uint32_t texcoord_slot(uint32_t set) const {
+    auto [it, added] = texcoord_slots.emplace(set, uint32_t(texcoord_sets.size()));
+    if (added) texcoord_sets.push_back(set);
+    return it->second;
+  }
 };
 
 template <class Number>
@@ -255,7 +265,8 @@ class MeshLoader {
   const uint64_t available_memory_;
   std::vector<glm::vec3> normals_;  // per corner; kept once any primitive has NORMAL
   bool keep_normals_ = false;
-  CornerStream<glm::vec2> texcoords_[2];
+  std::vector<CornerStream<glm::vec2>> texcoords_;  // by slot (Gltf::texcoord_sets)
+  std::vector<uint32_t> kept_texcoords_;            // the slots whose stream is on
   CornerStream<glm::vec4> colors_, tangents_;
   std::vector<bool> texture_used_;  // by a material some primitive uses
   int default_material_ = -1;
@@ -271,10 +282,25 @@ std::vector<Animation> read_animations(const Gltf& gltf);
 // Sampler `s`'s value at time t into out[0..components): held at the ends, STEP, LINEAR (slerp
 // when `rotation`) or CUBICSPLINE; rotations come out as unit quaternions (x, y, z, w).
 void sample(const AnimationSampler& s, double t, bool rotation, float* out);
-// Every channel of every animation at time t, for `nodes` nodes.
+// Every channel of every animation at time t, for `nodes` nodes (a target that several animate
+// takes the last one's value).
 std::vector<NodePose> pose_at(const std::vector<Animation>& animations, size_t nodes, double t);
 // The last keyframe time of any channel (0 without any).
 double animation_end(const std::vector<Animation>& animations);
+// The animations GltfOptions::animation `choice` names, as indices into the file's (in order);
+// a SettingError naming the file's animations when it names none.
+std::vector<size_t> choose_animations(const Gltf& gltf, const std::string& choice);
+// Each of `animations` (the file's, read) summed up for `dacrt info`: name, end, whether it is one
+// of `chosen`, and which others animate one of its targets (a node's translation, rotation, scale
+// or morph weights) too.
+std::vector<AnimationSummary> summarize_animations(const Gltf& gltf,
+                                                   const std::vector<Animation>& animations,
+                                                   const std::vector<size_t>& chosen);
+// A one-line note, when the choice was the default and other animations than the one that plays
+// exist (or all play and some share targets): which plays, which do not, which share its targets,
+// and the option that chooses; empty otherwise.
+std::string animation_note(const Gltf& gltf, const std::vector<AnimationSummary>& summaries,
+                           const std::string& choice);
 
 // Skins (skins.cpp): the joint matrices of skin `skin` (world(joint) × inverse bind matrix, one per
 // joint) from the nodes' world transforms `world`, checked (joints exist, the inverse bind

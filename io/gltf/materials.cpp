@@ -87,8 +87,7 @@ TextureRef texture_ref(const Gltf& gltf, const Info& info, const std::string& wh
                                 glm::vec2(s * scale.y, c * scale.y), offset);
   }
   if (set < 0) gltf.fail(what + ": texCoord " + str(set) + " is negative");
-  // Sets past TEXCOORD_1 are refused by the primitives that use the material (primitives.cpp).
-  ref.texcoord = uint8_t(std::min(set, 255));
+  ref.texcoord = gltf.texcoord_slot(uint32_t(set));
   return ref;
 }
 

@@ -81,7 +81,10 @@ void MeshLoader::add_mesh(int mesh, const glm::dmat4& world, int node, const Mes
 void MeshLoader::finish() {
   scene_.degenerate_triangles = degenerate_;
   if (keep_normals_) scene_.normals = std::move(normals_);
-  for (int set = 0; set < 2; ++set) scene_.texcoords[set] = std::move(texcoords_[set].data);
+  scene_.texcoord_sets = gltf_.texcoord_sets;
+  scene_.texcoords.assign(std::max<size_t>(2, texcoords_.size()), {});
+  for (size_t slot = 0; slot < texcoords_.size(); ++slot)
+    scene_.texcoords[slot] = std::move(texcoords_[slot].data);
   scene_.colors = std::move(colors_.data);
   scene_.tangents = std::move(tangents_.data);
 }
@@ -306,36 +309,39 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
       mat.normal_texture || !coat_map ? mat.normal_texture : mat.clearcoat_normal_texture;
   const bool anisotropic = mat.anisotropic();
   const bool wants_tangents = normal_map || anisotropic;
-  const int tangent_set = normal_map                ? normal_map.texcoord
-                          : mat.anisotropy_texture ? mat.anisotropy_texture.texcoord
-                                                    : 0;
+  const uint32_t tangent_set = normal_map               ? normal_map.texcoord
+                               : mat.anisotropy_texture ? mat.anisotropy_texture.texcoord
+                                                        : 0u;
   // Texture coordinates, only for the sets some material samples (and, for an anisotropic
-  // material without TANGENT, the set its tangents come from, if the primitive has it).
-  std::vector<glm::vec2> uv[2];
+  // material without TANGENT, the set its tangents come from, if the primitive has it); by slot
+  // (Gltf::texcoord_sets: TEXCOORD_0 and _1, then the later sets materials name).
+  const size_t slots = gltf_.texcoord_sets.size();
+  if (texcoords_.size() < slots) texcoords_.resize(slots);
+  std::vector<std::vector<glm::vec2>> uv(slots);
+  std::vector<bool> needed(slots, false);  // does this primitive's material sample the slot?
   for (const TextureRef* ref : mat.sampled_textures())
-    if (ref && *ref && ref->texcoord > 1)
-      gltf_.fail(where + ": its material samples TEXCOORD_" + str(int(ref->texcoord)) +
-                 (ref->texcoord == 255 ? " or a later set" : "") +
-                 ", and this version reads TEXCOORD_0 and TEXCOORD_1 only");
-  for (int set = 0; set < 2; ++set) {
-    const std::string name = set ? "TEXCOORD_1" : "TEXCOORD_0";
+    if (ref && *ref) needed[ref->texcoord] = true;
+  for (uint32_t slot = 0; slot < slots; ++slot) {
+    const bool for_tangents =
+        anisotropic && slot == tangent_set &&
+        !(prim.attributes.count("TANGENT") && prim.attributes.count("NORMAL"));
+    if (!needed[slot] && !for_tangents) continue;
+    const std::string name = "TEXCOORD_" + str(gltf_.texcoord_sets[slot]);
     auto attribute = prim.attributes.find(name);
-    bool needed = false;  // does this primitive's material sample set `set`?
-    for (const TextureRef* ref : mat.sampled_textures())
-      needed |= ref && *ref && ref->texcoord == set;
-    const bool for_tangents = anisotropic && set == tangent_set &&
-                              attribute != prim.attributes.end() &&
-                              !(prim.attributes.count("TANGENT") && prim.attributes.count("NORMAL"));
-    if (!needed && !for_tangents) continue;
-    if (attribute == prim.attributes.end())
+    if (attribute == prim.attributes.end()) {
+      if (!needed[slot]) continue;  // tangents from nothing: see untangented_anisotropic_
       gltf_.fail(where + ": its material samples " + name + ", which the primitive does not have");
+    }
     const std::string role = name + " of " + where;
     same_count(attribute->second, role);
     std::vector<glm::vec4> values =
         read_floats(gltf_, attribute->second, role, 2, 2, texcoord_types, 0.f, which);
-    uv[set].resize(values.size());
-    for (size_t i = 0; i < values.size(); ++i) uv[set][i] = glm::vec2(values[i]);
-    if (needed) texcoords_[set].start(before, glm::vec2(0.f));
+    uv[slot].resize(values.size());
+    for (size_t i = 0; i < values.size(); ++i) uv[slot][i] = glm::vec2(values[i]);
+    if (needed[slot] && !texcoords_[slot].on) {
+      texcoords_[slot].start(before, glm::vec2(0.f));
+      kept_texcoords_.push_back(slot);
+    }
   }
   std::vector<glm::vec4> colors;
   if (auto attribute = prim.attributes.find("COLOR_0"); attribute != prim.attributes.end()) {
@@ -372,8 +378,8 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
 
   // Shading normals per corner, as stored: computed once, when they are kept or tangents are
   // generated from them.
-  const bool generate = tangents.empty() && wants_tangents && tangent_set < 2 &&
-                        !uv[tangent_set].empty();
+  const bool generate =
+      tangents.empty() && wants_tangents && tangent_set < slots && !uv[tangent_set].empty();
   std::vector<glm::vec3> corner_normals;  // 3 per triangle of `corners`
   if (keep_normals_ || generate) {
     corner_normals.reserve(3 * corners.size());
@@ -411,9 +417,8 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     for (int k = 0; k < 3; ++k) {
       const uint32_t i = c[size_t(k)];
       if (keep_normals_) normals_.push_back(corner_normals[3 * t + size_t(k)]);
-      for (int set = 0; set < 2; ++set)
-        if (texcoords_[set].on)
-          texcoords_[set].data.push_back(uv[set].empty() ? glm::vec2(0.f) : uv[set][i]);
+      for (uint32_t slot : kept_texcoords_)
+        texcoords_[slot].data.push_back(uv[slot].empty() ? glm::vec2(0.f) : uv[slot][i]);
       if (colors_.on) colors_.data.push_back(colors.empty() ? glm::vec4(1.f) : colors[i]);
       if (tangents_.on)
         tangents_.data.push_back(corner_tangents.empty() ? glm::vec4(0.f)

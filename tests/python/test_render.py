@@ -154,3 +154,49 @@ def test_time_poses_a_loaded_scene_as_the_cli_loads_it(tmp_path):
     assert same_bits(dacrt.render(scene, **size), rest)  # back to the rest pose
     at_half = dacrt.load(scene_path, time=0.5)
     assert same_bits(dacrt.render(at_half, time=0.5, **size), dacrt.render(scene, time=0.5, **size))
+
+
+def two_clip_triangle(tmp_path):
+    """animated_triangle's file with a second animation, "back", moving the same node to x = -0.5."""
+    import json, pathlib
+    path = pathlib.Path(animated_triangle(tmp_path))
+    gltf = json.loads(path.read_text())
+    import base64, struct
+    data = base64.b64decode(gltf["buffers"][0]["uri"].split(",")[1])
+    data += struct.pack("6f", 0, 0, 0, -0.5, 0, 0)
+    gltf["buffers"][0] = {"byteLength": len(data), "uri": "data:application/octet-stream;base64," +
+                          base64.b64encode(data).decode()}
+    gltf["bufferViews"].append({"buffer": 0, "byteOffset": 68, "byteLength": 24})
+    gltf["accessors"].append({"bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3"})
+    gltf["animations"][0]["name"] = "there"
+    gltf["animations"].append({"name": "back", "samplers": [{"input": 1, "output": 3}],
+                               "channels": [{"sampler": 0,
+                                             "target": {"node": 0, "path": "translation"}}]})
+    path.write_text(json.dumps(gltf))
+    return str(path)
+
+
+def test_animation_chooses_the_clips_as_the_cli_does(tmp_path):
+    scene_path = two_clip_triangle(tmp_path)
+    size = dict(spp=2, width=32, height=24)
+    first = dacrt.load(scene_path)
+    clips = first.info["animation_list"]
+    assert [(c["name"], c["plays"]) for c in clips] == [("there", True), ("back", False)]
+    assert clips[0]["shares_targets_with"] == [1]
+    for choice in ("back", 1, "all", "there"):
+        scene = dacrt.load(scene_path, animation=choice)
+        exr = cli_render(tmp_path, scene_path, "--spp", "2", "--width", "32", "--height", "24",
+                         "--time", "1", "--animation", str(choice))
+        assert same_bits(dacrt.render(scene, time=1.0, **size), channel_of(exr, ["R", "G", "B"]))
+        assert same_bits(dacrt.render(scene_path, time=1.0, animation=choice, **size),
+                         channel_of(exr, ["R", "G", "B"]))
+    assert not same_bits(dacrt.render(first, time=1.0, **size),
+                         dacrt.render(dacrt.load(scene_path, animation="back"), time=1.0, **size))
+    with pytest.raises(ValueError, match="animation= is the loaded scene's"):
+        dacrt.render(first, time=1.0, animation="back", **size)
+    with pytest.raises(ValueError, match='--animation "jog" is not an animation of the file'):
+        dacrt.load(scene_path, animation="jog")
+    with pytest.raises(ValueError, match="is not an animation index of the file"):
+        dacrt.load(scene_path, animation=2)
+    with pytest.raises(TypeError, match="animation= wants a name, an index or 'all'"):
+        dacrt.load(scene_path, animation=True)
