@@ -197,7 +197,10 @@ glm::vec3 emission_at(const Scene& scene, uint32_t tri, float u, float v,
     e *= glm::vec3(interpolate(&scene.colors[3 * size_t(tri)], u, v));
   if (m.emissive_texture && m.emissive())
     e *= glm::vec3(lookup(scene, m.emissive_texture, tri, u, v, true));
-  if (m.clearcoat > 0.f && !m.unlit) e *= coat_emission_weight(scene, m, tri, u, v, towards);
+  // (Where the emission is black, as most of a mostly dark emissive texture is, the coat's
+  // weight is not worked out.)
+  if (m.clearcoat > 0.f && !m.unlit && e != glm::vec3(0.f))
+    e *= coat_emission_weight(scene, m, tri, u, v, towards);
   return e;
 }
 
