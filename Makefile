@@ -18,7 +18,9 @@ configure: deps $(BUILD)/CMakeCache.txt
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
-render: build
+# Only the CLI: a first picture does not wait for the test binary.
+render: configure
+	cmake --build $(BUILD) -j $(JOBS) --target dacrt-cli
 	@mkdir -p out
 	$(BUILD)/dacrt render $(SCENE) -o out/$(basename $(notdir $(SCENE))).exr \
 	  --preview out/$(basename $(notdir $(SCENE))).png --stats out/$(basename $(notdir $(SCENE))).json $(RENDER_ARGS)

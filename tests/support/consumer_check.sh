@@ -32,6 +32,13 @@ step render "$work/prefix/bin/dacrt" render "$scene" --width 24 --height 16 --sp
 module=$(find "$work/prefix" -name 'dacrt.cpython-*.so' | head -n 1)
 if [ -n "$module" ]; then
   python=${DACRT_PYTHON:-/usr/bin/python3}
+  # Installed to /usr/local, the module would be where the interpreter looks without PYTHONPATH.
+  where=$(dirname "$module")
+  where=/usr/local/${where#"$work/prefix/"}
+  if ! "$python" -c "import sys; sys.exit('$where' not in sys.path)"; then
+    echo "consumer check: the module installs to PREFIX/${where#/usr/local/}, which $python does not search under /usr/local"
+    exit 1
+  fi
   preload=""
   case "$flags" in  # a sanitized module needs the sanitizers' runtime (and libstdc++, for
     # ASan's __cxa_throw interceptor) loaded before the interpreter
