@@ -1,12 +1,15 @@
 // The docs against the code they describe: docs/usage.md must name every option the CLI's --help
 // prints, in the section of the command that prints it, and nothing the CLI no longer has; its
-// table of dacrt backend keys must be the keys `render --help` and `bench --help` list; and every
-// relative link in README.md and docs/*.md must lead to a file (and heading) that exists.
+// table of dacrt backend keys must be the keys `render --help` and `bench --help` list; every
+// relative link in README.md and docs/*.md must lead to a file (and heading) that exists; and
+// docs/architecture.md's source tree must name every file of the code's folders and no file
+// that is not there.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -348,4 +351,114 @@ TEST_CASE("docs: every relative link in README.md and docs/*.md leads to a file 
     }
   }
   CHECK(relative >= 10);  // the links were found at all
+}
+
+namespace {
+
+// docs/architecture.md's source tree: each folder's entry ("name/" at the line's start, or
+// indented for a subfolder) and the text that describes it, up to the next entry.
+std::vector<std::pair<std::string, std::string>> tree_entries(const std::string& page) {
+  std::vector<std::pair<std::string, std::string>> entries;
+  bool in_block = false;
+  std::string parent;
+  for (const std::string& line : lines_of(page)) {
+    if (line.rfind("```", 0) == 0) {
+      if (in_block && !entries.empty()) break;  // the end of the tree's block
+      in_block = true;
+      continue;
+    }
+    if (!in_block) continue;
+    const size_t indent = line.find_first_not_of(' ');
+    if (indent == std::string::npos) continue;
+    const size_t slash = line.find('/', indent);
+    const bool entry = (indent == 0 || indent == 2) && slash != std::string::npos &&
+                       std::all_of(line.begin() + long(indent), line.begin() + long(slash),
+                                   word_char);
+    if (entry) {
+      const std::string name = line.substr(indent, slash - indent);
+      if (indent == 0) parent = name;
+      entries.push_back({indent == 0 ? name : parent + "/" + name, line.substr(slash + 1)});
+    } else if (!entries.empty()) {
+      entries.back().second += " " + line;
+    }
+  }
+  return entries;
+}
+
+// The file names a description writes with a source file's extension ("a.h", "b.{h,cpp}",
+// "c.py"), braces expanded.
+Names named_files(const std::string& text) {
+  Names names;
+  for (size_t i = 0; i < text.size();) {
+    if (!word_char(text[i]) || (i > 0 && (word_char(text[i - 1]) || text[i - 1] == '.'))) {
+      ++i;
+      continue;
+    }
+    size_t j = i;
+    while (j < text.size() && word_char(text[j])) ++j;
+    const std::string stem = text.substr(i, j - i);
+    if (j + 1 < text.size() && text[j] == '.' && text[j + 1] == '{') {
+      const size_t close = text.find('}', j);
+      std::istringstream list(text.substr(j + 2, close - j - 2));
+      for (std::string ext; std::getline(list, ext, ',');) names.insert(stem + "." + ext);
+      i = close + 1;
+    } else if (j + 1 < text.size() && text[j] == '.' && std::isalpha(uint8_t(text[j + 1]))) {
+      size_t k = j + 1;
+      while (k < text.size() && std::isalnum(uint8_t(text[k]))) ++k;
+      // (Only a source file's extensions: "library.md" is a link, "match.inputs" a key.)
+      static const Names kinds = {"h", "cpp", "py", "sh", "dict"};
+      if (kinds.count(text.substr(j + 1, k - j - 1))) names.insert(text.substr(i, k - i));
+      i = k;
+    } else {
+      i = j;
+    }
+  }
+  return names;
+}
+
+}  // namespace
+
+TEST_CASE("docs: architecture.md's source tree names every file of the code's folders, and only "
+          "files that exist") {
+  const auto entries = tree_entries(slurp(source_dir / "docs" / "architecture.md"));
+  REQUIRE(entries.size() >= 15);
+  std::map<std::string, std::string> text;
+  for (const auto& [folder, description] : entries) text[folder] += " " + description;
+  // Every folder of code is in the tree.
+  for (const char* folder : {"util", "materials", "tracer", "tracer/dacrt", "scene", "film", "io",
+                             "io/gltf", "integrators", "render", "bench", "apps", "python",
+                             "fuzz", "tools", "examples", "tests", "blender"}) {
+    INFO(std::string(folder));
+    CHECK(text.count(folder));
+  }
+  // Each file a description names with its extension exists in that folder.
+  for (const auto& [folder, description] : text)
+    for (const std::string& name : named_files(description)) {
+      if (folder == "tests" || folder == "blender") break;  // (described by kind)
+      INFO(folder << "/ names " << name);
+      CHECK(fs::exists(source_dir / folder / name));
+    }
+  // Each source file of the code's folders is named, with its extension or by its stem.
+  for (const char* folder : {"util", "materials", "tracer", "tracer/dacrt", "scene", "film", "io",
+                             "io/gltf", "integrators", "render", "bench", "apps", "python",
+                             "fuzz", "tools", "examples"}) {
+    const std::string& description = text[folder];
+    for (const fs::directory_entry& file : fs::directory_iterator(source_dir / folder)) {
+      if (!file.is_regular_file()) continue;
+      const std::string name = file.path().filename().string();
+      const std::string stem = file.path().stem().string();
+      auto said = [&](const std::string& word) {
+        for (size_t at = description.find(word); at != std::string::npos;
+             at = description.find(word, at + 1)) {
+          const size_t end = at + word.size();
+          if ((at == 0 || !word_char(description[at - 1])) &&
+              (end == description.size() || !word_char(description[end])))
+            return true;
+        }
+        return false;
+      };
+      INFO(std::string(folder) << "/" << name << " is not in architecture.md's tree");
+      CHECK((named_files(description).count(name) || said(stem)));
+    }
+  }
 }
