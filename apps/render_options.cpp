@@ -310,16 +310,23 @@ void check_adaptive(const RenderSettings& s) {
 
 void check_render_choices(const RenderArgs& r, const std::vector<std::string>& backends) {
   check_integrator(r.settings.integrator);
-  const std::vector<std::string> known = Backend::names();
-  for (const std::string& name : backends)
-    if (std::find(known.begin(), known.end(), name) == known.end())
-      Backend::create(name, Geometry{});  // throws the registry's error naming the backends
+  for (const std::string& name : backends) check_backend(name);
   try {
     r.backend_options.check_prefixes(backends);
     for (const std::string& name : backends)
       Backend::create(name, Geometry{}, r.backend_options.for_plugin(name));
   } catch (const Error& e) {
     throw UsageError(std::string("--backend-option: ") + e.what());
+  }
+}
+
+void check_backend(const std::string& name) {
+  const std::vector<std::string> known = Backend::names();
+  if (std::find(known.begin(), known.end(), name) != known.end()) return;
+  try {
+    Backend::create(name, Geometry{});  // throws the registry's error naming the backends
+  } catch (const Error& e) {
+    throw UsageError(e.what());
   }
 }
 

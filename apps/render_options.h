@@ -71,6 +71,8 @@ void check_integrator(const std::string& name);
 // of `backends` is (Error naming those there are), and every --backend-option is for one of them
 // and taken by it, each backend built once on no geometry (UsageError).
 void check_render_choices(const RenderArgs& r, const std::vector<std::string>& backends);
+// A backend name the registry does not know is a usage error naming the known ones.
+void check_backend(const std::string& name);
 
 // An integer in [lo, hi] for `flag`, else UsageError.
 long parse_int(const std::string& flag, const std::string& text, long lo, long hi);

@@ -133,6 +133,8 @@ std::vector<std::string> render_options(const py::kwargs& kwargs) {
   py::kwargs rest;
   for (const auto& [key, value] : kwargs) {
     const std::string name = py::cast<std::string>(key);
+    if (name == "aov")  // (the CLI's repeated --aov: here one list, which also asks for them back)
+      throw py::type_error("no aov= here: aovs=[...] renders the AOVs and returns them");
     if (name == "aovs")
       rest["aov"] = value;
     else if (name == "samples" && py::isinstance<py::sequence>(value) &&
@@ -283,6 +285,7 @@ RayBatch rays_from(const py::array_t<float, py::array::c_style | py::array::forc
 py::object trace(const ScenePtr& scene, const py::array_t<float, py::array::c_style | py::array::forcecast>& origins,
                  const py::array_t<float, py::array::c_style | py::array::forcecast>& directions,
                  const std::string& backend_name, float tmin, float tmax, bool occluded) {
+  check_backend(backend_name);
   const RayBatch rays = rays_from(origins, directions, tmin, tmax);
   const py::ssize_t n = py::ssize_t(rays.size());
   std::atomic<bool> stop{false};  // a backend call is not stopped midway: Ctrl-C waits for it

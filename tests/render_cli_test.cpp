@@ -343,6 +343,14 @@ TEST_CASE("render cli: --integrator picks one by name, an unknown one is refused
   for (const char* word : {"'nope'", "path", "direct", "ao", "albedo", "normal", "depth"})
     CHECK_MESSAGE(bad.err.find(word) != std::string::npos, word);
   CHECK(bad.err.find("missing.gltf") == std::string::npos);
+  // So is an unknown backend: a usage error (exit 2), with the names of the known ones.
+  Run backend =
+      run(dir, "render " + (dir / "missing.gltf") + " --backend embre -o " + (dir / "bad.exr"));
+  INFO(backend.err);
+  CHECK(backend.code == 2);
+  CHECK(lines(backend.err) == 1);
+  CHECK(backend.err.find("'embre'") != std::string::npos);
+  CHECK(backend.err.find("dacrt-naive") != std::string::npos);
   for (const std::string name : {"path", "direct", "ao", "albedo", "normal", "depth"}) {
     const std::string out = dir / (name + ".exr");
     Run r = run(dir, "render " + cornell + " --width 8 --height 8 --spp 1 --quiet --integrator " +

@@ -84,6 +84,11 @@ def test_errors_are_the_cli_messages_as_exceptions(tmp_path):
         dacrt.render(CORNELL, integrator="nope")
     with pytest.raises(ValueError, match="unknown option --colour"):
         dacrt.render(CORNELL, colour=3)
+    with pytest.raises(ValueError, match="unknown backend 'embre'"):
+        dacrt.render(CORNELL, backend="embre")
+    # The CLI's repeated --aov is one list here, aovs=, which also returns them.
+    with pytest.raises(TypeError, match="aovs="):
+        dacrt.render(CORNELL, aov=["albedo"])
     missing = str(tmp_path / "missing.gltf")
     with pytest.raises(dacrt.Error) as no_file:
         dacrt.load(missing)
