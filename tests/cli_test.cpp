@@ -109,7 +109,7 @@ TEST_CASE("cli: an unwritable output fails before rendering, and names the path"
   CHECK(lines(r.err) == 1);
   CHECK(r.err.find("no/such/dir") != std::string::npos);
   Run bad_backend = run(dir, "render " + cornell + " -o " + (dir / "x.exr") + " --backend warp");
-  CHECK(bad_backend.code == 1);
+  CHECK(bad_backend.code == 2);  // (a usage error)
   CHECK(bad_backend.err.find("warp") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "x.exr"));
 }
