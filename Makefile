@@ -43,12 +43,15 @@ test-blender: build
 stress: build
 	cd $(BUILD) && ./dacrt-tests -tc='stress:*' && ./dacrt-tests -ts=stress-sweep --no-skip
 
-# AddressSanitizer + UndefinedBehaviorSanitizer build in its own directory.
+# AddressSanitizer + UndefinedBehaviorSanitizer build in its own directory. The three statistical
+# end-to-end renders of the convergence suite (3.5 minutes of CPU there) run in `make test` only:
+# the code they cover runs under the sanitizers in the shorter render tests.
+SANITIZE_SKIP ?= convergence suite: (many low-spp|the Lambert lanes render|embree agrees)
 test-sanitize: deps
 	@bash tools/install-deps.sh chromium tidy
 	cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDACRT_SANITIZE=ON
 	cmake --build build-sanitize -j $(JOBS)
-	cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
+	cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS) -E '$(SANITIZE_SKIP)'
 
 # libFuzzer on the glTF loader, on the EXR environment map reader and on the part file reader of
 # `dacrt merge` and `render --resume` (clang), FUZZ_SECONDS each: 10 minutes in all by default.
