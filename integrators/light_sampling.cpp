@@ -36,9 +36,7 @@ LightSampling::LightSampling(const Scene& scene, std::span<const PunctualLight> 
     const uint32_t tri = lights_.triangle(entry);
     const Material& m = scene.materials[g.material[tri]];
     const LightSampler::Emitter& e = *lights_.emitter(tri);
-    if (m.emissive_texture || m.unlit || m.clearcoat > 0.f ||
-        m.alpha_mode != Material::AlphaMode::opaque)
-      continue;
+    if (!m.uniform_emission() || m.unlit || m.alpha_mode != Material::AlphaMode::opaque) continue;
     if (!(e.area >= 0x1p-60 && e.area <= 0x1p60)) continue;
     area_emitters_[entry] = AreaEmitter{{g.vertex(tri, 0), g.vertex(tri, 1), g.vertex(tri, 2)},
                                         e.normal,

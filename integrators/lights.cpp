@@ -17,7 +17,7 @@ namespace {
 glm::vec3 average_emission(const Scene& scene, uint32_t tri) {
   const Material& m = scene.materials[scene.geometry.material[tri]];
   const bool covered = m.alpha_mode == Material::AlphaMode::opaque;
-  if (!m.emissive_texture && covered && !(m.clearcoat > 0.f)) return m.emission;
+  if (m.uniform_emission() && covered) return m.emission;
   constexpr float third = 1.f / 3.f, near = 2.f / 3.f, far = 1.f / 6.f;
   const glm::vec2 points[4] = {{third, third}, {far, far}, {near, far}, {far, near}};
   glm::vec3 sum(0.f);

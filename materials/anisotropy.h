@@ -14,6 +14,8 @@
 // otherwise; Anisotropy::to_local takes them there from the shading frame.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <glm/glm.hpp>
 
 namespace dacrt {
@@ -35,6 +37,18 @@ struct Anisotropy {
 inline float anisotropic_alpha(float alpha, float strength) {
   const float s2 = strength * strength;
   return alpha * (1.f - s2) + s2;
+}
+
+// The stretched lobe of isotropic α for a strength > 0 (at most 1 is used) along `direction`
+// (shading frame; normalised here, (1, 0) where it is zero or not finite). True where it is
+// stretched at all (α_t > α_b: not at α = 1); the lobe is then `a`.
+inline bool stretched_lobe(float alpha, float strength, const glm::vec2& direction,
+                           Anisotropy& a) {
+  a.alpha_b = alpha;
+  a.alpha_t = anisotropic_alpha(alpha, std::min(strength, 1.f));
+  const float length = glm::length(direction);
+  if (length > 0.f && std::isfinite(length)) a.t = direction / length;
+  return a.alpha_t > a.alpha_b;
 }
 
 float ggx_d_anisotropic(const glm::vec3& h, float alpha_t, float alpha_b);

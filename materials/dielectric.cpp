@@ -46,13 +46,8 @@ RoughDielectric::RoughDielectric(float eta, const BrdfParams& p, bool front)
     film_thickness_ = p.iridescence_thickness;
   }
   plain_ = specular_ == 1.f && p.specular_color == glm::vec3(1.f) && iridescence_ == 0.f;
-  if (p.anisotropy > 0.f) {
-    anisotropy_.alpha_b = alpha_;
-    anisotropy_.alpha_t = anisotropic_alpha(alpha_, std::min(p.anisotropy, 1.f));
-    const float length = glm::length(p.anisotropy_direction);
-    if (length > 0.f && std::isfinite(length)) anisotropy_.t = p.anisotropy_direction / length;
-    anisotropic_ = anisotropy_.alpha_t > anisotropy_.alpha_b;
-  }
+  if (p.anisotropy > 0.f)
+    anisotropic_ = stretched_lobe(alpha_, p.anisotropy, p.anisotropy_direction, anisotropy_);
 }
 
 RoughDielectric::Split RoughDielectric::split(float cos_oh) const {

@@ -75,13 +75,8 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
   // KHR_materials_anisotropy: α_t = mix(α, 1, strength²) along the direction, α_b = α across
   // (an isotropic material stops at the first test).
   anisotropic_ = false;
-  if (p.anisotropy > 0.f && !lambertian_) {
-    anisotropy_.alpha_b = alpha_;
-    anisotropy_.alpha_t = anisotropic_alpha(alpha_, std::min(p.anisotropy, 1.f));
-    const float length = glm::length(p.anisotropy_direction);
-    if (length > 0.f && std::isfinite(length)) anisotropy_.t = p.anisotropy_direction / length;
-    anisotropic_ = anisotropy_.alpha_t > anisotropy_.alpha_b;
-  }
+  if (p.anisotropy > 0.f && !lambertian_)
+    anisotropic_ = stretched_lobe(alpha_, p.anisotropy, p.anisotropy_direction, anisotropy_);
 }
 
 float GltfBrdf::microfacet(const glm::vec3& wo, const glm::vec3& wi, const glm::vec3& h) const {

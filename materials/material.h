@@ -121,6 +121,9 @@ struct Material {
   bool emissive() const { return emission.x > 0.f || emission.y > 0.f || emission.z > 0.f; }
   // Casts light: emissive and not unlit (an unlit surface's colour is seen, not shone).
   bool emitter() const { return emissive() && !unlit; }
+  // An emitter's radiance is `emission` at every point and towards every direction: no emissive
+  // texture, and no clearcoat darkening it by angle (scene/surface.h: emission_at).
+  bool uniform_emission() const { return !emissive_texture && !(clearcoat > 0.f); }
   // (One object returned on every path, so that it is built in place: this runs at every hit.)
   BrdfParams brdf() const {
     BrdfParams p;
