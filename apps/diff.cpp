@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "apps/false_color.h"
-#include "apps/render_options.h"
+#include "dacrt/render/request.h"
 #include "dacrt/io/color.h"
 #include "dacrt/io/exr.h"
 #include "dacrt/render/convergence.h"

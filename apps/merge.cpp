@@ -9,10 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "apps/render_options.h"
+#include "dacrt/render/request.h"
 #include "dacrt/io/color.h"
 #include "dacrt/io/exr.h"
 #include "dacrt/io/film_exr.h"
+#include "dacrt/render/header.h"
 #include "dacrt/render/part_plan.h"
 #include "dacrt/render/render_job.h"
 #include "dacrt/util/atomic_file.h"
@@ -88,13 +89,6 @@ MergeArgs parse_merge(const std::vector<std::string>& args) {
   return m;
 }
 
-// The attributes a merged file gets anew rather than from its first part.
-const std::set<std::string> recomputed = {
-    "spp",        "backend",        "integrator",       "renderSeconds",  "sampleRange",
-    "sampleRangeMost", "samplesPerPixel", "stoppedBy", "samplesDropped", "samplesClamped",
-    "exactSums",  "software",       "dacrtVersion",     "mergedFrom",     "samplesMissing",
-    "sampleRanges"};
-
 }  // namespace
 
 int merge_main(const std::vector<std::string>& args) {
@@ -121,8 +115,8 @@ int merge_main(const std::vector<std::string>& args) {
   for (const std::string& file : m.parts) {
     headers.push_back(read_sums_header(file, "to merge"));
     const auto& attributes = headers.back().attributes;
-    if (const auto most = attributes.find("sampleRangeMost"); most != attributes.end())
-      throw Error(file + " was cut short (some pixels have samples up to " + most->second +
+    if (const std::string most = part_cut_short(attributes); !most.empty())
+      throw Error(file + " was cut short (some pixels have samples up to " + most +
                   "): finish it with `dacrt render ... --resume` before merging");
     parts.push_back(part_from_attributes(file, attributes));
   }
@@ -160,62 +154,22 @@ int merge_main(const std::vector<std::string>& args) {
     read_film_state(p.file, headers[i], into, p.last - p.first, p.last - p.first);
     if (done > 0) film.merge(*part);  // tallies too
     const auto& attributes = headers[i].attributes;
-    // Render times add up: each must be a number of seconds (a forged inf, NaN or 1e308 would
-    // make the sum infinite).
-    if (const auto it = attributes.find("renderSeconds"); it != attributes.end()) {
-      char* end = nullptr;
-      const double s = std::strtod(it->second.c_str(), &end);
-      if (it->second.empty() || *end != '\0' || !(s >= 0.0 && s < 1e12))
-        throw Error(p.file + ": its renderSeconds attribute \"" + one_line(it->second.substr(0, 40)) +
-                    "\" is not a number of seconds");
-      seconds += s;
-    }
-    if (attributes.count("backend")) backends.insert(attributes.at("backend"));
+    seconds += part_render_seconds(p.file, attributes);
+    if (const std::string backend = part_backend(attributes); !backend.empty())
+      backends.insert(backend);
     progress.update(++done, 0);
   }
   progress.finish();
 
   // The header: the first part's, with what the union holds.
-  std::vector<std::pair<uint32_t, uint32_t>> held;  // the samples in the parts, as ranges
-  uint32_t next = 0;
-  for (const auto& [from, to] : plan.missing) {
-    if (from > next) held.push_back({next, from});
-    next = to;
-  }
-  if (next < plan.spp) held.push_back({next, plan.spp});
-  ExrMetadata meta;
-  const uint32_t least = film.min_count(), most = film.max_count();
-  meta.spp = int(least);
-  for (const std::string& b : backends) meta.backend += (meta.backend.empty() ? "" : ", ") + b;
-  meta.integrator = parts.front().match["match.integrator"];
-  meta.render_seconds = seconds;
-  for (const auto& [key, value] : headers[plan.order.front()].attributes)
-    if (!recomputed.count(key)) meta.extra.push_back({key, value});
-  std::string from;
-  for (size_t i : plan.order)
-    from += (from.empty() ? "" : ", ") + parts[i].file + " (" + std::to_string(parts[i].first) +
-            ":" + std::to_string(parts[i].last) + ")";
-  meta.extra.push_back({"mergedFrom", from});
-  // One range is a part of the render (or the whole): sampleRange says which. Several are not
-  // one range of anything: sampleRanges lists them.
-  const bool one_range = held.size() == 1;
-  if (one_range)
-    meta.extra.push_back({"sampleRange", std::to_string(held[0].first) + ":" +
-                                             std::to_string(held[0].second)});
-  else
-    meta.extra.push_back({"sampleRanges", ranges_text(held)});
-  if (!plan.missing.empty()) {
-    meta.extra.push_back({"samplesMissing", ranges_text(plan.missing)});
+  const MergedHeader header = merged_header(headers[plan.order.front()].attributes, parts, plan,
+                                            film, backends, seconds, m.keep_sums);
+  const uint32_t least = film.min_count();
+  if (!plan.missing.empty())
     print_message("warning: samples " + ranges_text(plan.missing) + " of the " +
                   std::to_string(plan.spp) + "-spp render are in no part: " + m.output +
                   " has " + std::to_string(least) + " spp");
-  }
-  meta.extra.push_back({"samplesPerPixel", samples_per_pixel_text(least, most)});
-  meta.extra.push_back({"software", std::string("dacrt ") + version()});
-  meta.extra.push_back({"dacrtVersion", version()});
-  // One range short of the whole render is a part itself: it keeps its sums.
-  const bool exact = one_range && (m.keep_sums || held[0] != std::pair(0u, plan.spp));
-  write_film_exr(m.output, film, meta, exact);
+  write_film_exr(m.output, film, header.meta, header.exact);
   if (!m.preview.empty()) write_preview_png(m.preview, film.resolve(), m.display);
   if (!m.quiet) {
     char line[200];

@@ -15,10 +15,11 @@
 #include <utility>
 
 #include "dacrt/film/film.h"
+#include "dacrt/render/session.h"
 
 namespace dacrt {
 
-class Ranks {
+class Ranks : public RankGroup {
  public:
   // MPI_Init when a launcher started the process (OpenMPI sets OMPI_COMM_WORLD_SIZE, PMIx and
   // Hydra PMIX_RANK or PMI_SIZE), else one rank without MPI: a plain `dacrt render` never
@@ -29,14 +30,14 @@ class Ranks {
   Ranks& operator=(const Ranks&) = delete;
 
   int rank() const { return rank_; }
-  int size() const { return size_; }
-  bool root() const { return rank_ == 0; }
+  int size() const override { return size_; }
+  bool root() const override { return rank_ == 0; }
   bool mpi() const { return mpi_; }  // MPI is in use (size may still be 1)
 
   // This rank's share of the samples [first, last): contiguous, in rank order, sizes differing by
   // at most one, covering the range exactly (a share is empty when there are more ranks than
   // samples).
-  std::pair<uint32_t, uint32_t> share(uint32_t first, uint32_t last) const {
+  std::pair<uint32_t, uint32_t> share(uint32_t first, uint32_t last) const override {
     return share(first, last, rank_, size_);
   }
   static std::pair<uint32_t, uint32_t> share(uint32_t first, uint32_t last, int rank, int size);
@@ -47,17 +48,18 @@ class Ranks {
   // which bounds the buffers MPI allocates for the incoming data (a 1080p film with every AOV
   // is ~600 MB) and keeps every count far below INT_MAX.
   static constexpr size_t reduce_chunk = size_t(1) << 20;
-  void reduce(Film& film, size_t chunk = reduce_chunk) const;
+  void reduce(Film& film, size_t chunk) const;
+  void reduce(Film& film) const override { reduce(film, reduce_chunk); }
 
   // Collective. Each rank passes "" or its error; each gets back "" when none failed, else the
   // message of the lowest failing rank, prefixed "rank N: " when size() > 1.
-  std::string first_error(const std::string& mine) const;
+  std::string first_error(const std::string& mine) const override;
 
   // Collective: whether any rank's flag is true (a stop signal seen on one rank, say).
-  bool any(bool mine) const;
+  bool any(bool mine) const override;
 
   // Collective: rank 0's `text` on every rank (the others' `text` is not read).
-  std::string broadcast(const std::string& text) const;
+  std::string broadcast(const std::string& text) const override;
 
  private:
   int rank_ = 0, size_ = 1;

@@ -1,42 +1,17 @@
-// The render reports (see report.h): per-backend summaries, statistics and the comparison table.
-#include "apps/report.h"
+// The comparison table of several backends' renders (see report.h).
+#include "dacrt/util/paths.h"
 
 #include <algorithm>
 #include <filesystem>
 
 #include "bench/report.h"
 #include "dacrt/film/fixed.h"
-#include "dacrt/tracer/stats_json.h"
+#include "dacrt/render/run_report.h"
 #include "dacrt/util/text.h"
 
 namespace dacrt {
 
-MaterialCounts count_materials(const Scene& scene) {
-  MaterialCounts c;
-  for (uint32_t m : scene.geometry.material) c.emissive_triangles += scene.materials[m].emitter();
-  for (const Material& m : scene.materials) {
-    c.emissive += m.emitter();
-    c.textured += m.textured();
-    c.masked += m.alpha_mode == Material::AlphaMode::mask;
-    c.blended += m.alpha_mode == Material::AlphaMode::blend;
-    c.transmissive += m.transmission > 0.f;
-  }
-  return c;
-}
 namespace {
-
-nlohmann::json to_json(const RayTypeStats& s) {
-  return {{"rays", s.rays}, {"seconds", s.seconds}, {"rays_per_second", s.rays_per_second()}};
-}
-
-struct BatchSizes {
-  uint32_t min = 0, median = 0, max = 0;
-};
-BatchSizes batch_sizes(std::vector<uint32_t> sizes) {
-  if (sizes.empty()) return {};
-  std::sort(sizes.begin(), sizes.end());
-  return {sizes.front(), sizes[sizes.size() / 2], sizes.back()};
-}
 
 std::string format(const char* fmt, double v) {
   char buf[64];
@@ -48,85 +23,6 @@ std::string count(uint64_t v) {
 }
 
 }  // namespace
-
-std::vector<std::string> split_list(const std::string& list) {
-  std::vector<std::string> parts;
-  size_t begin = 0;
-  while (begin <= list.size()) {
-    const size_t comma = std::min(list.find(',', begin), list.size());
-    if (comma > begin) parts.push_back(list.substr(begin, comma - begin));
-    begin = comma + 1;
-  }
-  return parts;
-}
-
-std::string with_backend(const std::string& path, const std::string& backend) {
-  if (path.empty()) return path;
-  std::filesystem::path p(path);
-  return (p.parent_path() / (p.stem().string() + "." + backend + p.extension().string())).string();
-}
-
-std::string with_frame(const std::string& path, int frame) {
-  char number[16];
-  std::snprintf(number, sizeof number, "%04d", frame);
-  return with_backend(path, number);
-}
-
-nlohmann::json to_json(const BackendRun& run) {
-  const RenderStats& stats = run.stats;
-  const Stats& b = run.backend_stats;
-  const BatchSizes batches = batch_sizes(stats.bounce_batches);
-  nlohmann::json j = {
-      {"backend", run.backend},
-      {"render_seconds", stats.seconds},
-      {"seconds_with_build", run.seconds},
-      {"build_seconds", run.build_seconds},
-      {"paths", stats.paths},
-      {"wavefront", stats.wavefront},
-      {"dropped_samples", stats.dropped_samples},
-      {"clamped_samples", stats.clamped_samples},
-      {"skipped", stats.skipped},
-      {"bounce_calls", stats.bounce_calls},
-      {"bounce_batch", {{"min", batches.min}, {"median", batches.median}, {"max", batches.max}}},
-      {"backend_stats", to_json(b)}};
-  for (int t = 0; t < ray_type_count; ++t)
-    j["rays"][std::string(to_string(RayType(t)))] = to_json(stats.by_type[t]);
-  j["bounces"] = nlohmann::json::array();
-  for (const auto& bounce : stats.by_bounce) j["bounces"].push_back(to_json(bounce));
-  return j;
-}
-
-void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings& s) {
-  const RenderStats& stats = run.stats;
-  char figures[256];
-  char spp[96];
-  if (s.adaptive > 0)
-    std::snprintf(spp, sizeof spp, "adaptive %g: %u to %u spp, mean %.1f", s.adaptive,
-                  run.least_spp, run.most_spp, run.mean_spp);
-  else
-    std::snprintf(spp, sizeof spp, "%u spp", run.spp);
-  std::snprintf(figures, sizeof figures, ": %d×%d, %s%s, %s/%s, %.2f s", shot.width, shot.height,
-                spp,
-                run.stopped.empty()
-                    ? ""
-                    : (" of " + std::to_string(s.spp) + ", stopped by " + run.stopped).c_str(),
-                run.backend.c_str(), s.integrator.c_str(), stats.seconds);
-  print_message(run.output + figures);
-  for (int t = 0; t < ray_type_count; ++t) {
-    const RayTypeStats& rt = stats.by_type[t];
-    if (rt.rays)
-      std::fprintf(stderr, "  %-8s %12llu rays  %8.2f s  %7.2f Mrays/s\n",
-                   std::string(to_string(RayType(t))).c_str(), (unsigned long long)rt.rays,
-                   rt.seconds, rt.rays_per_second() * 1e-6);
-  }
-  for (const auto& skipped : stats.skipped) print_message("  skipped: " + skipped);
-  if (stats.dropped_samples)
-    std::fprintf(stderr, "  warning: %llu samples were NaN or inf and were dropped\n",
-                 (unsigned long long)stats.dropped_samples);
-  if (stats.clamped_samples)
-    std::fprintf(stderr, "  warning: %llu samples had values beyond ±%.3g and were clamped to it\n",
-                 (unsigned long long)stats.clamped_samples, value_limit);
-}
 
 std::vector<std::vector<std::string>> comparison_rows(const std::vector<BackendRun>& runs) {
   std::vector<std::vector<std::string>> rows;

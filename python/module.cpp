@@ -1,6 +1,7 @@
 // The Python module `dacrt`: scenes loaded once and rendered many times, renders as numpy arrays
-// (the CLI's pixels bit for bit: the options are the CLI's, parsed by the same parser), the
-// backends on any rays, EXR files read back, and the bench and converge studies as plain data.
+// (the CLI's pixels bit for bit: the keywords are the CLI's render options, from the same table,
+// rendered by the same function as a session's), the backends on any rays, EXR files read back,
+// and the bench and converge studies as plain data.
 // Long calls release the GIL and stop cleanly on Ctrl-C (python/interruptible.h).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -15,16 +16,17 @@
 #include <string>
 #include <vector>
 
-#include <tbb/global_control.h>
-
-#include "apps/render_options.h"
-#include "apps/report.h"
+#include "dacrt/render/request.h"
+#include "dacrt/util/paths.h"
 #include "dacrt/io/exr.h"
 #include "dacrt/io/gltf.h"
 #include "dacrt/render/render_job.h"
+#include "dacrt/render/request.h"
+#include "dacrt/render/session.h"
 #include "dacrt/tracer/backend.h"
 #include "dacrt/util/error.h"
 #include "interruptible.h"
+#include "keywords.h"
 #include "studies.h"
 
 namespace py = pybind11;
@@ -126,35 +128,6 @@ py::dict scene_info(const LoadedScene& s) {
   return info;
 }
 
-// Keyword arguments as the CLI's render options (studies.h: keyword_options), with aovs= as
-// --aov and samples=(first, last) as --samples first:last. The options about files and
-// sequences are refused: a call returning arrays has no use for them.
-std::vector<std::string> render_options(const py::kwargs& kwargs) {
-  py::kwargs rest;
-  for (const auto& [key, value] : kwargs) {
-    const std::string name = py::cast<std::string>(key);
-    if (name == "aov")  // (the CLI's repeated --aov: here one list, which also asks for them back)
-      throw py::type_error("no aov= here: aovs=[...] renders the AOVs and returns them");
-    if (name == "aovs")
-      rest["aov"] = value;
-    else if (name == "samples" && py::isinstance<py::sequence>(value) &&
-             !py::isinstance<py::str>(value) && py::len(value) == 2) {
-      const py::sequence range = py::reinterpret_borrow<py::sequence>(value);
-      rest["samples"] = py::cast<std::string>(py::str(range[0])) + ":" +
-                        py::cast<std::string>(py::str(range[1]));
-    }
-    else
-      rest[key] = value;
-  }
-  return keyword_options(rest,
-                         {"output", "o", "preview", "view", "exposure", "stats", "report",
-                          "frames", "fps", "resume", "keep_sums", "checkpoint", "help",
-                          "scene"},
-                         "render() returns arrays: use the CLI for files and sequences; give "
-                         "load() a scene index",
-                         {"point_light", "backend_option"});
-}
-
 // An H×W array of one channel, or H×W×n of several, from the film's channels.
 py::array_t<float> stack(const std::vector<const Channel*>& channels, int width, int height) {
   const size_t n = channels.size(), pixels = size_t(width) * size_t(height);
@@ -175,23 +148,21 @@ std::string aov_of(const std::string& channel) {
   return layer;
 }
 
-py::object render(const py::object& scene_or_path, const py::kwargs& kwargs) {
+py::object render(const py::object& scene, const py::kwargs& kwargs) {
   ScenePtr loaded;
   std::string path;
-  if (py::isinstance<LoadedScene>(scene_or_path)) {
-    loaded = py::cast<ScenePtr>(scene_or_path);
+  if (py::isinstance<LoadedScene>(scene)) {
+    loaded = py::cast<ScenePtr>(scene);
     path = loaded->path;
   } else {
-    path = path_argument(scene_or_path, "scene");
+    path = path_argument(scene, "scene");
   }
-  std::vector<std::string> args = {path};
-  for (std::string& a : render_options(kwargs)) args.push_back(std::move(a));
-  RenderArgs r = parse_render(args);
+  RenderRequest r = render_request(path, kwargs);
   const bool aovs_asked = kwargs.contains("aovs");
   if (r.backend.find(',') != std::string::npos)
-    throw UsageError("--backend: one backend a call (" + r.backend + ")");
-  if (loaded && (r.gltf.variant != loaded->options.variant || r.gltf.scene != loaded->options.scene))
-    throw UsageError("variant= and the scene index are the loaded scene's: give them to load()");
+    throw UsageError("backend=: one backend a call (" + r.backend + ")");
+  if (loaded && r.gltf.variant != loaded->options.variant)
+    throw UsageError("variant= is the loaded scene's: give it to load()");
   // The animations that play are the loaded scene's: animation= may only repeat them.
   if (loaded && kwargs.contains("animation") && r.gltf.animation != loaded->options.animation)
     throw UsageError(
@@ -199,40 +170,14 @@ py::object render(const py::object& scene_or_path, const py::kwargs& kwargs) {
         (loaded->options.animation.empty() ? std::string("the first") : loaded->options.animation) +
         "): give it to load()");
   check_render_choices(r, {r.backend});
-  r.backend_options.threads = r.threads;
 
   std::atomic<bool> stop{false};
   r.passes.stop = &stop;
-  struct Rendered {
-    Film film;
-    RenderOutcome outcome;
-  };
-  const Rendered done = run_interruptible(stop, [&]() -> Rendered {
-    std::unique_ptr<tbb::global_control> threads;
-    if (r.threads > 0)
-      threads = std::make_unique<tbb::global_control>(
-          tbb::global_control::max_allowed_parallelism, size_t(r.threads));
-    std::unique_lock<std::mutex> lock;
-    std::optional<Scene> own;
-    const Scene* scene = nullptr;
-    if (loaded) {
-      lock = std::unique_lock<std::mutex>(loaded->busy);
-      loaded->pose(r.gltf.time);
-      scene = &loaded->scene;
-    } else {
-      scene = &own.emplace(GltfAnimation(path, r.gltf).load());
-    }
-    const RenderSettings& s = r.settings;
-    const Shot shot = make_shot(*scene, s);
-    auto backend =
-        Backend::create(r.backend, scene->geometry, r.backend_options.for_plugin(r.backend));
-    RenderJob job(*scene, *backend, s, shot);
-    Film film = job.film();
-    const uint32_t first = r.samples ? r.samples->first : 0,
-                   last = r.samples ? r.samples->second : uint32_t(s.spp);
-    Progress bar("render", shot.pixels() * uint64_t(last - first), !r.quiet);
-    const RenderOutcome outcome = job.run(film, first, last, bar, r.passes);
-    return {std::move(film), outcome};
+  const FilmRender done = run_interruptible(stop, [&]() -> FilmRender {
+    if (!loaded) return render_to_film(r, GltfAnimation(path, r.gltf).load());
+    const std::lock_guard<std::mutex> lock(loaded->busy);
+    loaded->pose(r.gltf.time);
+    return render_to_film(r, loaded->scene);
   });
 
   const Film& film = done.film;
@@ -457,6 +402,9 @@ PYBIND11_MODULE(dacrt, m) {
         "read_exr(path) -> dict\n\nEvery channel of an OpenEXR file as a float32 numpy array "
         "of shape (height, width), by channel name ('R', 'albedo.R', ...): to compare with the "
         "CLI's outputs. Integer channels come as floats.");
+
+  m.def("_render_keywords", &render_keywords,
+        "The keywords render() takes (the render option table's Python column, and progress).");
 
   add_studies(m);
 }

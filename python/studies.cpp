@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "apps/converge.h"
+#include "studies/converge.h"
 #include "bench/args.h"
 #include "bench/command.h"
 #include "bench/report.h"

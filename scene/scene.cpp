@@ -58,4 +58,17 @@ std::string Scene::Ignored::unread_extensions() const {
   return out;
 }
 
+MaterialCounts count_materials(const Scene& scene) {
+  MaterialCounts c;
+  for (uint32_t m : scene.geometry.material) c.emissive_triangles += scene.materials[m].emitter();
+  for (const Material& m : scene.materials) {
+    c.emissive += m.emitter();
+    c.textured += m.textured();
+    c.masked += m.alpha_mode == Material::AlphaMode::mask;
+    c.blended += m.alpha_mode == Material::AlphaMode::blend;
+    c.transmissive += m.transmission > 0.f;
+  }
+  return c;
+}
+
 }  // namespace dacrt

@@ -117,4 +117,11 @@ struct Scene {
   std::vector<std::string> unused_work() const;
 };
 
+// A scene's materials counted by kind, for `dacrt info` and the Python module's Scene.info.
+struct MaterialCounts {
+  size_t emissive_triangles = 0, emissive = 0, textured = 0, masked = 0, blended = 0,
+         transmissive = 0;
+};
+MaterialCounts count_materials(const Scene& scene);
+
 }  // namespace dacrt

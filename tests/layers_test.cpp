@@ -1,5 +1,5 @@
-// The layers of the tree (CMakeLists.txt, DACRT_LAYERS, then bench, apps and fuzz above the
-// library): every #include "folder/…" in a folder's code names its own folder or one below it,
+// The layers of the tree (CMakeLists.txt, DACRT_LAYERS, then bench, studies, python, apps and
+// fuzz above the library): every #include "folder/…" in a folder's code names its own folder or one below it,
 // so no two folders depend on each other both ways. A new back-arrow fails here, naming the file,
 // the line and the header.
 #include <doctest/doctest.h>
@@ -25,7 +25,7 @@ std::vector<std::string> layers() {
 
 // The programs' folders: above the library, their headers included without the dacrt/ prefix.
 bool program(const std::string& folder) {
-  return folder == "bench" || folder == "apps" || folder == "python" || folder == "fuzz" ||
+  return folder == "bench" || folder == "studies" || folder == "apps" || folder == "python" || folder == "fuzz" ||
          folder == "tests";
 }
 

@@ -12,6 +12,13 @@ struct Error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A mistake in how a command or function was called (an unknown option, a value out of range):
+// the CLI prints it with a pointer to the command's --help and exits 2, Python raises ValueError.
+// Not an Error: nothing about the input is wrong.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // An Error in what the caller asked rather than in the input (a camera override that cannot make
 // a view): the CLI reports it as a usage mistake, exit 2.
 struct SettingError : Error {

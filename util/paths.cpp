@@ -3,6 +3,8 @@
 #include <sys/stat.h>
 
 #include <filesystem>
+#include <algorithm>
+#include <cstdio>
 #include <map>
 #include <system_error>
 
@@ -90,6 +92,29 @@ void check_outputs(const std::vector<NamedFile>& outputs, const std::vector<Name
                   (earlier->second->path == out.path ? "" : " " + earlier->second->path) +
                   ": each output needs its own");
   }
+}
+
+std::vector<std::string> split_list(const std::string& list) {
+  std::vector<std::string> parts;
+  size_t begin = 0;
+  while (begin <= list.size()) {
+    const size_t comma = std::min(list.find(',', begin), list.size());
+    if (comma > begin) parts.push_back(list.substr(begin, comma - begin));
+    begin = comma + 1;
+  }
+  return parts;
+}
+
+std::string with_backend(const std::string& path, const std::string& backend) {
+  if (path.empty()) return path;
+  std::filesystem::path p(path);
+  return (p.parent_path() / (p.stem().string() + "." + backend + p.extension().string())).string();
+}
+
+std::string with_frame(const std::string& path, int frame) {
+  char number[16];
+  std::snprintf(number, sizeof number, "%04d", frame);
+  return with_backend(path, number);
 }
 
 }  // namespace dacrt

@@ -37,4 +37,11 @@ bool same_file(const std::string& a, const std::string& b);
 // scene"). Empty paths are skipped.
 void check_outputs(const std::vector<NamedFile>& outputs, const std::vector<NamedFile>& inputs);
 
+// "a,b,c" → {a, b, c}; empty parts are dropped.
+std::vector<std::string> split_list(const std::string& list);
+// out.exr → out.NAME.exr (empty stays empty): one output of several backends.
+std::string with_backend(const std::string& path, const std::string& backend);
+// out.exr → out.0007.exr for frame 7 (empty stays empty).
+std::string with_frame(const std::string& path, int frame);
+
 }  // namespace dacrt

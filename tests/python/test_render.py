@@ -1,5 +1,6 @@
 # dacrt.render against the CLI: the same options give the same pixels, bit for bit, image and
 # AOVs; errors are the CLI's one-line messages as Python exceptions.
+import re
 import subprocess
 
 import numpy as np
@@ -76,14 +77,49 @@ def cli_error(*args):
     return run.stderr.splitlines()[0]
 
 
+def help_options():
+    """The options `dacrt render --help` defines: those in the option column of its lines."""
+    text = subprocess.run([CLI, "render", "--help"], capture_output=True, text=True,
+                          check=True).stdout
+    return {flag for line in text.splitlines() if line.startswith("  -")
+            for flag in re.findall(r"--[a-z][a-z-]*", line[:29])}
+
+
+def test_every_render_option_is_a_keyword_or_refused_and_no_other():
+    keyword = lambda flag: "aovs" if flag == "--aov" else flag[2:].replace("-", "_")
+    taken = set(dacrt._render_keywords()) - {"progress"}
+    flags = help_options()
+    assert len(flags) > 30
+    # What render() leaves to the CLI: files, sequences, the scene index (load()'s), the help;
+    # progress= stands for --quiet. A new render option is a keyword unless it is added here.
+    refused = {"output", "preview", "view", "exposure", "stats", "report", "frames", "fps",
+               "resume", "keep_sums", "checkpoint", "help", "scene", "quiet"}
+    assert {keyword(flag) for flag in flags} - taken == refused
+    for flag in sorted(flags - {"--scene"}):  # scene= is render()'s first argument
+        key = keyword(flag)
+        # A keyword taken passes to the checks of the values (width=0 fails there); one refused
+        # is a TypeError naming it.
+        bad = dict(width=0) if key != "width" else dict(height=0)
+        if key in taken:
+            with pytest.raises(ValueError, match="width=|height="):
+                dacrt.render(CORNELL, **{key: None}, **bad)
+        else:
+            with pytest.raises(TypeError, match="no %s= here" % key):
+                dacrt.render(CORNELL, **{key: "x"})
+    assert taken <= {keyword(flag) for flag in flags}
+
+
 def test_errors_are_the_cli_messages_as_exceptions(tmp_path):
+    # The CLI's check of the value, naming the keyword as Python spells it.
     with pytest.raises(ValueError) as bad_spp:
         dacrt.render(CORNELL, spp=0)
-    assert str(bad_spp.value) in cli_error(CORNELL, "--spp", "0")
+    assert str(bad_spp.value).replace("spp=", "--spp") in cli_error(CORNELL, "--spp", "0")
     with pytest.raises(ValueError, match="unknown integrator"):
         dacrt.render(CORNELL, integrator="nope")
-    with pytest.raises(ValueError, match="unknown option --colour"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'colour'"):
         dacrt.render(CORNELL, colour=3)
+    with pytest.raises(TypeError, match=r"'sp' \(did you mean spp=\?\)"):
+        dacrt.render(CORNELL, sp=3)
     with pytest.raises(ValueError, match="unknown backend 'embre'"):
         dacrt.render(CORNELL, backend="embre")
     # The CLI's repeated --aov is one list here, aovs=, which also returns them.

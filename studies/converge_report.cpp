@@ -1,4 +1,4 @@
-#include "apps/converge_report.h"
+#include "studies/converge_report.h"
 
 #include <fcntl.h>
 #include <spawn.h>

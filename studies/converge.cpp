@@ -3,7 +3,7 @@
 // and interpolations are the library's (render/convergence.h); the render options are `dacrt
 // render`'s own parser (apps/render_options.h), so a configuration's `max-depth=8` means what
 // `--max-depth 8` means.
-#include "apps/converge.h"
+#include "studies/converge.h"
 
 #include <tbb/global_control.h>
 #include <unistd.h>
@@ -26,9 +26,9 @@
 #include <string>
 #include <vector>
 
-#include "apps/converge_report.h"
-#include "apps/render_options.h"
-#include "apps/report.h"
+#include "studies/converge_report.h"
+#include "dacrt/render/request.h"
+#include "dacrt/util/paths.h"
 #include "bench/html_page.h"
 #include "dacrt/io/exr.h"
 #include "dacrt/io/gltf.h"
@@ -116,22 +116,13 @@ sample so far. A configuration whose last point took under 0.1 s gets a warning:
 short are noisy.
 )help";
 
-// Options that change the image itself: every configuration must share them (one reference).
-const std::set<std::string> shared_only = {
-    "--width", "--height", "--camera",  "--look-from",   "--look-at",    "--up",
-    "--fov",   "--scene",  "--variant", "--environment", "--point-light"};
-// Render options that mean nothing here.
-const std::set<std::string> not_applicable = {"--preview",    "--view",      "--exposure",
-                                              "--stats",      "--aov",       "--spp",
-                                              "--time-limit", "--checkpoint"};
-
 struct Config {
   std::string label;
-  RenderArgs args;
+  RenderRequest args;
 };
 
 struct ConvergeArgs {
-  RenderArgs shared;
+  RenderRequest shared;
   std::vector<std::string> configs;
   std::string reference, outdir;
   int reference_spp = 1024;
@@ -198,9 +189,9 @@ ConvergeArgs parse_converge(const std::vector<std::string>& args) {
       c.outdir = value();
     else if (a == "--no-plot")
       c.plot = false;
-    else if (not_applicable.count(a) || a == "--output")
+    else if (const RenderOption* o = find_render_option(a); o && !(o->uses & use_converge))
       throw UsageError(a + " does not apply to dacrt converge (see dacrt converge --help)");
-    else if (parse_render_option(args, i, c.shared))
+    else if (parse_render_option(args, i, c.shared, use_converge))
       continue;
     else if (!a.empty() && a[0] == '-')
       throw UsageError("unknown option " + a);
@@ -243,7 +234,7 @@ void check_runs(const std::string& where, Options options, int threads, const st
 }
 
 // A configuration: the shared options, then "KEY=VALUE ..." through the render option parser.
-Config parse_config(const std::string& text, const RenderArgs& shared) {
+Config parse_config(const std::string& text, const RenderRequest& shared) {
   Config c{text, shared};
   std::istringstream words(text);
   std::string word;
@@ -261,17 +252,18 @@ Config parse_config(const std::string& text, const RenderArgs& shared) {
     std::string key = word.substr(0, eq);
     if (key.rfind("--", 0) == 0) key = key.substr(2);
     const std::string flag = "--" + key;
-    if (shared_only.count(flag))
+    const RenderOption* o = find_render_option(flag);
+    if (o && (o->uses & use_converge) && !(o->uses & use_config) && o->value != OptionValue::none)
       throw UsageError(where + key + " changes the image, which every configuration shares: give " +
                        flag + " before the configurations");
-    if (not_applicable.count(flag))
+    if (o && !(o->uses & use_converge))
       throw UsageError(where + key + " does not apply to dacrt converge");
     if (key == "backend-option") check_backend_option(where, word.substr(eq + 1));
     const std::vector<std::string> option = {flag, word.substr(eq + 1)};
     size_t i = 0;
     bool known = false;
     try {
-      known = key != "output" && parse_render_option(option, i, c.args) && i == 1;
+      known = parse_render_option(option, i, c.args, use_config) && i == 1;
     } catch (const UsageError& e) {
       throw UsageError(where + e.what());
     }
@@ -410,6 +402,199 @@ bool render_to(Run& run, uint32_t from, uint32_t spp, const std::string& label, 
   return !outcome.stopped;
 }
 
+// Where the outputs go: OUTDIR's files, checked before anything is rendered.
+struct ConvergeFiles {
+  fs::path outdir;
+  bool outdir_exists = false, render_reference = false;
+  std::string csv, script, svg, png, reference_out, page;
+  std::vector<NamedFile> inputs, outputs;
+};
+
+ConvergeFiles check_files(const ConvergeArgs& a) {
+  check_input_file(a.shared.scene, "scene");
+  if (!a.reference.empty()) check_input_file(a.reference, "reference");
+  if (!a.shared.settings.environment_file.empty())
+    check_input_file(a.shared.settings.environment_file, "environment map");
+  ConvergeFiles f;
+  f.outdir = a.outdir;
+  std::error_code ec;
+  f.outdir_exists = fs::exists(f.outdir, ec);
+  if (f.outdir_exists && !fs::is_directory(f.outdir, ec))
+    throw Error(a.outdir + ": cannot write the outputs there: it is not a directory");
+  if (!f.outdir_exists && fs::is_symlink(fs::symlink_status(f.outdir, ec)))
+    throw Error(a.outdir + ": cannot write the outputs there: it is a symbolic link to " +
+                fs::read_symlink(f.outdir, ec).string() + ", which does not exist");
+  f.csv = (f.outdir / "convergence.csv").string();
+  f.script = (f.outdir / "convergence.gp").string();
+  f.svg = (f.outdir / "convergence.svg").string();
+  f.png = (f.outdir / "convergence.png").string();
+  f.reference_out = (f.outdir / "reference.exr").string();
+  f.page = HtmlPage::file_in(a.outdir);
+  f.render_reference = a.reference.empty() && !a.no_reference;
+  if (f.outdir_exists) {
+    for (const std::string& out : {f.csv, f.script, f.svg, f.png, f.page}) check_writable(out);
+    if (f.render_reference) check_writable(f.reference_out);
+  } else {
+    check_writable(a.outdir);  // its parent is a writable directory
+  }
+  f.inputs = {{"the scene", a.shared.scene},
+              {"--reference", a.reference},
+              {"--environment", a.shared.settings.environment_file}};
+  f.outputs = {{"-o", f.csv}, {"-o", f.script}, {"-o", f.svg}, {"-o", f.png}, {"-o", f.page}};
+  if (f.render_reference) f.outputs.push_back({"-o", f.reference_out});
+  check_outputs(f.outputs, f.inputs);
+  return f;
+}
+
+// The reference and its own error: given (--reference), or rendered as two independent halves,
+// averaged (their difference measures the reference's own noise) and written to OUTDIR. False
+// when a stop came first.
+struct Reference {
+  std::optional<Image> image;
+  std::optional<ReferenceError> error;
+};
+
+bool render_reference(const ConvergeArgs& a, const ConvergeFiles& f, const Scene& scene,
+                      const Shot& shot, bool bar, const std::atomic<bool>* stop, Reference& out) {
+  const RenderSettings& base = a.shared.settings;
+  const bool verbose = !a.shared.quiet;
+  Config shared{"reference", a.shared};
+  shared.args.settings.adaptive = 0.0;  // the reference samples every pixel alike
+  shared.args.settings.adaptive_min = 0;
+  shared.args.backend =
+      split_list(a.shared.backend).empty() ? "dacrt" : split_list(a.shared.backend)[0];
+  const uint64_t seed = base.seed + (uint64_t(1) << 32);
+  const uint32_t halves[2] = {uint32_t(a.reference_spp) / 2,
+                              uint32_t(a.reference_spp) - uint32_t(a.reference_spp) / 2};
+  if (verbose)
+    std::fprintf(stderr,
+                 "converge: rendering the reference: %d spp as two halves, %s, sampler %s, "
+                 "seeds %llu and %llu (--reference-spp, or --reference REF.exr)\n",
+                 a.reference_spp, shared.args.backend.c_str(), sampler_name(base.sampler).c_str(),
+                 (unsigned long long)seed, (unsigned long long)seed + 1);
+  std::vector<Image> images;
+  double seconds = 0;
+  for (int h = 0; h < 2; ++h) {
+    Run run = start_run(scene, shot, shared, seed + h);
+    double step = 0;
+    if (!render_to(run, 0, halves[h], h ? "reference, second half" : "reference, first half", bar,
+                   stop, &step))
+      return false;
+    seconds += step;
+    images.push_back(run.film->resolve());
+  }
+  SplitReference split = combine_halves(images[0], images[1]);
+  out.image = std::move(split.image);
+  out.error = split.error;
+  if (!f.outdir_exists) fs::create_directories(f.outdir);
+  ExrMetadata meta;
+  meta.spp = a.reference_spp;
+  meta.backend = shared.args.backend;
+  meta.integrator = base.integrator;
+  meta.render_seconds = seconds;
+  meta.extra = {
+      {"scene", a.shared.scene},
+      {"sampler", sampler_name(base.sampler)},
+      {"seed", std::to_string(seed)},
+      {"referenceHalves", std::to_string(halves[0]) + " spp with seed " + std::to_string(seed) +
+                              " and " + std::to_string(halves[1]) + " spp with seed " +
+                              std::to_string(seed + 1) + ", averaged"},
+      {reference_mse_key, format("%.9g", split.error.mse)},
+      {reference_relmse_key, format("%.9g", split.error.relmse)},
+      {"software", std::string("dacrt ") + version()}};
+  write_exr(f.reference_out, *out.image, meta);
+  if (verbose)
+    std::fprintf(stderr, "converge: reference: %d spp in %.3g s, its own MSE %.3g, %s\n",
+                 a.reference_spp, seconds, split.error.mse, f.reference_out.c_str());
+  return true;
+}
+
+// One configuration's run (its `repeat`-th): renders of 1, 2, 4, ... spp until the time budget
+// or --max-spp (the first repeat's doubling sets the points, the others render the same ones),
+// each measured against the reference and/or the noise between two seeds, into `curve`.
+void measure(const ConvergeArgs& a, const Config& c, int repeat, const Scene& scene,
+             const Shot& shot, const Reference& reference, bool bar,
+             const std::atomic<bool>* stop, Curve& curve) {
+  const Metric metric = *a.metric;
+  const std::string suffix = a.repeats > 1 ? " (repeat " + std::to_string(repeat + 1) + "/" +
+                                                 std::to_string(a.repeats) + ")"
+                                           : std::string();
+  const uint64_t seed = c.args.settings.seed + 2 * uint64_t(repeat);
+  std::unique_ptr<tbb::global_control> own_threads;
+  if (c.args.threads > 0 && c.args.threads != a.shared.threads)
+    own_threads = std::make_unique<tbb::global_control>(
+        tbb::global_control::max_allowed_parallelism, size_t(c.args.threads));
+  const auto t0 = Clock::now();
+  Run run = start_run(scene, shot, c, seed);
+  const double setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::optional<Run> second;
+  if (a.noise) second = start_run(scene, shot, c, seed + 1);
+  double rendered = 0;  // the render seconds of the samples so far
+  uint32_t spp = 0;
+  for (uint32_t next = 1, index = 0;; next *= 2, ++index) {
+    if (repeat > 0 && index >= curve.points.size()) break;
+    const std::string label = "converge " + c.label + suffix + ": " + std::to_string(next) + " spp";
+    double step = 0;
+    if (!render_to(run, spp, next, label, bar, stop, &step)) break;
+    if (second && !render_to(*second, spp, next, label + " (seed S + 1)", bar, stop, nullptr))
+      break;
+    spp = next;
+    rendered += step;
+    Measure m;
+    m.seconds = setup_seconds + rendered;
+    const Image image = run.film->resolve();
+    if (reference.image) {
+      m.raw = image_error(image, *reference.image);
+      m.error = reference.error ? without_reference_error(*m.raw, *reference.error) : *m.raw;
+    }
+    if (second) m.noise = noise_from_seeds(image, second->film->resolve());
+    if (repeat == 0)
+      curve.points.push_back({spp, {m}});
+    else
+      curve.points[index].repeats.push_back(m);
+    if (!a.shared.quiet)
+      std::fprintf(stderr, "converge %s%s: %u spp, %.3g s, %s %.4g\n", c.label.c_str(),
+                   suffix.c_str(), spp, m.seconds, metric_names[int(metric)],
+                   value_of(m, metric).value_or(NAN));
+    // Doubling renders as many samples again: it costs about what the samples so far cost.
+    if (repeat == 0 &&
+        (spp >= a.max_spp || (curve.points.size() >= 2 && m.seconds + rendered > a.budget)))
+      break;
+  }
+}
+
+// The plot, the summary on stdout and in the page, and the closing lines.
+void finish(const ConvergeArgs& a, const ConvergeFiles& f, const std::vector<Curve>& curves,
+            const Reference& reference, const std::optional<std::string>& gnuplot,
+            const std::string& title) {
+  if (gnuplot) draw_plot(*gnuplot, fs::absolute(f.script).string(), f.svg, f.png);
+  warn_short_runs(curves);
+  // The summary goes to stdout and into the page.
+  char* text = nullptr;
+  size_t size = 0;
+  std::FILE* summary = open_memstream(&text, &size);
+  if (!summary) throw Error(std::string("cannot make the summary: ") + std::strerror(errno));
+  if (reference.image)
+    print_reference(summary, a.reference.empty() ? f.reference_out : a.reference, reference.error);
+  print_table(summary, curves, *a.metric, a.targets);
+  std::fclose(summary);
+  const std::string summary_text(text, size);
+  std::free(text);
+  std::fputs(summary_text.c_str(), stdout);
+  write_page(a.outdir, title, curves, *a.metric, summary_text, gnuplot ? f.svg : std::string());
+  if (!a.shared.quiet) {
+    std::fprintf(stderr, "converge: wrote %s, %s, %s", f.page.c_str(), f.csv.c_str(),
+                 f.script.c_str());
+    if (gnuplot) std::fprintf(stderr, ", %s, %s", f.svg.c_str(), f.png.c_str());
+    std::fprintf(stderr, "\n");
+  }
+  if (a.plot && !gnuplot)
+    std::fprintf(stderr,
+                 "dacrt converge: warning: no plot: gnuplot is not on PATH (install "
+                 "gnuplot-nox, then run `gnuplot convergence.gp` in %s)\n",
+                 a.outdir.c_str());
+}
+
 }  // namespace
 
 int converge_main(const std::vector<std::string>& args) {
@@ -418,40 +603,7 @@ int converge_main(const std::vector<std::string>& args) {
   std::vector<Config> configs = parse_configs(a);
   const bool verbose = !a.shared.quiet;
   const bool bar = verbose && isatty(STDERR_FILENO);
-
-  // Inputs and outputs checked before anything is rendered.
-  check_input_file(a.shared.scene, "scene");
-  if (!a.reference.empty()) check_input_file(a.reference, "reference");
-  if (!a.shared.settings.environment_file.empty())
-    check_input_file(a.shared.settings.environment_file, "environment map");
-  const fs::path outdir(a.outdir);
-  std::error_code ec;
-  const bool outdir_exists = fs::exists(outdir, ec);
-  if (outdir_exists && !fs::is_directory(outdir, ec))
-    throw Error(a.outdir + ": cannot write the outputs there: it is not a directory");
-  if (!outdir_exists && fs::is_symlink(fs::symlink_status(outdir, ec)))
-    throw Error(a.outdir + ": cannot write the outputs there: it is a symbolic link to " +
-                fs::read_symlink(outdir, ec).string() + ", which does not exist");
-  const std::string csv = (outdir / "convergence.csv").string(),
-                    script = (outdir / "convergence.gp").string(),
-                    svg = (outdir / "convergence.svg").string(),
-                    png = (outdir / "convergence.png").string(),
-                    reference_out = (outdir / "reference.exr").string(),
-                    page = HtmlPage::file_in(a.outdir);
-  const bool render_reference = a.reference.empty() && !a.no_reference;
-  if (outdir_exists) {
-    for (const std::string& out : {csv, script, svg, png, page}) check_writable(out);
-    if (render_reference) check_writable(reference_out);
-  } else {
-    check_writable(a.outdir);  // its parent is a writable directory
-  }
-  std::vector<NamedFile> inputs = {{"the scene", a.shared.scene},
-                                   {"--reference", a.reference},
-                                   {"--environment", a.shared.settings.environment_file}};
-  std::vector<NamedFile> outputs = {{"-o", csv}, {"-o", script}, {"-o", svg}, {"-o", png},
-                                    {"-o", page}};
-  if (render_reference) outputs.push_back({"-o", reference_out});
-  check_outputs(outputs, inputs);
+  ConvergeFiles f = check_files(a);
   std::optional<std::string> gnuplot;
   if (a.plot) {
     gnuplot = find_in_path("gnuplot");
@@ -460,12 +612,11 @@ int converge_main(const std::vector<std::string>& args) {
                    "dacrt converge: warning: gnuplot is not on PATH: the CSV and the script are "
                    "written, the plot is not (install gnuplot-nox)\n");
   }
-  std::optional<Image> reference;
-  std::optional<ReferenceError> reference_error;
+  Reference reference;
   if (!a.reference.empty()) {
-    reference = read_exr(a.reference);
-    check_finite(a.reference, *reference);
-    reference_error = stored_reference_error(a.reference);
+    reference.image = read_exr(a.reference);
+    check_finite(a.reference, *reference.image);
+    reference.error = stored_reference_error(a.reference);
   }
 
   std::unique_ptr<tbb::global_control> threads;
@@ -473,75 +624,25 @@ int converge_main(const std::vector<std::string>& args) {
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     size_t(a.shared.threads));
   Scene scene = load_gltf(a.shared.scene, a.shared.gltf);
-  for (const FileRead& file : scene.files) inputs.push_back({"the scene's external file", file.path});
-  check_outputs(outputs, inputs);
-  // Every configuration renders the same shot (the options that change it are shared_only).
+  for (const FileRead& file : scene.files) f.inputs.push_back({"the scene's external file", file.path});
+  check_outputs(f.outputs, f.inputs);
+  // Every configuration renders the same shot (the options that change it are the shared ones).
   const Shot shot = make_shot(scene, a.shared.settings);
-  const RenderSettings& base = a.shared.settings;
   if (verbose)
     for (const std::string& note : shot.notes) std::fprintf(stderr, "%s\n", note.c_str());
-  if (reference && (reference->width != shot.width || reference->height != shot.height))
-    throw Error(a.reference + ": the reference is " + std::to_string(reference->width) + " x " +
-                std::to_string(reference->height) + ", the renders are " +
+  const std::optional<Image>& given = reference.image;
+  if (given && (given->width != shot.width || given->height != shot.height))
+    throw Error(a.reference + ": the reference is " + std::to_string(given->width) + " x " +
+                std::to_string(given->height) + ", the renders are " +
                 std::to_string(shot.width) + " x " + std::to_string(shot.height) +
-                " (give --width " + std::to_string(reference->width) + " --height " +
-                std::to_string(reference->height) + ", or another reference)");
-
+                " (give --width " + std::to_string(given->width) + " --height " +
+                std::to_string(given->height) + ", or another reference)");
   check_memory(a, configs, shot);
 
   StopOnSignals signals;
   const std::atomic<bool>* stop = &signals.token();
-  if (render_reference) {
-    Config shared{"reference", a.shared};
-    shared.args.settings.adaptive = 0.0;  // the reference samples every pixel alike
-    shared.args.settings.adaptive_min = 0;
-    shared.args.backend =
-        split_list(a.shared.backend).empty() ? "dacrt" : split_list(a.shared.backend)[0];
-    const uint64_t seed = base.seed + (uint64_t(1) << 32);
-    const uint32_t halves[2] = {uint32_t(a.reference_spp) / 2,
-                                uint32_t(a.reference_spp) - uint32_t(a.reference_spp) / 2};
-    if (verbose)
-      std::fprintf(stderr,
-                   "converge: rendering the reference: %d spp as two halves, %s, sampler %s, "
-                   "seeds %llu and %llu (--reference-spp, or --reference REF.exr)\n",
-                   a.reference_spp, shared.args.backend.c_str(), sampler_name(base.sampler).c_str(),
-                   (unsigned long long)seed, (unsigned long long)seed + 1);
-    // Two independent halves, averaged: their difference measures the reference's own noise.
-    std::vector<Image> images;
-    double seconds = 0;
-    for (int h = 0; h < 2; ++h) {
-      Run run = start_run(scene, shot, shared, seed + h);
-      double step = 0;
-      if (!render_to(run, 0, halves[h], h ? "reference, second half" : "reference, first half", bar,
-                     stop, &step))
-        return 128 + signals.signal();
-      seconds += step;
-      images.push_back(run.film->resolve());
-    }
-    SplitReference split = combine_halves(images[0], images[1]);
-    reference = std::move(split.image);
-    reference_error = split.error;
-    if (!outdir_exists) fs::create_directories(outdir);
-    ExrMetadata meta;
-    meta.spp = a.reference_spp;
-    meta.backend = shared.args.backend;
-    meta.integrator = base.integrator;
-    meta.render_seconds = seconds;
-    meta.extra = {
-        {"scene", a.shared.scene},
-        {"sampler", sampler_name(base.sampler)},
-        {"seed", std::to_string(seed)},
-        {"referenceHalves", std::to_string(halves[0]) + " spp with seed " + std::to_string(seed) +
-                                " and " + std::to_string(halves[1]) + " spp with seed " +
-                                std::to_string(seed + 1) + ", averaged"},
-        {reference_mse_key, format("%.9g", split.error.mse)},
-        {reference_relmse_key, format("%.9g", split.error.relmse)},
-        {"software", std::string("dacrt ") + version()}};
-    write_exr(reference_out, *reference, meta);
-    if (verbose)
-      std::fprintf(stderr, "converge: reference: %d spp in %.3g s, its own MSE %.3g, %s\n",
-                   a.reference_spp, seconds, split.error.mse, reference_out.c_str());
-  }
+  if (f.render_reference && !render_reference(a, f, scene, shot, bar, stop, reference))
+    return 128 + signals.signal();
 
   const Metric metric = *a.metric;
   const std::string title = fs::path(a.shared.scene).filename().string() + ", " +
@@ -560,9 +661,9 @@ int converge_main(const std::vector<std::string>& args) {
   auto write_so_far = [&] {
     const std::vector<Curve> all = measured();
     if (all.empty()) return;
-    if (!fs::exists(outdir)) fs::create_directories(outdir);
-    write_csv(csv, all, reference_error);
-    write_script(script, all, metric, title);
+    if (!fs::exists(f.outdir)) fs::create_directories(f.outdir);
+    write_csv(f.csv, all, reference.error);
+    write_script(f.script, all, metric, title);
   };
   // On an error: the points so far are kept if they can be, the error (one line) is the
   // command's. Out of memory, the write may fail too: the original error is the one to report.
@@ -578,60 +679,12 @@ int converge_main(const std::vector<std::string>& args) {
   // of a shared machine falls on every configuration rather than on one.
   for (int repeat = 0; repeat < a.repeats && !signals.signal(); ++repeat)
     for (size_t k = 0; k < configs.size() && !signals.signal(); ++k) {
-      const Config& c = configs[k];
-      Curve& curve = curves[k];
-      const std::string suffix = a.repeats > 1 ? " (repeat " + std::to_string(repeat + 1) + "/" +
-                                                     std::to_string(a.repeats) + ")"
-                                               : std::string();
-      const uint64_t seed = c.args.settings.seed + 2 * uint64_t(repeat);
       try {
-        std::unique_ptr<tbb::global_control> own_threads;
-        if (c.args.threads > 0 && c.args.threads != a.shared.threads)
-          own_threads = std::make_unique<tbb::global_control>(
-              tbb::global_control::max_allowed_parallelism, size_t(c.args.threads));
-        const auto t0 = Clock::now();
-        Run run = start_run(scene, shot, c, seed);
-        const double setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-        std::optional<Run> second;
-        if (a.noise) second = start_run(scene, shot, c, seed + 1);
-        double rendered = 0;  // the render seconds of the samples so far
-        uint32_t spp = 0;
-        for (uint32_t next = 1, index = 0;; next *= 2, ++index) {
-          // The first repeat's doubling sets the points; the others render the same ones.
-          if (repeat > 0 && index >= curve.points.size()) break;
-          const std::string label =
-              "converge " + c.label + suffix + ": " + std::to_string(next) + " spp";
-          double step = 0;
-          if (!render_to(run, spp, next, label, bar, stop, &step)) break;
-          if (second && !render_to(*second, spp, next, label + " (seed S + 1)", bar, stop, nullptr))
-            break;
-          spp = next;
-          rendered += step;
-          Measure m;
-          m.seconds = setup_seconds + rendered;
-          const Image image = run.film->resolve();
-          if (reference) {
-            m.raw = image_error(image, *reference);
-            m.error = reference_error ? without_reference_error(*m.raw, *reference_error) : *m.raw;
-          }
-          if (second) m.noise = noise_from_seeds(image, second->film->resolve());
-          if (repeat == 0)
-            curve.points.push_back({spp, {m}});
-          else
-            curve.points[index].repeats.push_back(m);
-          if (verbose)
-            std::fprintf(stderr, "converge %s%s: %u spp, %.3g s, %s %.4g\n", c.label.c_str(),
-                         suffix.c_str(), spp, m.seconds, metric_names[int(metric)],
-                         value_of(m, metric).value_or(NAN));
-          // Doubling renders as many samples again: it costs about what the samples so far cost.
-          if (repeat == 0 &&
-              (spp >= a.max_spp || (curve.points.size() >= 2 && m.seconds + rendered > a.budget)))
-            break;
-        }
+        measure(a, configs[k], repeat, scene, shot, reference, bar, stop, curves[k]);
       } catch (const Error& e) {
         const bool kept = keep_so_far();
-        throw Error("--config \"" + shortened(c.label) + "\": " + e.what() +
-                    (kept ? " (the points so far are in " + csv + ")" : ""));
+        throw Error("--config \"" + shortened(configs[k].label) + "\": " + e.what() +
+                    (kept ? " (the points so far are in " + f.csv + ")" : ""));
       } catch (...) {
         keep_so_far();
         throw;
@@ -639,35 +692,7 @@ int converge_main(const std::vector<std::string>& args) {
       write_so_far();
     }
   curves = measured();
-
-  if (!curves.empty()) {
-    if (gnuplot) draw_plot(*gnuplot, fs::absolute(script).string(), svg, png);
-    warn_short_runs(curves);
-    // The summary goes to stdout and into the page.
-    char* text = nullptr;
-    size_t size = 0;
-    std::FILE* summary = open_memstream(&text, &size);
-    if (!summary) throw Error(std::string("cannot make the summary: ") + std::strerror(errno));
-    if (reference)
-      print_reference(summary, a.reference.empty() ? reference_out : a.reference,
-                      reference_error);
-    print_table(summary, curves, metric, a.targets);
-    std::fclose(summary);
-    const std::string summary_text(text, size);
-    std::free(text);
-    std::fputs(summary_text.c_str(), stdout);
-    write_page(a.outdir, title, curves, metric, summary_text, gnuplot ? svg : std::string());
-    if (verbose) {
-      std::fprintf(stderr, "converge: wrote %s, %s, %s", page.c_str(), csv.c_str(), script.c_str());
-      if (gnuplot) std::fprintf(stderr, ", %s, %s", svg.c_str(), png.c_str());
-      std::fprintf(stderr, "\n");
-    }
-    if (a.plot && !gnuplot)
-      std::fprintf(stderr,
-                   "dacrt converge: warning: no plot: gnuplot is not on PATH (install "
-                   "gnuplot-nox, then run `gnuplot convergence.gp` in %s)\n",
-                   a.outdir.c_str());
-  }
+  if (!curves.empty()) finish(a, f, curves, reference, gnuplot, title);
   if (signals.signal()) return 128 + signals.signal();
   return 0;
 }

@@ -1,0 +1,187 @@
+// render()'s keywords from the render option table (see keywords.h).
+#include "keywords.h"
+
+#include <algorithm>
+
+#include "studies.h"
+
+namespace py = pybind11;
+
+namespace dacrt::python {
+
+namespace {
+
+std::string type_name(py::handle v) { return std::string(py::str(v.get_type().attr("__name__"))); }
+
+// How a message names an option: "--spp" → "spp=".
+std::string keyword_of(std::string_view flag) {
+  const RenderOption* o = find_render_option(flag);
+  return (o ? o->python_keyword() : std::string(flag)) + "=";
+}
+
+bool is_bool(py::handle v) { return py::isinstance<py::bool_>(v); }
+bool is_int(py::handle v) { return !is_bool(v) && PyIndex_Check(v.ptr()); }
+bool is_number(py::handle v) {
+  return !is_bool(v) && (PyIndex_Check(v.ptr()) || PyFloat_Check(v.ptr()) ||
+                         (PyNumber_Check(v.ptr()) && !py::isinstance<py::str>(v)));
+}
+bool is_sequence(py::handle v) {
+  return PySequence_Check(v.ptr()) && !py::isinstance<py::str>(v) && !py::isinstance<py::bytes>(v);
+}
+
+// A number as the CLI's parser reads it back exactly: an int's digits, a float's repr.
+std::string number_text(py::handle v) {
+  if (PyIndex_Check(v.ptr())) return std::string(py::str(py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr()))));
+  return std::string(py::repr(py::float_(py::reinterpret_borrow<py::object>(v))));
+}
+
+// `count` numbers joined by `sep`, or TypeError naming the keyword.
+std::string numbers_text(const std::string& key, py::handle v, size_t count, const char* sep,
+                         bool ints, const char* what) {
+  std::string out;
+  if (is_sequence(v)) {
+    const py::sequence seq = py::reinterpret_borrow<py::sequence>(v);
+    bool ok = py::len(seq) == count;
+    for (size_t i = 0; ok && i < count; ++i) ok = ints ? is_int(seq[i]) : is_number(seq[i]);
+    if (ok) {
+      for (size_t i = 0; i < count; ++i) out += (i ? sep : "") + number_text(seq[i]);
+      return out;
+    }
+  }
+  throw py::type_error(key + "= wants " + what + ", not " +
+                       (is_sequence(v) ? std::string(py::repr(v)) : type_name(v)));
+}
+
+// One value of option `o` as its command-line text; TypeError for a value of the wrong type.
+std::string value_text(const RenderOption& o, const std::string& key, py::handle v) {
+  using V = OptionValue;
+  switch (o.value) {
+    case V::none:
+      return "";
+    case V::integer:
+      if (is_int(v)) return number_text(v);
+      throw py::type_error(key + "= wants an int, not " + type_name(v));
+    case V::number:
+      if (is_number(v)) return number_text(v);
+      throw py::type_error(key + "= wants a number, not " + type_name(v));
+    case V::text:
+      if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v))
+        return path_argument(v, key.c_str());
+      throw py::type_error(key + "= wants a str, not " + type_name(v));
+    case V::name_or_index:
+      if (is_int(v)) return number_text(v);
+      if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v))
+        return path_argument(v, key.c_str());
+      throw py::type_error(key + "= wants a name or an index, not " + type_name(v));
+    case V::path:
+      return path_argument(v, key.c_str());
+    case V::point:
+      return numbers_text(key, v, 3, ",", false, "three numbers (x, y, z)");
+    case V::range:
+      return numbers_text(key, v, 2, ":", true, "two ints (first, last)");
+    case V::names: {
+      if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v))
+        return path_argument(v, key.c_str());
+      if (!is_sequence(v)) throw py::type_error(key + "= wants a str or a list of str, not " + type_name(v));
+      std::string joined;
+      for (const py::handle item : v) {
+        if (!py::isinstance<py::str>(item) && !py::isinstance<py::bytes>(item))
+          throw py::type_error(key + "= wants a str or a list of str, not a list holding " +
+                               type_name(item));
+        joined += (joined.empty() ? "" : ",") + path_argument(item, key.c_str());
+      }
+      return joined;
+    }
+    case V::colour_or_file:
+      if (is_sequence(v)) return numbers_text(key, v, 3, ",", false, "three numbers (r, g, b) or a path");
+      return path_argument(v, key.c_str());
+  }
+  return "";
+}
+
+// The option whose keyword is `key`, or nullptr.
+const RenderOption* option_of(const std::string& key) {
+  for (const RenderOption& o : render_options())
+    if (o.python_keyword() == key) return &o;
+  return nullptr;
+}
+
+// The number of single-character edits from a to b (Levenshtein).
+size_t edits(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean spp=?)" for a keyword within two edits of one render() takes, else "".
+std::string suggestion(const std::string& key) {
+  std::string best;
+  size_t fewest = 3;
+  for (const std::string& k : render_keywords())
+    if (const size_t n = edits(key, k); n < fewest) fewest = n, best = k;
+  return best.empty() ? "" : " (did you mean " + best + "=?)";
+}
+
+}  // namespace
+
+std::vector<std::string> render_keywords() {
+  std::vector<std::string> keys;
+  for (const RenderOption& o : render_options())
+    if (o.uses & use_python) keys.push_back(o.python_keyword());
+  keys.push_back("progress");
+  return keys;
+}
+
+RenderRequest render_request(const std::string& path, const py::kwargs& kwargs) {
+  RenderRequest r;
+  r.scene = path;
+  bool progress = false;
+  for (const auto& [k, value] : kwargs) {
+    const std::string key = py::cast<std::string>(k);
+    if (key == "progress") {
+      if (!value.is_none() && !is_bool(value))
+        throw py::type_error("progress= wants True or False, not " + type_name(value));
+      progress = !value.is_none() && py::cast<bool>(value);
+      continue;
+    }
+    if (key == "aov")  // (the CLI's repeated --aov: here one list, which also asks for them back)
+      throw py::type_error("no aov= here: aovs=[...] renders the AOVs and returns them");
+    if (key == "quiet") throw py::type_error("no quiet= here: progress=True shows the progress");
+    const RenderOption* o = option_of(key);
+    if (o && !(o->uses & use_python))
+      throw py::type_error("no " + key + "= here (render() returns arrays: use the CLI for files " +
+                           "and sequences; give load() a scene index)");
+    if (!o)
+      throw py::type_error("render() got an unexpected keyword argument '" + key + "'" +
+                           suggestion(key));
+    if (value.is_none()) continue;
+    const std::string name = key + "=";
+    if (o->value == OptionValue::none) {
+      if (!is_bool(value))
+        throw py::type_error(name + " wants True or False, not " + type_name(value));
+      if (py::cast<bool>(value)) o->apply(r, "", name);
+      continue;
+    }
+    if (is_bool(value))
+      throw py::type_error(name + " wants a value, not " + std::string(py::str(value)));
+    if (o->repeatable && (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value))) {
+      for (const py::handle item : value) o->apply(r, value_text(*o, key, item), name);
+      continue;
+    }
+    o->apply(r, value_text(*o, key, value), name);
+  }
+  r.quiet = !progress;
+  check_request(r, keyword_of);
+  return r;
+}
+
+}  // namespace dacrt::python

@@ -1,0 +1,504 @@
+// A render request run to its outputs (see session.h).
+#include "dacrt/render/session.h"
+
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "dacrt/io/color.h"
+#include "dacrt/io/film_exr.h"
+#include "dacrt/io/gltf.h"
+#include "dacrt/render/header.h"
+#include "dacrt/tracer/backend.h"
+#include "dacrt/tracer/stats_json.h"
+#include "dacrt/util/atomic_file.h"
+#include "dacrt/util/error.h"
+#include "dacrt/util/file_hash.h"
+#include "dacrt/util/interrupt.h"
+#include "dacrt/util/memory.h"
+#include "dacrt/util/progress.h"
+#include "dacrt/util/text.h"
+
+namespace fs = std::filesystem;
+
+namespace dacrt {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The render's largest allocations, estimated before any is made: the film, the resolved image
+// (and its preview), the path state. Throws Error naming the file and what is too big when they
+// exceed the memory this process may still take.
+void check_memory(const RenderRequest& r, const Shot& shot) {
+  const RenderMemory need = render_memory(shot, r.settings, !r.preview.empty());
+  const uint64_t film = need.image, paths = need.paths;
+  const uint64_t available = available_memory();
+  if (film + paths <= available) return;
+  throw Error(r.scene + ": a " + std::to_string(shot.width) + " x " + std::to_string(shot.height) +
+              " render needs about " + format_bytes(film + paths) + " (" + format_bytes(film) +
+              " for the image, " + format_bytes(paths) + " of path state), more than the " +
+              format_bytes(available) + " of memory available");
+}
+
+// The worker threads of --threads, for as long as it lives (all cores without it).
+std::unique_ptr<tbb::global_control> thread_limit(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               size_t(threads));
+}
+
+nlohmann::json to_json(const RayTypeStats& s) {
+  return {{"rays", s.rays}, {"seconds", s.seconds}, {"rays_per_second", s.rays_per_second()}};
+}
+
+nlohmann::json to_json(const BackendRun& run) {
+  const RenderStats& stats = run.stats;
+  const Stats& b = run.backend_stats;
+  const BatchSizes batches = batch_sizes(stats.bounce_batches);
+  nlohmann::json j = {
+      {"backend", run.backend},
+      {"render_seconds", stats.seconds},
+      {"seconds_with_build", run.seconds},
+      {"build_seconds", run.build_seconds},
+      {"paths", stats.paths},
+      {"wavefront", stats.wavefront},
+      {"dropped_samples", stats.dropped_samples},
+      {"clamped_samples", stats.clamped_samples},
+      {"skipped", stats.skipped},
+      {"bounce_calls", stats.bounce_calls},
+      {"bounce_batch", {{"min", batches.min}, {"median", batches.median}, {"max", batches.max}}},
+      {"backend_stats", to_json(b)}};
+  for (int t = 0; t < ray_type_count; ++t)
+    j["rays"][std::string(to_string(RayType(t)))] = to_json(stats.by_type[t]);
+  j["bounces"] = nlohmann::json::array();
+  for (const auto& bounce : stats.by_bounce) j["bounces"].push_back(to_json(bounce));
+  return j;
+}
+
+// The match keys of every rank must be rank 0's, or the reduction would add the films of
+// different renders (a stale scene copy on one machine, other options on one rank) into one image
+// that says it is one render. A rank that failed before this point (its load) takes part from the
+// front end's error handling. Throws RanksFailed on every rank, rank 0 printing the lowest
+// disagreeing rank and its first differing key.
+void check_ranks_agree(RankGroup& ranks, const MatchKeys& keys) {
+  auto fail_all = [&](const std::string& message) {
+    ranks.collectives_over = true;
+    throw RanksFailed{1, message};
+  };
+  if (const std::string failed = ranks.first_error(""); !failed.empty()) fail_all(failed);
+  // Each string as its length (8 bytes) and its bytes: names and values may hold any byte.
+  auto put = [](std::string& out, const std::string& text) {
+    const uint64_t n = text.size();
+    out.append(reinterpret_cast<const char*>(&n), sizeof n).append(text);
+  };
+  std::string mine;
+  for (const auto& [name, value] : keys) put(mine, name), put(mine, value);
+  const std::string root = ranks.broadcast(mine);
+  MatchKeys theirs;
+  for (size_t at = 0; at < root.size();) {
+    std::string pair[2];
+    for (std::string& text : pair) {
+      uint64_t n = 0;
+      std::memcpy(&n, root.data() + at, sizeof n);
+      text = root.substr(at + sizeof n, size_t(n));
+      at += sizeof n + size_t(n);
+    }
+    theirs.push_back({pair[0], pair[1]});
+  }
+  std::string differs;
+  for (size_t k = 0; k < std::max(keys.size(), theirs.size()) && differs.empty(); ++k) {
+    const std::string name = k < keys.size() ? keys[k].first : theirs[k].first;
+    const std::string here = k < keys.size() ? keys[k].second : "(none)",
+                      there = k < theirs.size() && theirs[k].first == name ? theirs[k].second
+                                                                           : "(none)";
+    if (here != there)
+      differs = "dacrt: error: this rank renders another image than rank 0: " + name + " is " +
+                one_line(here.substr(0, 200)) + " here, " + one_line(there.substr(0, 200)) +
+                " on rank 0 (every rank needs the same scene files and options)";
+  }
+  if (const std::string failed = ranks.first_error(differs); !failed.empty()) fail_all(failed);
+}
+
+// After each rank rendered its share of samples [first, last) into `film`: every rank waits for
+// the others (a rank that failed before this point takes part in the same collective from the
+// front end, so the whole job fails with its message), the job stops without an output when any
+// rank was stopped, and the films add up on rank 0, which then holds every sample and the
+// outcome of one process: true there, false on the others (which are done).
+bool gather_film(RankGroup& ranks, Film& film, RenderOutcome& outcome, uint32_t first,
+                 uint32_t last) {
+  const std::string failed = ranks.first_error("");
+  if (!failed.empty()) {
+    ranks.collectives_over = true;
+    throw RanksFailed{1, failed};  // "rank N: dacrt: error: …"
+  }
+  if (ranks.any(outcome.stopped)) {
+    ranks.collectives_over = true;
+    throw RanksFailed{130, "dacrt: stopped: a render under mpirun that is stopped writes nothing "
+                           "(render parts with --samples to keep what is done)"};
+  }
+  ranks.reduce(film);
+  ranks.collectives_over = true;
+  outcome.first = first, outcome.complete = outcome.most = last;
+  return ranks.root();
+}
+
+// With --resume, the film in the output `file` if there is one: its exact sums, checked to be an
+// earlier run of the render that `keys` and samples [first, last) describe. Empty (a render from
+// the start) when the file does not exist.
+std::optional<Film> film_to_resume(const std::string& file, const RenderJob& job,
+                                   const MatchKeys& keys, uint32_t first, uint32_t last,
+                                   bool quiet) {
+  if (!fs::exists(file)) {
+    if (!quiet) print_message(file + ": nothing to resume yet: rendering from the start");
+    return std::nullopt;
+  }
+  const ExrHeader header = read_sums_header(file, "to resume from");
+  const PartHeader part = part_from_attributes(file, header.attributes);
+  check_same_render(part, std::map<std::string, std::string>(keys.begin(), keys.end()));
+  if (part.first != first)
+    throw Error(file + " holds samples from " + std::to_string(part.first) +
+                ", this render's start at " + std::to_string(first));
+  Film film = job.film();
+  read_film_state(file, header, film, 0, last - first);
+  return film;
+}
+
+// The EXR (every channel asked, and the per-pixel counts when they differ: a pass cut short, or
+// samples dropped as NaN) and the preview of a film, with the header saying what it holds.
+void write_outputs(const RenderRequest& r, const Scene& scene, const Shot& shot,
+                   const BackendRun& run, const Film& film, const RenderOutcome& outcome,
+                   const MatchKeys& keys) {
+  write_film_exr(run.output, film, render_header(r, scene, shot, run, film, outcome, keys),
+                 keeps_exact_sums(r, outcome));
+  if (!run.preview.empty()) write_preview_png(run.preview, film.resolve(), r.display);
+}
+
+}  // namespace
+
+struct RenderSession::State {
+  RenderRequest r;
+  SessionHooks hooks;
+  bool spread = false;  // the ranks of an MPI job split each pixel's samples
+  std::vector<std::string> backends;
+  std::vector<BackendRun> runs;  // one per backend: its name and outputs (frame -1)
+  // The frames rendered: one (-1: no number in the names), or FIRST..LAST of --frames, each at
+  // time frame / fps with its number in its outputs' names.
+  std::vector<int> frames = {-1};
+  std::vector<NamedFile> inputs, outputs;
+
+  // Set by the load.
+  std::optional<GltfAnimation> file;
+  Scene scene;
+  std::string animation;    // which play (match.animation)
+  std::string inputs_hash;  // match.inputs
+  double load_seconds = 0.0;
+
+  nlohmann::json frame_stats = nlohmann::json::array();
+  std::vector<BackendRun> last_runs;
+  std::string title;
+
+  double frame_time(int frame) const { return double(frame) / r.fps; }
+  std::vector<BackendRun> frame_runs(int frame) const {
+    std::vector<BackendRun> out = runs;
+    if (frame >= 0)
+      for (BackendRun& run : out)
+        run.output = with_frame(run.output, frame), run.preview = with_frame(run.preview, frame);
+    return out;
+  }
+
+  void check_choices();
+  void check_files();
+  void load();
+  // Renders one frame with every backend; false when a stop ended it.
+  bool render_frame(int frame, StopOnSignals& signals);
+  // Renders with one backend; false when a stop ended it before its first sample.
+  bool render_backend(BackendRun& run, const Shot& shot, int frame, StopOnSignals& signals);
+  void write_stats(int frame, const Shot& shot, const std::vector<BackendRun>& done,
+                   double geometry_seconds);
+};
+
+void RenderSession::State::check_choices() {
+  backends = split_list(r.backend);
+  if (backends.empty()) throw UsageError("--backend needs at least one backend name");
+  if (r.resume && backends.size() > 1)
+    throw UsageError("--resume continues one output: one --backend at a time");
+  // Under mpirun the ranks split the samples of one image: one frame, one backend, every rank
+  // to the end of its share (a pass cut by the clock would leave the shares uneven).
+  spread = hooks.ranks && hooks.ranks->size() > 1;
+  if (spread) {
+    auto refuse = [](const std::string& what) {
+      throw UsageError(what + " is for one process: under mpirun the ranks split one image's "
+                              "samples (run separate jobs, or parts with --samples)");
+    };
+    if (backends.size() > 1) refuse("several backends");
+    if (r.frames) refuse("--frames");
+    if (r.resume) refuse("--resume");
+    if (r.passes.time_limit > 0) refuse("--time-limit");
+    if (r.passes.checkpoint > 0) refuse("--checkpoint");
+    if (r.settings.adaptive > 0) refuse("--adaptive");
+    if (!hooks.ranks->root()) r.quiet = true;  // progress, notes and the summary from rank 0
+  }
+  check_render_choices(r, backends);
+  for (const std::string& name : backends) {
+    if (std::count(backends.begin(), backends.end(), name) > 1)
+      throw UsageError("--backend names " + name + " twice");
+    BackendRun run;
+    run.backend = name;
+    run.output = backends.size() > 1 ? with_backend(r.output, name) : r.output;
+    run.preview = backends.size() > 1 ? with_backend(r.preview, name) : r.preview;
+    runs.push_back(std::move(run));
+  }
+  if (r.frames) {
+    frames.clear();
+    for (int f = r.frames->first; f <= r.frames->second; ++f) frames.push_back(f);
+  }
+}
+
+// Everything an output needs, checked before the scene is loaded: writable and distinct output
+// files that are not inputs, the display transform of a preview.
+void RenderSession::State::check_files() {
+  // The scene first: a missing one is said before any output of a long sequence is looked at.
+  check_input_file(r.scene, "file");
+  inputs = {{"the scene", r.scene}};
+  if (!r.settings.environment_file.empty()) {
+    check_input_file(r.settings.environment_file, "environment map");
+    inputs.push_back({"the environment map", r.settings.environment_file});
+  }
+  for (int frame : frames)
+    for (const BackendRun& run : frame_runs(frame))
+      outputs.push_back({"-o", run.output}), outputs.push_back({"--preview", run.preview});
+  outputs.push_back({"--stats", r.stats});
+  if (!r.preview.empty() || !r.report.empty()) {
+    set_color_warnings(!r.quiet);
+    check_display_transform(r.display);
+    for (const std::string& file : display_input_files())
+      inputs.push_back({"the display configuration's file", file});
+  }
+  std::vector<std::string> output_paths;
+  for (const NamedFile& out : outputs) output_paths.push_back(out.path);
+  check_writable(output_paths);
+  outputs.insert(outputs.end(), hooks.more_outputs.begin(), hooks.more_outputs.end());
+  check_outputs(outputs, inputs);
+}
+
+void RenderSession::State::load() {
+  if (r.frames) r.gltf.time = frame_time(frames.front());
+  const auto t_load = Clock::now();
+  file.emplace(r.scene, r.gltf);
+  scene = file->load();
+  animation = file->animation_choice();
+  // One frame is never posed again: the file's buffers (as large as the scene's) go now.
+  if (frames.size() == 1) file.reset();
+  load_seconds = seconds_since(t_load);
+  for (const FileRead& read : scene.files)
+    inputs.push_back({"the scene's external file", read.path});
+  check_outputs(outputs, inputs);
+  // The fingerprint of what the image is made from, for merging parts (match.inputs).
+  std::vector<FileRead> input_files = {{r.scene, std::nullopt}};
+  input_files.insert(input_files.end(), scene.files.begin(), scene.files.end());
+  if (!r.settings.environment_file.empty())
+    input_files.push_back({r.settings.environment_file, std::nullopt});
+  inputs_hash = hash_text(hash_files(input_files));
+}
+
+bool RenderSession::State::render_backend(BackendRun& run, const Shot& shot, int frame,
+                                          StopOnSignals& signals) {
+  const RenderSettings& s = r.settings;
+  const uint32_t first = r.first_sample(), last = r.last_sample();
+  const auto t0 = Clock::now();
+  auto backend =
+      Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
+  run.build_seconds = seconds_since(t0);
+  RenderJob job(scene, *backend, s, shot);
+  if (r.frames) r.gltf.time = frame_time(frame);  // each frame's own time (match.time)
+  const MatchKeys keys = match_keys(r, shot, animation, inputs_hash, run.backend);
+  if (spread) check_ranks_agree(*hooks.ranks, keys);
+  std::optional<Film> earlier;
+  if (r.resume) earlier = film_to_resume(run.output, job, keys, first, last, r.quiet);
+  const bool resuming = earlier.has_value();
+  Film film = resuming ? std::move(*earlier) : job.film();
+  uint64_t taken = 0;
+  for (size_t p = 0; p < film.pixels(); ++p) taken += film.taken(p);
+  // This process's samples: all of them, or its rank's share.
+  const auto [from, to] = spread ? hooks.ranks->share(first, last) : std::pair(first, last);
+  Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
+                    shot.pixels() * uint64_t(to - from) - taken, !r.quiet);
+  const auto checkpoint = [&](const Film& so_far, const RenderOutcome& o) {
+    write_outputs(r, scene, shot, run, so_far, o, keys);
+  };
+  RenderOutcome outcome = resuming
+                              ? job.resume(film, first, last, progress, r.passes, checkpoint)
+                              : job.run(film, from, to, progress, r.passes, checkpoint);
+  if (spread && !gather_film(*hooks.ranks, film, outcome, first, last)) return false;
+  run.stats = job.stats();
+  run.backend_stats = backend->stats();
+  run.seconds = seconds_since(t0);
+  run.spp = outcome.spp();
+  run.least_spp = film.min_count(), run.most_spp = film.max_count();
+  run.mean_spp = double(film.total_count()) / double(std::max<size_t>(film.pixels(), 1));
+  if (outcome.stopped) run.stopped = signals.signal() == SIGTERM ? "SIGTERM" : "SIGINT";
+  if (outcome.timed_out) run.stopped = "the time limit";
+  // A render stopped before its first sample leaves the previous outputs as they were.
+  if (film.max_count() == 0 && outcome.stopped) return false;
+  write_outputs(r, scene, shot, run, film, outcome, keys);
+  if (hooks.rendered) hooks.rendered(run, film);
+  if (!r.quiet) print_summary(run, shot, s);
+  return !outcome.stopped;
+}
+
+void RenderSession::State::write_stats(int frame, const Shot& shot,
+                                       const std::vector<BackendRun>& done,
+                                       double geometry_seconds) {
+  const RenderSettings& s = r.settings;
+  const auto has_samples = [](const BackendRun& run) {
+    return run.spp > 0 || run.stopped.empty();
+  };
+  size_t kept = 0;
+  for (const BackendRun& run : done) kept += has_samples(run);
+  if (r.stats.empty() || kept == 0) return;
+  auto describe = [&](const BackendRun& run) {
+    nlohmann::json j = {{"scene", r.scene},
+                        {"triangles", scene.geometry.size()},
+                        {"degenerate_triangles", scene.degenerate_triangles},
+                        {"width", shot.width},
+                        {"height", shot.height},
+                        {"spp", run.spp},
+                        {"spp_requested", s.spp},
+                        {"integrator", s.integrator},
+                        {"sampler", sampler_name(s.sampler)},
+                        {"threads", tbb::this_task_arena::max_concurrency()},
+                        {"load_seconds", load_seconds}};
+    if (!run.stopped.empty()) j["stopped_by"] = run.stopped;
+    if (s.adaptive > 0)
+      j["adaptive"] = {{"target", s.adaptive},
+                       {"min_spp", adaptive_min_spp(s)},
+                       {"least_spp", run.least_spp},
+                       {"most_spp", run.most_spp},
+                       {"mean_spp", run.mean_spp}};
+    j.update(to_json(run));
+    return j;
+  };
+  nlohmann::json j;
+  if (runs.size() == 1) {
+    j = describe(done[0]);
+  } else {
+    j = {{"backends", nlohmann::json::array()}};
+    for (const BackendRun& run : done)
+      if (has_samples(run)) j["backends"].push_back(describe(run));
+  }
+  if (r.frames) {
+    // Each frame: its number, time, the seconds its geometry took to make, and its renders.
+    j["frame"] = frame;
+    j["time"] = frame_time(frame);
+    j["geometry_seconds"] = geometry_seconds;
+    frame_stats.push_back(j);
+    j = {{"frames", frame_stats}};
+  }
+  write_atomically(r.stats, "statistics", [&](std::ostream& out) { out << json_text(j) << "\n"; });
+}
+
+bool RenderSession::State::render_frame(int frame, StopOnSignals& signals) {
+  const RenderSettings& s = r.settings;
+  // A frame's geometry is made in place: the file's scene posed at its time (the first came
+  // with the load).
+  double geometry_seconds = load_seconds;
+  if (frame != frames.front()) {
+    const auto t0 = Clock::now();
+    file->pose(frame_time(frame), scene);
+    geometry_seconds = seconds_since(t0);
+  }
+  const Shot shot = make_shot(scene, s);
+  title = fs::path(r.scene).filename().string() + ", " + std::to_string(shot.width) + "×" +
+          std::to_string(shot.height) + ", " + std::to_string(s.spp) + " spp, " + s.integrator +
+          " integrator";
+  if (frame == frames.front()) {
+    check_memory(r, shot);
+    if (!r.quiet)
+      for (const std::string& note : shot.notes) print_message(note);
+  }
+  std::vector<BackendRun> runs_now = frame_runs(frame);
+  size_t rendered = 0;  // the runs begun: a stop skips the backends after it
+  bool go_on = true;
+  for (BackendRun& run : runs_now) {
+    ++rendered;
+    const bool finished = render_backend(run, shot, frame, signals);
+    if (spread && !hooks.ranks->root()) return false;  // rank 0 writes; this rank is done
+    if (!finished) {
+      go_on = false;
+      break;  // the backends after it are not rendered
+    }
+  }
+  runs_now.resize(rendered);
+  if (r.frames && !r.quiet) {
+    char line[160];
+    std::snprintf(line, sizeof line, "frame %d (t = %g s): geometry %.3f ms%s", frame,
+                  frame_time(frame), 1e3 * geometry_seconds,
+                  frame == frames.front() ? " (the load)" : "");
+    std::string text = line;
+    for (const BackendRun& run : runs_now) {
+      std::snprintf(line, sizeof line, ", %s build %.3f ms", run.backend.c_str(),
+                    1e3 * run.build_seconds);
+      text += line;
+    }
+    print_message(text);
+  }
+  write_stats(frame, shot, runs_now, geometry_seconds);
+  last_runs = std::move(runs_now);
+  return go_on && !signals.signal();
+}
+
+RenderSession::RenderSession(RenderRequest request, SessionHooks hooks)
+    : state_(std::make_unique<State>()) {
+  state_->r = std::move(request);
+  state_->hooks = std::move(hooks);
+  state_->check_choices();
+  state_->check_files();
+}
+
+RenderSession::~RenderSession() = default;
+
+int RenderSession::run() {
+  State& st = *state_;
+  const auto threads = thread_limit(st.r.threads);
+  st.load();
+  // From here on SIGINT and SIGTERM stop the render and write what it has.
+  StopOnSignals signals;
+  st.r.passes.stop = &signals.token();
+  st.r.backend_options.threads = st.r.threads;
+  for (int frame : st.frames)
+    if (!st.render_frame(frame, signals)) break;
+  if (signals.signal()) return 128 + signals.signal();
+  return 0;
+}
+
+const std::vector<BackendRun>& RenderSession::runs() const { return state_->last_runs; }
+const std::string& RenderSession::title() const { return state_->title; }
+
+FilmRender render_to_film(const RenderRequest& r, const Scene& scene) {
+  const auto threads = thread_limit(r.threads);
+  const Shot shot = make_shot(scene, r.settings);
+  check_memory(r, shot);
+  Options options = r.backend_options;
+  options.threads = r.threads;
+  auto backend = Backend::create(r.backend, scene.geometry, options.for_plugin(r.backend));
+  RenderJob job(scene, *backend, r.settings, shot);
+  Film film = job.film();
+  const uint32_t first = r.first_sample(), last = r.last_sample();
+  Progress bar("render", shot.pixels() * uint64_t(last - first), !r.quiet);
+  const RenderOutcome outcome = job.run(film, first, last, bar, r.passes);
+  return {std::move(film), outcome};
+}
+
+}  // namespace dacrt
