@@ -259,36 +259,16 @@ int64_t tile_count(int64_t w, int64_t h, int64_t tx, int64_t ty, int mode, bool 
   return nx * ny;
 }
 
-// Checks, before OpenEXR allocates anything, that every size the header of the file in `in`
-// declares fits in the file and in memory, and that the file is one we decode (a single part of
-// flat scanlines or tiles). Follows the OpenEXR file layout: magic, version and flags, then
-// attributes (name\0 type\0 int32 size, value) up to an empty name, then the offset table.
-HeaderScan scan_header(std::istream& in, const std::string& name) {
-  in.seekg(0, std::ios::end);
-  const std::streamoff end = in.tellg();
-  in.seekg(0);
-  if (!in || end < 0) throw Error("cannot read EXR '" + name + "': cannot find its size");
-  HeaderReader r(in, name, uint64_t(end));
-  if (r.left() < 8 || r.u32("the magic number") != kExrMagic)
-    r.fail("it is not an OpenEXR file (no 76 2f 31 01 magic number)");
-  const uint32_t version = r.u32("the version");
-  if ((version & 0xff) != 2)
-    r.fail("OpenEXR file format version " + std::to_string(version & 0xff) + " is not supported");
-  if (version & kMultipartFlag) r.fail("multipart EXR files are not supported");
-  if (version & kDeepFlag) r.fail("deep EXR files are not supported");
-  if (version & ~uint32_t(0xff | kTiledFlag | kLongNamesFlag))
-    r.fail("unknown version flags 0x" + [&] {
-      char hex[16];
-      std::snprintf(hex, sizeof hex, "%x", version & ~0xffu);
-      return std::string(hex);
-    }());
-  const bool tiled = version & kTiledFlag;
-  const size_t max_name = version & kLongNamesFlag ? 255 : 31;
-
+// The attributes of a header whose version says names of at most `max_name` bytes, each checked
+// against its declared size, up to the empty name that ends them: what scan_header checks next.
+struct HeaderAttributes {
   int64_t channel_count = -1, compression = -1, tile_x = 0, tile_y = 0;
   int tile_mode = -1;
   bool have_window = false, tiled_type = false;
   int32_t window[4] = {0, 0, 0, 0};
+};
+HeaderAttributes read_attributes(HeaderReader& r, size_t max_name) {
+  HeaderAttributes found;
   for (;;) {
     const std::string attr = r.text(max_name, "an attribute name");
     if (attr.empty()) break;
@@ -327,23 +307,23 @@ HeaderScan scan_header(std::istream& in, const std::string& name) {
         ++n;
       }
       if (r.pos() != value_end) r.fail(what + " does not fill its declared size");
-      if (attr == "channels") channel_count = n;
+      if (attr == "channels") found.channel_count = n;
     } else if (type == "compression") {
       const int c = r.u8(what);
       if (attr == "compression") {
         if (!lines_per_block(c)) r.fail("unknown compression " + std::to_string(c));
-        compression = c;
+        found.compression = c;
       }
     } else if (type == "box2i" && attr == "dataWindow") {
-      for (int32_t& v : window) v = r.i32(what);
-      have_window = true;
+      for (int32_t& v : found.window) v = r.i32(what);
+      found.have_window = true;
     } else if (type == "tiledesc" && attr == "tiles") {
-      tile_x = r.u32(what), tile_y = r.u32(what);
-      tile_mode = r.u8(what);
+      found.tile_x = r.u32(what), found.tile_y = r.u32(what);
+      found.tile_mode = r.u8(what);
     } else if (type == "string" && attr == "type") {
       std::string value(size_t(size), '\0');
       r.bytes(value.data(), uint64_t(size), what);
-      tiled_type = value == "tiledimage";
+      found.tiled_type = value == "tiledimage";
       if (value != "scanlineimage" && value != "tiledimage")
         r.fail("EXR parts of type '" + one_line(value) + "' are not supported");
     } else if (type == "stringvector") {
@@ -365,6 +345,41 @@ HeaderScan scan_header(std::istream& in, const std::string& name) {
     if (r.pos() > value_end) r.fail(what + " is longer than its declared size");
     r.skip(value_end - r.pos(), what);
   }
+  return found;
+}
+
+// Checks, before OpenEXR allocates anything, that every size the header of the file in `in`
+// declares fits in the file and in memory, and that the file is one we decode (a single part of
+// flat scanlines or tiles). Follows the OpenEXR file layout: magic, version and flags, then
+// attributes (name\0 type\0 int32 size, value) up to an empty name, then the offset table.
+HeaderScan scan_header(std::istream& in, const std::string& name) {
+  in.seekg(0, std::ios::end);
+  const std::streamoff end = in.tellg();
+  in.seekg(0);
+  if (!in || end < 0) throw Error("cannot read EXR '" + name + "': cannot find its size");
+  HeaderReader r(in, name, uint64_t(end));
+  if (r.left() < 8 || r.u32("the magic number") != kExrMagic)
+    r.fail("it is not an OpenEXR file (no 76 2f 31 01 magic number)");
+  const uint32_t version = r.u32("the version");
+  if ((version & 0xff) != 2)
+    r.fail("OpenEXR file format version " + std::to_string(version & 0xff) + " is not supported");
+  if (version & kMultipartFlag) r.fail("multipart EXR files are not supported");
+  if (version & kDeepFlag) r.fail("deep EXR files are not supported");
+  if (version & ~uint32_t(0xff | kTiledFlag | kLongNamesFlag))
+    r.fail("unknown version flags 0x" + [&] {
+      char hex[16];
+      std::snprintf(hex, sizeof hex, "%x", version & ~0xffu);
+      return std::string(hex);
+    }());
+  const bool tiled = version & kTiledFlag;
+  const size_t max_name = version & kLongNamesFlag ? 255 : 31;
+
+  const HeaderAttributes found = read_attributes(r, max_name);
+  const int64_t channel_count = found.channel_count, compression = found.compression,
+                tile_x = found.tile_x, tile_y = found.tile_y;
+  const int tile_mode = found.tile_mode;
+  const bool have_window = found.have_window, tiled_type = found.tiled_type;
+  const int32_t(&window)[4] = found.window;
 
   if (channel_count < 0) r.fail("the header has no channels attribute");
   if (channel_count == 0) r.fail("it has no channels");

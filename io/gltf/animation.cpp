@@ -54,6 +54,134 @@ glm::dquat slerp(glm::dquat a, glm::dquat b, double s) {
 // every frame (an accessor without a bufferView could ask for 2^28 zeros at no cost in the file).
 constexpr uint64_t kMaxAnimationFloats = uint64_t(1) << 26;
 
+namespace {
+
+// The channels of animation `anim` (`at` names it) into `animation`, checked; returns the path
+// each sampler serves (-1: none).
+std::vector<int> read_channels(const Gltf& gltf, const tinygltf::Animation& anim,
+                               const std::string& at, Animation& animation) {
+  const tinygltf::Model& model = gltf.model;
+  std::vector<int> sampler_path(anim.samplers.size(), -1);
+  std::set<std::pair<int, int>> targets;  // (node, path): one channel each
+  for (size_t c = 0; c < anim.channels.size(); ++c) {
+    const tinygltf::AnimationChannel& ch = anim.channels[c];
+    const std::string where = at + ".channels[" + str(c) + "]";
+    AnimationPath path;
+    if (ch.target_path == "translation")
+      path = AnimationPath::translation;
+    else if (ch.target_path == "rotation")
+      path = AnimationPath::rotation;
+    else if (ch.target_path == "scale")
+      path = AnimationPath::scale;
+    else if (ch.target_path == "weights")
+      path = AnimationPath::weights;
+    else if (ch.target_path == "pointer") {
+      print_message("warning: " + gltf.path + ": " + where +
+                    " targets a KHR_animation_pointer pointer, which this version does not "
+                    "read (the channel is skipped)");
+      continue;
+    } else
+      gltf.fail(where + ".target.path: \"" + ch.target_path.substr(0, 40) +
+                "\" is not translation, rotation, scale or weights");
+    if (ch.sampler < 0 || size_t(ch.sampler) >= anim.samplers.size())
+      gltf.fail(where + ".sampler: sampler " + str(ch.sampler) + " does not exist (" +
+                str(anim.samplers.size()) + " samplers)");
+    if (ch.target_node < 0 || size_t(ch.target_node) >= model.nodes.size())
+      gltf.fail(where + ".target.node: node " + str(ch.target_node) + " does not exist (" +
+                str(model.nodes.size()) + " nodes)");
+    const tinygltf::Node& node = model.nodes[size_t(ch.target_node)];
+    if (!node.matrix.empty() && path != AnimationPath::weights)
+      gltf.fail(where + ".target.node: node " + str(ch.target_node) +
+                " has a matrix (animated nodes must use translation, rotation and scale)");
+    if (path == AnimationPath::weights && target_count(model, ch.target_node) == 0)
+      gltf.fail(where + ".target.node: node " + str(ch.target_node) +
+                " has no morph targets for a weights channel");
+    if (!targets.insert({ch.target_node, int(path)}).second)
+      gltf.fail(where + ": node " + str(ch.target_node) + " " + ch.target_path +
+                " is the target of an earlier channel too");
+    int& served = sampler_path[size_t(ch.sampler)];
+    const size_t weights = target_count(model, ch.target_node);
+    // A sampler serves one kind of output: its layout depends on it (and, for weights, on the
+    // target count).
+    const int kind = path == AnimationPath::weights ? 4 + int(weights) : int(path);
+    if (served != -1 && served != kind)
+      gltf.fail(where + ": sampler " + str(ch.sampler) +
+                " serves channels of different output layouts");
+    served = kind;
+    animation.channels.push_back({uint32_t(ch.sampler), uint32_t(ch.target_node), path,
+                                  path == AnimationPath::weights ? weights : components_of(path)});
+  }
+  return sampler_path;
+}
+
+// Sampler `in` (`where` names it) into `sampler`, checked and, when a channel uses it (`served`,
+// the path it serves), its keyframes read; `floats` counts the file's keyframe numbers.
+void read_sampler(const Gltf& gltf, const tinygltf::AnimationSampler& in, const std::string& where,
+                  int served, uint64_t& floats, AnimationSampler& sampler) {
+  const tinygltf::Model& model = gltf.model;
+  if (in.interpolation == "STEP")
+    sampler.interpolation = Interpolation::step;
+  else if (in.interpolation == "CUBICSPLINE")
+    sampler.interpolation = Interpolation::cubic;
+  else if (in.interpolation == "LINEAR" || in.interpolation.empty())
+    sampler.interpolation = Interpolation::linear;
+  else
+    gltf.fail(where + ".interpolation: \"" + in.interpolation.substr(0, 40) +
+              "\" is not LINEAR, STEP or CUBICSPLINE");
+  if (served == -1) return;  // no channel uses it: not read
+  const auto path = AnimationPath(std::min(served, 3));
+  sampler.components = path == AnimationPath::weights ? size_t(served - 4) : components_of(path);
+  // Input: FLOAT SCALAR times.
+  if (in.input < 0 || size_t(in.input) >= model.accessors.size())
+    gltf.fail(where + ".input: accessor " + str(in.input) + " does not exist");
+  if (model.accessors[size_t(in.input)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT ||
+      model.accessors[size_t(in.input)].type != TINYGLTF_TYPE_SCALAR)
+    gltf.fail(where + ".input: accessor " + str(in.input) + " must be FLOAT SCALAR");
+  // Bounded before anything is read: the times and (at most 3 × 4 × targets a keyframe) the
+  // values.
+  const uint64_t keys = accessor_count(gltf, in.input, where + ".input");
+  if (in.output < 0 || size_t(in.output) >= model.accessors.size())
+    gltf.fail(where + ".output: accessor " + str(in.output) + " does not exist");
+  floats += keys + uint64_t(accessor_count(gltf, in.output, where + ".output")) * 4;
+  if (floats > kMaxAnimationFloats)
+    gltf.fail(where + " brings the file's keyframes to more than " + str(kMaxAnimationFloats) +
+              " numbers");
+  const std::vector<glm::vec4> times = read_floats(gltf, in.input, where + ".input", 1, 1, {}, 0.f);
+  if (times.empty()) gltf.fail(where + ".input: accessor " + str(in.input) + " is empty");
+  sampler.input.resize(times.size());
+  for (size_t k = 0; k < times.size(); ++k) {
+    const float t = times[k].x;
+    if (!std::isfinite(t) || t < 0.f || (k > 0 && !(t > sampler.input[k - 1])))
+      gltf.fail(where + ".input: time " + str(k) + " (" + num(t) +
+                ") is not finite, non-negative and greater than the one before");
+    sampler.input[k] = t;
+  }
+  const size_t per_key = sampler.interpolation == Interpolation::cubic ? 3 : 1;
+  if (per_key == 3 && times.size() < 2)
+    gltf.fail(where + ": CUBICSPLINE needs at least 2 keyframes, not " + str(times.size()));
+  // Output: components per element as the path says; weights are SCALARs, one per target.
+  const int per_element = path == AnimationPath::weights ? 1 : int(components_of(path));
+  if (in.output < 0 || size_t(in.output) >= model.accessors.size())
+    gltf.fail(where + ".output: accessor " + str(in.output) + " does not exist");
+  const std::vector<glm::vec4> values = read_floats(gltf, in.output, where + ".output", per_element,
+                                                    per_element, output_types(path), 0.f);
+  const size_t elements_per_key =
+      per_key * (path == AnimationPath::weights ? sampler.components : size_t(1));
+  if (values.size() != times.size() * elements_per_key)
+    gltf.fail(where + ".output: accessor " + str(in.output) + " has " + str(values.size()) +
+              " elements, not " + str(times.size() * elements_per_key) + " (" + str(times.size()) +
+              " keyframes × " + str(elements_per_key) + ")");
+  sampler.output.reserve(values.size() * size_t(per_element));
+  for (size_t k = 0; k < values.size(); ++k)
+    for (int c = 0; c < per_element; ++c) {
+      if (!std::isfinite(values[k][c]))
+        gltf.fail(where + ".output: element " + str(k) + " is not finite");
+      sampler.output.push_back(values[k][c]);
+    }
+}
+
+}  // namespace
+
 std::vector<Animation> read_animations(const Gltf& gltf) {
   const tinygltf::Model& model = gltf.model;
   uint64_t floats = 0;  // read so far, in every sampler
@@ -64,125 +192,11 @@ std::vector<Animation> read_animations(const Gltf& gltf) {
     const std::string at = "animations[" + str(a) + "]";
     Animation animation;
     // The path each sampler serves (samplers are read for their first channel's path).
-    std::vector<int> sampler_path(anim.samplers.size(), -1);
-    std::set<std::pair<int, int>> targets;  // (node, path): one channel each
-    for (size_t c = 0; c < anim.channels.size(); ++c) {
-      const tinygltf::AnimationChannel& ch = anim.channels[c];
-      const std::string where = at + ".channels[" + str(c) + "]";
-      AnimationPath path;
-      if (ch.target_path == "translation")
-        path = AnimationPath::translation;
-      else if (ch.target_path == "rotation")
-        path = AnimationPath::rotation;
-      else if (ch.target_path == "scale")
-        path = AnimationPath::scale;
-      else if (ch.target_path == "weights")
-        path = AnimationPath::weights;
-      else if (ch.target_path == "pointer") {
-        print_message("warning: " + gltf.path + ": " + where +
-                      " targets a KHR_animation_pointer pointer, which this version does not "
-                      "read (the channel is skipped)");
-        continue;
-      } else
-        gltf.fail(where + ".target.path: \"" + ch.target_path.substr(0, 40) +
-                  "\" is not translation, rotation, scale or weights");
-      if (ch.sampler < 0 || size_t(ch.sampler) >= anim.samplers.size())
-        gltf.fail(where + ".sampler: sampler " + str(ch.sampler) + " does not exist (" +
-                  str(anim.samplers.size()) + " samplers)");
-      if (ch.target_node < 0 || size_t(ch.target_node) >= model.nodes.size())
-        gltf.fail(where + ".target.node: node " + str(ch.target_node) + " does not exist (" +
-                  str(model.nodes.size()) + " nodes)");
-      const tinygltf::Node& node = model.nodes[size_t(ch.target_node)];
-      if (!node.matrix.empty() && path != AnimationPath::weights)
-        gltf.fail(where + ".target.node: node " + str(ch.target_node) +
-                  " has a matrix (animated nodes must use translation, rotation and scale)");
-      if (path == AnimationPath::weights && target_count(model, ch.target_node) == 0)
-        gltf.fail(where + ".target.node: node " + str(ch.target_node) +
-                  " has no morph targets for a weights channel");
-      if (!targets.insert({ch.target_node, int(path)}).second)
-        gltf.fail(where + ": node " + str(ch.target_node) + " " + ch.target_path +
-                  " is the target of an earlier channel too");
-      int& served = sampler_path[size_t(ch.sampler)];
-      const size_t weights = target_count(model, ch.target_node);
-      // A sampler serves one kind of output: its layout depends on it (and, for weights, on the
-      // target count).
-      const int kind = path == AnimationPath::weights ? 4 + int(weights) : int(path);
-      if (served != -1 && served != kind)
-        gltf.fail(where + ": sampler " + str(ch.sampler) +
-                  " serves channels of different output layouts");
-      served = kind;
-      animation.channels.push_back(
-          {uint32_t(ch.sampler), uint32_t(ch.target_node), path,
-           path == AnimationPath::weights ? weights : components_of(path)});
-    }
+    const std::vector<int> sampler_path = read_channels(gltf, anim, at, animation);
     animation.samplers.resize(anim.samplers.size());
-    for (size_t s = 0; s < anim.samplers.size(); ++s) {
-      const tinygltf::AnimationSampler& in = anim.samplers[s];
-      AnimationSampler& sampler = animation.samplers[s];
-      const std::string where = at + ".samplers[" + str(s) + "]";
-      if (in.interpolation == "STEP")
-        sampler.interpolation = Interpolation::step;
-      else if (in.interpolation == "CUBICSPLINE")
-        sampler.interpolation = Interpolation::cubic;
-      else if (in.interpolation == "LINEAR" || in.interpolation.empty())
-        sampler.interpolation = Interpolation::linear;
-      else
-        gltf.fail(where + ".interpolation: \"" + in.interpolation.substr(0, 40) +
-                  "\" is not LINEAR, STEP or CUBICSPLINE");
-      if (sampler_path[s] == -1) continue;  // no channel uses it: not read
-      const auto path = AnimationPath(std::min(sampler_path[s], 3));
-      sampler.components =
-          path == AnimationPath::weights ? size_t(sampler_path[s] - 4) : components_of(path);
-      // Input: FLOAT SCALAR times.
-      if (in.input < 0 || size_t(in.input) >= model.accessors.size())
-        gltf.fail(where + ".input: accessor " + str(in.input) + " does not exist");
-      if (model.accessors[size_t(in.input)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT ||
-          model.accessors[size_t(in.input)].type != TINYGLTF_TYPE_SCALAR)
-        gltf.fail(where + ".input: accessor " + str(in.input) + " must be FLOAT SCALAR");
-      // Bounded before anything is read: the times and (at most 3 × 4 × targets a keyframe) the
-      // values.
-      const uint64_t keys = accessor_count(gltf, in.input, where + ".input");
-      if (in.output < 0 || size_t(in.output) >= model.accessors.size())
-        gltf.fail(where + ".output: accessor " + str(in.output) + " does not exist");
-      floats += keys + uint64_t(accessor_count(gltf, in.output, where + ".output")) * 4;
-      if (floats > kMaxAnimationFloats)
-        gltf.fail(where + " brings the file's keyframes to more than " +
-                  str(kMaxAnimationFloats) + " numbers");
-      const std::vector<glm::vec4> times =
-          read_floats(gltf, in.input, where + ".input", 1, 1, {}, 0.f);
-      if (times.empty()) gltf.fail(where + ".input: accessor " + str(in.input) + " is empty");
-      sampler.input.resize(times.size());
-      for (size_t k = 0; k < times.size(); ++k) {
-        const float t = times[k].x;
-        if (!std::isfinite(t) || t < 0.f || (k > 0 && !(t > sampler.input[k - 1])))
-          gltf.fail(where + ".input: time " + str(k) + " (" + num(t) +
-                    ") is not finite, non-negative and greater than the one before");
-        sampler.input[k] = t;
-      }
-      const size_t per_key = sampler.interpolation == Interpolation::cubic ? 3 : 1;
-      if (per_key == 3 && times.size() < 2)
-        gltf.fail(where + ": CUBICSPLINE needs at least 2 keyframes, not " + str(times.size()));
-      // Output: components per element as the path says; weights are SCALARs, one per target.
-      const int per_element = path == AnimationPath::weights ? 1 : int(components_of(path));
-      if (in.output < 0 || size_t(in.output) >= model.accessors.size())
-        gltf.fail(where + ".output: accessor " + str(in.output) + " does not exist");
-      const std::vector<glm::vec4> values = read_floats(
-          gltf, in.output, where + ".output", per_element, per_element, output_types(path), 0.f);
-      const size_t elements_per_key = per_key * (path == AnimationPath::weights
-                                                     ? sampler.components
-                                                     : size_t(1));
-      if (values.size() != times.size() * elements_per_key)
-        gltf.fail(where + ".output: accessor " + str(in.output) + " has " + str(values.size()) +
-                  " elements, not " + str(times.size() * elements_per_key) + " (" +
-                  str(times.size()) + " keyframes × " + str(elements_per_key) + ")");
-      sampler.output.reserve(values.size() * size_t(per_element));
-      for (size_t k = 0; k < values.size(); ++k)
-        for (int c = 0; c < per_element; ++c) {
-          if (!std::isfinite(values[k][c]))
-            gltf.fail(where + ".output: element " + str(k) + " is not finite");
-          sampler.output.push_back(values[k][c]);
-        }
-    }
+    for (size_t s = 0; s < anim.samplers.size(); ++s)
+      read_sampler(gltf, anim.samplers[s], at + ".samplers[" + str(s) + "]", sampler_path[s],
+                   floats, animation.samplers[s]);
     out.push_back(std::move(animation));
   }
   return out;

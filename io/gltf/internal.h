@@ -253,9 +253,19 @@ class MeshLoader {
 
  private:
   struct Transform;
+  struct Vertices;  // a primitive's vertices as one instance reads them
 
   void start_normals();
   void add_primitive(int mesh, int index, const Transform& xf, bool first_instance);
+  // add_primitive's steps that change the loader's state, in the order it takes them.
+  std::vector<std::array<uint32_t, 3>> read_corners(const tinygltf::Primitive& prim,
+                                                    const std::string& where, size_t vertex_count,
+                                                    const Transform& xf);
+  void read_normals(Vertices& v);
+  void read_texcoords(Vertices& v, size_t before);
+  void read_colors(Vertices& v, size_t before);
+  void add_triangles(const Vertices& v, const std::vector<std::array<uint32_t, 3>>& corners,
+                     uint32_t material, size_t before);
   void use_textures(const Material& m);
   uint32_t material_for(int index, const std::string& where);
   int variant_material(const tinygltf::Primitive& prim) const;

@@ -179,6 +179,153 @@ void read_iridescence(const Gltf& gltf, const tinygltf::Material& src, const std
   m.iridescence_thickness_max = float(std::min(thickest, 1e5));
 }
 
+// One material of the file (`what`, "material 3", starts its messages) with the reads its
+// extensions share.
+struct MaterialSource {
+  const Gltf& gltf;
+  const tinygltf::Material& src;
+  const std::string& what;
+
+  // A number member of an extension object, or `fallback` when it is absent.
+  double number(const char* extension, const char* member, double fallback) const {
+    return member_number(gltf, src, what, extension, member, fallback);
+  }
+  // Factors the spec bounds to [0, 1] are clamped; what is not a number is an error.
+  float unit(double value, const char* name) const {
+    if (!std::isfinite(value)) gltf.fail(what + ": " + name + " is not a finite number");
+    return std::clamp(float(value), 0.f, 1.f);
+  }
+  // A textureInfo member of an extension object (none when absent).
+  TextureRef texture(const char* extension, const char* member) const {
+    if (!has_member(src, extension, member)) return TextureRef{};
+    const std::string where = what + " " + extension + "." + member;
+    return texture_ref(
+        gltf, extension_texture(gltf, src.extensions.at(extension).Get(member), where), where);
+  }
+  // Three numbers in [0, 1] of an extension object, or `fallback`.
+  glm::vec3 color(const char* extension, const char* member, glm::vec3 fallback) const {
+    if (!has_member(src, extension, member)) return fallback;
+    const tinygltf::Value& c = src.extensions.at(extension).Get(member);
+    const std::string where = what + ": " + extension + "." + member;
+    if (!c.IsArray() || c.ArrayLen() != 3) gltf.fail(where + " is not 3 numbers");
+    glm::vec3 out;
+    for (int k = 0; k < 3; ++k) {
+      if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble()))
+        gltf.fail(where + " is not 3 finite numbers");
+      out[k] = std::clamp(float(c.Get(k).GetNumberAsDouble()), 0.f, 1.f);
+    }
+    return out;
+  }
+};
+
+// The core factors: alpha mode and cutoff, base colour, emission (with
+// KHR_materials_emissive_strength), metallic and roughness.
+void read_factors(const MaterialSource& in, Material& m) {
+  const auto& [gltf, src, what] = in;
+  if (src.alphaMode == "MASK")
+    m.alpha_mode = Material::AlphaMode::mask;
+  else if (src.alphaMode == "BLEND")
+    m.alpha_mode = Material::AlphaMode::blend;
+  else if (src.alphaMode != "OPAQUE" && !src.alphaMode.empty())
+    gltf.fail(what + ": alphaMode \"" + src.alphaMode + "\" is not OPAQUE, MASK or BLEND");
+  if (!(src.alphaCutoff >= 0.0) || !std::isfinite(src.alphaCutoff))
+    gltf.fail(what + ": alphaCutoff is not a finite number >= 0");
+  m.alpha_cutoff = float(src.alphaCutoff);
+  const auto& base = src.pbrMetallicRoughness.baseColorFactor;
+  const auto& emissive = src.emissiveFactor;
+  if (base.size() != 4)
+    gltf.fail(what + ": baseColorFactor has " + str(base.size()) + " numbers, not 4");
+  if (emissive.size() != 3)
+    gltf.fail(what + ": emissiveFactor has " + str(emissive.size()) + " numbers, not 3");
+  // The spec bounds the factors to [0, 1]; clamping keeps the albedo energy-conserving.
+  m.base_color = glm::clamp(glm::vec3(base[0], base[1], base[2]), 0.f, 1.f);
+  if (!std::isfinite(base[3])) gltf.fail(what + ": baseColorFactor is not finite");
+  m.alpha = std::clamp(float(base[3]), 0.f, 1.f);
+  glm::vec3 emission = glm::clamp(glm::vec3(emissive[0], emissive[1], emissive[2]), 0.f, 1.f);
+  const double strength = in.number("KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+  if (!(strength >= 0.0) || !std::isfinite(float(strength)))
+    gltf.fail(what +
+              ": KHR_materials_emissive_strength.emissiveStrength is not a finite number >= 0");
+  m.emission = emission * float(strength);
+  if (!finite(m.base_color) || !finite(m.emission))
+    gltf.fail(what + ": a colour factor is not finite");
+  m.metallic = in.unit(src.pbrMetallicRoughness.metallicFactor, "metallicFactor");
+  m.roughness = in.unit(src.pbrMetallicRoughness.roughnessFactor, "roughnessFactor");
+}
+
+// KHR_materials_ior, and KHR_materials_specular's and KHR_materials_transmission's factors and
+// textures (the specular colour factor: read_specular_color).
+void read_ior_specular_transmission(const MaterialSource& in, Material& m) {
+  const auto& [gltf, src, what] = in;
+  // KHR_materials_ior: 1 or more, or exactly 0 (Fresnel 1, for converted spec-gloss files).
+  const double ior = in.number("KHR_materials_ior", "ior", 1.5);
+  if (!(ior >= 1.0 || ior == 0.0))
+    gltf.fail(what + ": KHR_materials_ior.ior is " + std::to_string(ior) + ", not 0 or >= 1");
+  m.ior = float(std::min(ior, 1e6));  // beyond, F0 is 1 to float precision
+  m.specular = in.unit(in.number("KHR_materials_specular", "specularFactor", 1.0),
+                       "KHR_materials_specular.specularFactor");
+  m.transmission = in.unit(in.number("KHR_materials_transmission", "transmissionFactor", 0.0),
+                           "KHR_materials_transmission.transmissionFactor");
+  m.transmission_texture = in.texture("KHR_materials_transmission", "transmissionTexture");
+  m.specular_texture = in.texture("KHR_materials_specular", "specularTexture");
+  m.specular_color_texture = in.texture("KHR_materials_specular", "specularColorTexture");
+}
+
+// KHR_materials_clearcoat
+void read_clearcoat(const MaterialSource& in, Material& m) {
+  const auto& [gltf, src, what] = in;
+  m.clearcoat = in.unit(in.number("KHR_materials_clearcoat", "clearcoatFactor", 0.0),
+                        "KHR_materials_clearcoat.clearcoatFactor");
+  m.clearcoat_roughness =
+      in.unit(in.number("KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0),
+              "KHR_materials_clearcoat.clearcoatRoughnessFactor");
+  m.clearcoat_texture = in.texture("KHR_materials_clearcoat", "clearcoatTexture");
+  m.clearcoat_roughness_texture =
+      in.texture("KHR_materials_clearcoat", "clearcoatRoughnessTexture");
+  m.clearcoat_normal_texture = in.texture("KHR_materials_clearcoat", "clearcoatNormalTexture");
+  if (m.clearcoat_normal_texture) {
+    const tinygltf::Value& t =
+        src.extensions.at("KHR_materials_clearcoat").Get("clearcoatNormalTexture");
+    if (t.Has("scale")) {
+      const tinygltf::Value& s = t.Get("scale");
+      if (!s.IsNumber() || !as_float(s.GetNumberAsDouble()))
+        gltf.fail(what +
+                  ": KHR_materials_clearcoat.clearcoatNormalTexture.scale is not a "
+                  "number in float's range");
+      m.clearcoat_normal_scale = float(s.GetNumberAsDouble());
+    }
+  }
+}
+
+// KHR_materials_sheen
+void read_sheen(const MaterialSource& in, Material& m) {
+  m.sheen_color = in.color("KHR_materials_sheen", "sheenColorFactor", glm::vec3(0.f));
+  m.sheen_roughness = in.unit(in.number("KHR_materials_sheen", "sheenRoughnessFactor", 0.0),
+                              "KHR_materials_sheen.sheenRoughnessFactor");
+  m.sheen_color_texture = in.texture("KHR_materials_sheen", "sheenColorTexture");
+  m.sheen_roughness_texture = in.texture("KHR_materials_sheen", "sheenRoughnessTexture");
+}
+
+// KHR_materials_specular's specularColorFactor.
+void read_specular_color(const MaterialSource& in, Material& m) {
+  const auto& [gltf, src, what] = in;
+  if (has_member(src, "KHR_materials_specular", "specularColorFactor")) {
+    const tinygltf::Value& c =
+        src.extensions.at("KHR_materials_specular").Get("specularColorFactor");
+    if (!c.IsArray() || c.ArrayLen() != 3)
+      gltf.fail(what + ": KHR_materials_specular.specularColorFactor is not 3 numbers");
+    for (int k = 0; k < 3; ++k) {
+      // Infinite as float, the specular layer would make every sample of the surface NaN.
+      if (!c.Get(k).IsNumber() || !as_float(c.Get(k).GetNumberAsDouble()) ||
+          c.Get(k).GetNumberAsDouble() < 0.0)
+        gltf.fail(what +
+                  ": KHR_materials_specular.specularColorFactor is not 3 numbers in [0, 3.4e38] "
+                  "(float)");
+      m.specular_color[k] = float(c.Get(k).GetNumberAsDouble());
+    }
+  }
+}
+
 }  // namespace
 
 Material default_material() {
@@ -192,129 +339,22 @@ std::vector<Material> load_materials(const Gltf& gltf) {
   for (size_t i = 0; i < gltf.model.materials.size(); ++i) {
     const tinygltf::Material& src = gltf.model.materials[i];
     std::string what = "material " + str(i);
+    const MaterialSource in{gltf, src, what};
     Material m;
     m.name = src.name;
     m.double_sided = src.doubleSided;
-    if (src.alphaMode == "MASK")
-      m.alpha_mode = Material::AlphaMode::mask;
-    else if (src.alphaMode == "BLEND")
-      m.alpha_mode = Material::AlphaMode::blend;
-    else if (src.alphaMode != "OPAQUE" && !src.alphaMode.empty())
-      gltf.fail(what + ": alphaMode \"" + src.alphaMode + "\" is not OPAQUE, MASK or BLEND");
-    if (!(src.alphaCutoff >= 0.0) || !std::isfinite(src.alphaCutoff))
-      gltf.fail(what + ": alphaCutoff is not a finite number >= 0");
-    m.alpha_cutoff = float(src.alphaCutoff);
-    const auto& base = src.pbrMetallicRoughness.baseColorFactor;
-    const auto& emissive = src.emissiveFactor;
-    if (base.size() != 4)
-      gltf.fail(what + ": baseColorFactor has " + str(base.size()) + " numbers, not 4");
-    if (emissive.size() != 3)
-      gltf.fail(what + ": emissiveFactor has " + str(emissive.size()) + " numbers, not 3");
-    // The spec bounds the factors to [0, 1]; clamping keeps the albedo energy-conserving.
-    m.base_color = glm::clamp(glm::vec3(base[0], base[1], base[2]), 0.f, 1.f);
-    if (!std::isfinite(base[3])) gltf.fail(what + ": baseColorFactor is not finite");
-    m.alpha = std::clamp(float(base[3]), 0.f, 1.f);
-    glm::vec3 emission = glm::clamp(glm::vec3(emissive[0], emissive[1], emissive[2]), 0.f, 1.f);
-    auto extension_number = [&](const char* extension, const char* member, double fallback) {
-      return member_number(gltf, src, what, extension, member, fallback);
-    };
-    const double strength =
-        extension_number("KHR_materials_emissive_strength", "emissiveStrength", 1.0);
-    if (!(strength >= 0.0) || !std::isfinite(float(strength)))
-      gltf.fail(what +
-                ": KHR_materials_emissive_strength.emissiveStrength is not a finite number >= 0");
-    m.emission = emission * float(strength);
-    if (!finite(m.base_color) || !finite(m.emission))
-      gltf.fail(what + ": a colour factor is not finite");
-    // Factors the spec bounds to [0, 1] are clamped; what is not a number is an error.
-    auto unit = [&](double value, const char* name) {
-      if (!std::isfinite(value)) gltf.fail(what + ": " + name + " is not a finite number");
-      return std::clamp(float(value), 0.f, 1.f);
-    };
-    m.metallic = unit(src.pbrMetallicRoughness.metallicFactor, "metallicFactor");
-    m.roughness = unit(src.pbrMetallicRoughness.roughnessFactor, "roughnessFactor");
-    // KHR_materials_ior: 1 or more, or exactly 0 (Fresnel 1, for converted spec-gloss files).
-    const double ior = extension_number("KHR_materials_ior", "ior", 1.5);
-    if (!(ior >= 1.0 || ior == 0.0))
-      gltf.fail(what + ": KHR_materials_ior.ior is " + std::to_string(ior) + ", not 0 or >= 1");
-    m.ior = float(std::min(ior, 1e6));  // beyond, F0 is 1 to float precision
-    m.specular = unit(extension_number("KHR_materials_specular", "specularFactor", 1.0),
-                      "KHR_materials_specular.specularFactor");
-    m.transmission = unit(extension_number("KHR_materials_transmission", "transmissionFactor", 0.0),
-                          "KHR_materials_transmission.transmissionFactor");
-    // A textureInfo member of an extension object (none when absent).
-    auto ext_texture = [&](const char* extension, const char* member) {
-      if (!has_member(src, extension, member)) return TextureRef{};
-      const std::string where = what + " " + extension + "." + member;
-      return texture_ref(
-          gltf, extension_texture(gltf, src.extensions.at(extension).Get(member), where), where);
-    };
-    // Three numbers in [0, 1] of an extension object, or `fallback`.
-    auto ext_color = [&](const char* extension, const char* member, glm::vec3 fallback) {
-      if (!has_member(src, extension, member)) return fallback;
-      const tinygltf::Value& c = src.extensions.at(extension).Get(member);
-      const std::string where = what + ": " + extension + "." + member;
-      if (!c.IsArray() || c.ArrayLen() != 3) gltf.fail(where + " is not 3 numbers");
-      glm::vec3 out;
-      for (int k = 0; k < 3; ++k) {
-        if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble()))
-          gltf.fail(where + " is not 3 finite numbers");
-        out[k] = std::clamp(float(c.Get(k).GetNumberAsDouble()), 0.f, 1.f);
-      }
-      return out;
-    };
-    m.transmission_texture = ext_texture("KHR_materials_transmission", "transmissionTexture");
-    m.specular_texture = ext_texture("KHR_materials_specular", "specularTexture");
-    m.specular_color_texture = ext_texture("KHR_materials_specular", "specularColorTexture");
-    // KHR_materials_clearcoat
-    m.clearcoat = unit(extension_number("KHR_materials_clearcoat", "clearcoatFactor", 0.0),
-                       "KHR_materials_clearcoat.clearcoatFactor");
-    m.clearcoat_roughness =
-        unit(extension_number("KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0),
-             "KHR_materials_clearcoat.clearcoatRoughnessFactor");
-    m.clearcoat_texture = ext_texture("KHR_materials_clearcoat", "clearcoatTexture");
-    m.clearcoat_roughness_texture =
-        ext_texture("KHR_materials_clearcoat", "clearcoatRoughnessTexture");
-    m.clearcoat_normal_texture = ext_texture("KHR_materials_clearcoat", "clearcoatNormalTexture");
-    if (m.clearcoat_normal_texture) {
-      const tinygltf::Value& t =
-          src.extensions.at("KHR_materials_clearcoat").Get("clearcoatNormalTexture");
-      if (t.Has("scale")) {
-        const tinygltf::Value& s = t.Get("scale");
-        if (!s.IsNumber() || !as_float(s.GetNumberAsDouble()))
-          gltf.fail(what + ": KHR_materials_clearcoat.clearcoatNormalTexture.scale is not a "
-                           "number in float's range");
-        m.clearcoat_normal_scale = float(s.GetNumberAsDouble());
-      }
-    }
-    // KHR_materials_sheen
-    m.sheen_color = ext_color("KHR_materials_sheen", "sheenColorFactor", glm::vec3(0.f));
-    m.sheen_roughness = unit(extension_number("KHR_materials_sheen", "sheenRoughnessFactor", 0.0),
-                             "KHR_materials_sheen.sheenRoughnessFactor");
-    m.sheen_color_texture = ext_texture("KHR_materials_sheen", "sheenColorTexture");
-    m.sheen_roughness_texture = ext_texture("KHR_materials_sheen", "sheenRoughnessTexture");
+    read_factors(in, m);
+    read_ior_specular_transmission(in, m);
+    read_clearcoat(in, m);
+    read_sheen(in, m);
     read_volume(gltf, src, what, m);
     read_anisotropy(gltf, src, what, m);
-    m.anisotropy_texture = ext_texture("KHR_materials_anisotropy", "anisotropyTexture");
+    m.anisotropy_texture = in.texture("KHR_materials_anisotropy", "anisotropyTexture");
     read_iridescence(gltf, src, what, m);
-    m.iridescence_texture = ext_texture("KHR_materials_iridescence", "iridescenceTexture");
+    m.iridescence_texture = in.texture("KHR_materials_iridescence", "iridescenceTexture");
     m.iridescence_thickness_texture =
-        ext_texture("KHR_materials_iridescence", "iridescenceThicknessTexture");
-    if (has_member(src, "KHR_materials_specular", "specularColorFactor")) {
-      const tinygltf::Value& c =
-          src.extensions.at("KHR_materials_specular").Get("specularColorFactor");
-      if (!c.IsArray() || c.ArrayLen() != 3)
-        gltf.fail(what + ": KHR_materials_specular.specularColorFactor is not 3 numbers");
-      for (int k = 0; k < 3; ++k) {
-        // Infinite as float, the specular layer would make every sample of the surface NaN.
-        if (!c.Get(k).IsNumber() || !as_float(c.Get(k).GetNumberAsDouble()) ||
-            c.Get(k).GetNumberAsDouble() < 0.0)
-          gltf.fail(what +
-                    ": KHR_materials_specular.specularColorFactor is not 3 numbers in [0, 3.4e38] "
-                    "(float)");
-        m.specular_color[k] = float(c.Get(k).GetNumberAsDouble());
-      }
-    }
+        in.texture("KHR_materials_iridescence", "iridescenceThicknessTexture");
+    read_specular_color(in, m);
     const auto& pbr = src.pbrMetallicRoughness;
     m.base_color_texture = texture_ref(gltf, pbr.baseColorTexture, what + " baseColorTexture");
     m.metallic_roughness_texture =

@@ -148,6 +148,178 @@ void MeshLoader::add_work(uint64_t units, const std::string& where, int node) {
                ", more than the " + format_bytes(available_memory_) + " of memory available");
 }
 
+// One instance of a primitive as its vertices are read: where they come from, which of the
+// accessors' elements are read and how, and the attributes read (per vertex, in world space;
+// empty when the primitive lacks them or nothing needs them).
+struct MeshLoader::Vertices {
+  Vertices(const Gltf& gltf, const tinygltf::Primitive& prim, const std::string& where,
+           const Transform& xf, const Material& mat, size_t count);
+  Vertices(const Vertices&) = delete;  // `which` may point at `used`
+  Vertices& operator=(const Vertices&) = delete;
+
+  // Vertex i's number in the file.
+  size_t vertex(size_t i) const { return which ? size_t(used[i]) : i; }
+  // Fails unless accessor `accessor` (`role` in messages) has as many elements as POSITION.
+  void same_count(int accessor, const std::string& role) const;
+  // Morph targets: each target's `attribute` deltas times its weight, added to `values`.
+  void morph(const char* attribute, std::vector<glm::vec3>& values, IntegerTypes types) const;
+  // A direction's matrix for vertex i: the skin's (with the instance's) or the node's.
+  glm::mat3 normal_matrix(size_t i) const;
+  glm::mat3 tangent_matrix(size_t i) const;
+
+  // The steps of add_primitive that read the file only, in the order it takes them.
+  void select(std::vector<std::array<uint32_t, 3>>& corners);
+  void read_positions(int accessor);
+  void read_tangents();
+
+  const Gltf& gltf;
+  const tinygltf::Primitive& prim;
+  const std::string& where;  // "mesh m primitive p"
+  const Transform& xf;
+  const Material& mat;
+  size_t count;  // POSITION's elements
+  // The elements read: all (`which` is null), or those `used` (select()).
+  std::vector<uint32_t> used;
+  Elements which = nullptr;
+  // The integer types KHR_mesh_quantization allows, by attribute.
+  IntegerTypes position_types, direction_types, texcoord_types;
+  // Whether the material needs tangents, and the TEXCOORD slot they are generated from.
+  bool anisotropic, wants_tangents;
+  uint32_t tangent_set;
+
+  std::vector<glm::dmat4> skin;  // per vertex, when skinned
+  std::vector<glm::vec3> points, normals;
+  std::vector<std::vector<glm::vec2>> uv;  // by slot (Gltf::texcoord_sets)
+  std::vector<glm::vec4> colors, tangents;
+};
+
+MeshLoader::Vertices::Vertices(const Gltf& gltf, const tinygltf::Primitive& prim,
+                               const std::string& where, const Transform& xf, const Material& mat,
+                               size_t count)
+    : gltf(gltf), prim(prim), where(where), xf(xf), mat(mat), count(count) {
+  // KHR_mesh_quantization lets attributes be integers: positions and texture coordinates of any
+  // 8- or 16-bit type, normalized or not, normals and tangents of the signed ones, normalized (the
+  // node's transform scales them back).
+  const bool quantized = gltf.quantized;
+  constexpr uint8_t small = kByte | kUnsignedByte | kShort | kUnsignedShort;
+  position_types = quantized ? IntegerTypes{small, small} : IntegerTypes{};
+  direction_types = {uint8_t(quantized ? kByte | kShort : 0), 0};
+  texcoord_types = {uint8_t(kUnsignedByte | kUnsignedShort | (quantized ? kByte | kShort : 0)),
+                    uint8_t(quantized ? small : 0)};
+  // Tangents, for normal-mapped and anisotropic materials: from the file, else generated from a
+  // uv set (add_triangles). The spec says to ignore TANGENT when NORMAL is absent (the normals are
+  // then flat). A clearcoat normal map needs them too. They are generated from the base normal
+  // map's TEXCOORD set, else the clearcoat normal map's, else the anisotropy texture's, else
+  // TEXCOORD_0.
+  const bool coat_map = mat.clearcoat > 0.f && mat.clearcoat_normal_texture;
+  const TextureRef& normal_map =
+      mat.normal_texture || !coat_map ? mat.normal_texture : mat.clearcoat_normal_texture;
+  anisotropic = mat.anisotropic();
+  wants_tangents = normal_map || anisotropic;
+  tangent_set = normal_map               ? normal_map.texcoord
+                : mat.anisotropy_texture ? mat.anisotropy_texture.texcoord
+                                         : 0u;
+}
+
+void MeshLoader::Vertices::same_count(int accessor, const std::string& role) const {
+  const size_t n = accessor_count(gltf, accessor, role);
+  if (n != count)
+    gltf.fail("accessor " + str(accessor) + " (" + role + ") has " + str(n) +
+              " elements but POSITION has " + str(count));
+}
+
+void MeshLoader::Vertices::morph(const char* attribute, std::vector<glm::vec3>& values,
+                                 IntegerTypes types) const {
+  const std::vector<float>& weights = xf.pose->weights;
+  for (size_t k = 0; k < prim.targets.size(); ++k) {
+    auto a = prim.targets[k].find(attribute);
+    if (a == prim.targets[k].end()) continue;
+    const std::string role = std::string(attribute) + " of " + where + " target " + str(k);
+    same_count(a->second, role);
+    if (weights[k] == 0.f) continue;  // nothing to add: not read
+    const std::vector<glm::vec3> deltas = read_vec3(gltf, a->second, role, which, types);
+    for (size_t i = 0; i < values.size(); ++i) {
+      values[i] += weights[k] * deltas[i];
+      if (!finite(values[i]))
+        gltf.fail("accessor " + str(a->second) + " (" + role + ") morphs vertex " + str(vertex(i)) +
+                  " to a non-finite value");
+    }
+  }
+}
+
+glm::mat3 MeshLoader::Vertices::normal_matrix(size_t i) const {
+  if (skin.empty()) return xf.normal;
+  const glm::dmat3 m = glm::dmat3(xf.world) * glm::dmat3(skin[i]);
+  return direction_matrix(
+      glm::dmat3(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]), glm::cross(m[0], m[1])));
+}
+
+glm::mat3 MeshLoader::Vertices::tangent_matrix(size_t i) const {
+  return skin.empty() ? xf.tangent : direction_matrix(glm::dmat3(xf.world) * glm::dmat3(skin[i]));
+}
+
+// The vertices read: all of them when the corners use about as many, else only those the
+// corners use (renumbered in order), so that a handful of indices into a million vertices
+// costs a handful.
+void MeshLoader::Vertices::select(std::vector<std::array<uint32_t, 3>>& corners) {
+  if (count > 2 * 3 * corners.size()) {
+    used.reserve(3 * corners.size());
+    for (const auto& c : corners) used.insert(used.end(), c.begin(), c.end());
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    for (auto& c : corners)
+      for (uint32_t& k : c)
+        k = uint32_t(std::lower_bound(used.begin(), used.end(), k) - used.begin());
+    which = &used;
+  }
+}
+
+// The positions (accessor `accessor`), morphed, skinned and placed by the instance's transform.
+void MeshLoader::Vertices::read_positions(int accessor) {
+  points = read_vec3(gltf, accessor, "POSITION of " + where, which, position_types);
+  for (size_t i = 0; i < points.size(); ++i)
+    if (!finite(points[i]))
+      gltf.fail("accessor " + str(accessor) + " (POSITION of " + where + ") vertex " +
+                str(vertex(i)) + " is not finite");
+  // Morph targets: one weight each, from the node (morph()).
+  const std::vector<float>& weights = xf.pose->weights;
+  if (prim.targets.size() != weights.size())
+    gltf.fail(where + " has " + str(prim.targets.size()) + " morph targets but its node gives " +
+              str(weights.size()) + " weights");
+  morph("POSITION", points, position_types);
+  // Skinning: each vertex by its own matrix (the joints', weighted); else the node's transform.
+  if (xf.pose->joints) skin = skin_matrices(gltf, prim, where, count, *xf.pose->joints, which);
+  for (size_t i = 0; i < points.size(); ++i) {
+    points[i] =
+        glm::vec3((skin.empty() ? xf.world : xf.world * skin[i]) * glm::dvec4(points[i], 1.0));
+    if (!finite(points[i]))
+      gltf.fail("node " + str(xf.node) + " puts vertex " + str(vertex(i)) + " of " + where +
+                " at a non-finite position");
+  }
+}
+
+// The file's tangents, when the material wants them and the primitive has normals.
+void MeshLoader::Vertices::read_tangents() {
+  if (auto attribute = prim.attributes.find("TANGENT");
+      wants_tangents && !normals.empty() && attribute != prim.attributes.end()) {
+    const std::string role = "TANGENT of " + where;
+    same_count(attribute->second, role);
+    tangents = read_floats(gltf, attribute->second, role, 4, 4, direction_types, 0.f, which);
+    std::vector<glm::vec3> xyz(tangents.size());
+    for (size_t i = 0; i < tangents.size(); ++i) xyz[i] = glm::vec3(tangents[i]);
+    morph("TANGENT", xyz, direction_types);
+    for (size_t i = 0; i < tangents.size(); ++i) {
+      glm::vec4& t = tangents[i];
+      // A mirroring transform turns the bitangent cross(n, t) around: flip its sign back.
+      t = glm::vec4(tangent_matrix(i) * xyz[i], (t.w < 0.f) != xf.flips ? -1.f : 1.f);
+      if (!finite(glm::vec3(t))) t = glm::vec4(0.f);
+    }
+  }
+}
+
+// The primitive's triangles, as one instance adds them: its mode and POSITION are checked, its
+// material chosen, its corners and then its vertices' attributes read, and the triangles added
+// with the per-corner attributes some primitive of the scene has.
 void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool first_instance) {
   const tinygltf::Primitive& prim = gltf_.model.meshes[size_t(mesh)].primitives[size_t(index)];
   std::string where = "mesh " + str(mesh) + " primitive " + str(index);
@@ -171,6 +343,26 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   // The work is bounded from the accessors' counts, before anything is read: an instance costs
   // its triangles, never its accessors' sizes (only the vertices its indices use are read).
   const size_t vertex_count = accessor_count(gltf_, position->second, "POSITION of " + where);
+  std::vector<std::array<uint32_t, 3>> corners = read_corners(prim, where, vertex_count, xf);
+  Vertices v(gltf_, prim, where, xf, mat, vertex_count);
+  v.select(corners);
+  v.read_positions(position->second);
+  read_normals(v);
+  const size_t before = scene_.geometry.size();  // the triangles of earlier primitives
+  read_texcoords(v, before);
+  read_colors(v, before);
+  v.read_tangents();
+  add_triangles(v, corners, material, before);
+  scene_.primitive_count += first_instance;
+}
+
+// The triangles' corners (vertex indices), in the order the front face winds; the triangles are
+// counted as work before the indices are read.
+std::vector<std::array<uint32_t, 3>> MeshLoader::read_corners(const tinygltf::Primitive& prim,
+                                                              const std::string& where,
+                                                              size_t vertex_count,
+                                                              const Transform& xf) {
+  const int mode = prim.mode;
   const size_t corner_count = prim.indices == -1
                                   ? vertex_count
                                   : accessor_count(gltf_, prim.indices, "indices of " + where);
@@ -189,7 +381,6 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   std::vector<uint32_t> indices;
   if (prim.indices != -1)
     indices = read_indices(gltf_, prim.indices, "indices of " + where, vertex_count);
-  // The triangles' corners (vertex indices), in the order the front face winds.
   std::vector<std::array<uint32_t, 3>> corners;
   corners.reserve(triangles);
   for (size_t t = 0; t < triangles; ++t) {
@@ -205,200 +396,106 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
     if (xf.flips) std::swap(c[1], c[2]);
     corners.push_back({uint32_t(c[0]), uint32_t(c[1]), uint32_t(c[2])});
   }
-  // The vertices read: all of them when the corners use about as many, else only those the
-  // corners use (renumbered in order), so that a handful of indices into a million vertices
-  // costs a handful.
-  std::vector<uint32_t> used;
-  Elements which = nullptr;
-  if (vertex_count > 2 * 3 * corners.size()) {
-    used.reserve(3 * corners.size());
-    for (const auto& c : corners) used.insert(used.end(), c.begin(), c.end());
-    std::sort(used.begin(), used.end());
-    used.erase(std::unique(used.begin(), used.end()), used.end());
-    for (auto& c : corners)
-      for (uint32_t& k : c)
-        k = uint32_t(std::lower_bound(used.begin(), used.end(), k) - used.begin());
-    which = &used;
-  }
-  auto vertex = [&](size_t i) { return which ? size_t(used[i]) : i; };  // its number in the file
+  return corners;
+}
 
-  // KHR_mesh_quantization lets attributes be integers: positions and texture coordinates of any
-  // 8- or 16-bit type, normalized or not, normals and tangents of the signed ones, normalized (the
-  // node's transform scales them back).
-  const bool quantized = gltf_.quantized;
-  constexpr uint8_t small = kByte | kUnsignedByte | kShort | kUnsignedShort;
-  const IntegerTypes position_types = quantized ? IntegerTypes{small, small} : IntegerTypes{},
-                     direction_types = {uint8_t(quantized ? kByte | kShort : 0), 0},
-                     texcoord_types = {
-                         uint8_t(kUnsignedByte | kUnsignedShort | (quantized ? kByte | kShort : 0)),
-                         uint8_t(quantized ? small : 0)};
-  std::vector<glm::vec3> points =
-      read_vec3(gltf_, position->second, "POSITION of " + where, which, position_types);
-  for (size_t i = 0; i < points.size(); ++i)
-    if (!finite(points[i]))
-      gltf_.fail("accessor " + str(position->second) + " (POSITION of " + where + ") vertex " +
-                 str(vertex(i)) + " is not finite");
-
-  auto same_count = [&](int accessor, const std::string& role) {
-    const size_t n = accessor_count(gltf_, accessor, role);
-    if (n != vertex_count)
-      gltf_.fail("accessor " + str(accessor) + " (" + role + ") has " + str(n) +
-                 " elements but POSITION has " + str(vertex_count));
-  };
-  // Morph targets: each target's `attribute` deltas times its weight, added to `values`.
-  const std::vector<float>& weights = xf.pose->weights;
-  if (prim.targets.size() != weights.size())
-    gltf_.fail(where + " has " + str(prim.targets.size()) + " morph targets but its node gives " +
-               str(weights.size()) + " weights");
-  auto morph = [&](const char* attribute, std::vector<glm::vec3>& values, IntegerTypes types) {
-    for (size_t k = 0; k < prim.targets.size(); ++k) {
-      auto a = prim.targets[k].find(attribute);
-      if (a == prim.targets[k].end()) continue;
-      const std::string role = std::string(attribute) + " of " + where + " target " + str(k);
-      same_count(a->second, role);
-      if (weights[k] == 0.f) continue;  // nothing to add: not read
-      const std::vector<glm::vec3> deltas = read_vec3(gltf_, a->second, role, which, types);
-      for (size_t i = 0; i < values.size(); ++i) {
-        values[i] += weights[k] * deltas[i];
-        if (!finite(values[i]))
-          gltf_.fail("accessor " + str(a->second) + " (" + role + ") morphs vertex " +
-                     str(vertex(i)) + " to a non-finite value");
-      }
-    }
-  };
-  morph("POSITION", points, position_types);
-  // Skinning: each vertex by its own matrix (the joints', weighted); else the node's transform.
-  std::vector<glm::dmat4> skin;
-  if (xf.pose->joints)
-    skin = skin_matrices(gltf_, prim, where, vertex_count, *xf.pose->joints, which);
-  for (size_t i = 0; i < points.size(); ++i) {
-    points[i] = glm::vec3((skin.empty() ? xf.world : xf.world * skin[i]) *
-                          glm::dvec4(points[i], 1.0));
-    if (!finite(points[i]))
-      gltf_.fail("node " + str(xf.node) + " puts vertex " + str(vertex(i)) + " of " + where +
-                 " at a non-finite position");
-  }
-  // A direction's matrix for vertex i: the skin's (with the instance's) or the node's.
-  auto normal_matrix = [&](size_t i) {
-    if (skin.empty()) return xf.normal;
-    const glm::dmat3 m = glm::dmat3(xf.world) * glm::dmat3(skin[i]);
-    return direction_matrix(glm::dmat3(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]),
-                                       glm::cross(m[0], m[1])));
-  };
-  auto tangent_matrix = [&](size_t i) {
-    return skin.empty() ? xf.tangent
-                        : direction_matrix(glm::dmat3(xf.world) * glm::dmat3(skin[i]));
-  };
-
-  std::vector<glm::vec3> normals;
-  if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
-    same_count(normal->second, "NORMAL of " + where);
-    normals = read_vec3(gltf_, normal->second, "NORMAL of " + where, which, direction_types);
-    morph("NORMAL", normals, direction_types);
-    for (size_t i = 0; i < normals.size(); ++i)
-      normals[i] = normal_matrix(i) * normals[i];  // normalised per corner below
+void MeshLoader::read_normals(Vertices& v) {
+  if (auto normal = v.prim.attributes.find("NORMAL"); normal != v.prim.attributes.end()) {
+    v.same_count(normal->second, "NORMAL of " + v.where);
+    v.normals =
+        read_vec3(gltf_, normal->second, "NORMAL of " + v.where, v.which, v.direction_types);
+    v.morph("NORMAL", v.normals, v.direction_types);
+    for (size_t i = 0; i < v.normals.size(); ++i)
+      v.normals[i] = v.normal_matrix(i) * v.normals[i];  // normalised per corner (add_triangles)
     if (!keep_normals_) start_normals();
   }
-  const size_t before = scene_.geometry.size();
-  // Tangents, for normal-mapped and anisotropic materials: from the file, else generated from a
-  // uv set (below). The spec says to ignore TANGENT when NORMAL is absent (the normals are then
-  // flat). A clearcoat normal map needs them too. They are generated from the base normal map's
-  // TEXCOORD set, else the clearcoat normal map's, else the anisotropy texture's, else TEXCOORD_0.
-  const bool coat_map = mat.clearcoat > 0.f && mat.clearcoat_normal_texture;
-  const TextureRef& normal_map =
-      mat.normal_texture || !coat_map ? mat.normal_texture : mat.clearcoat_normal_texture;
-  const bool anisotropic = mat.anisotropic();
-  const bool wants_tangents = normal_map || anisotropic;
-  const uint32_t tangent_set = normal_map               ? normal_map.texcoord
-                               : mat.anisotropy_texture ? mat.anisotropy_texture.texcoord
-                                                        : 0u;
-  // Texture coordinates, only for the sets some material samples (and, for an anisotropic
-  // material without TANGENT, the set its tangents come from, if the primitive has it); by slot
-  // (Gltf::texcoord_sets: TEXCOORD_0 and _1, then the later sets materials name).
+}
+
+// Texture coordinates, only for the sets some material samples (and, for an anisotropic
+// material without TANGENT, the set its tangents come from, if the primitive has it); by slot
+// (Gltf::texcoord_sets: TEXCOORD_0 and _1, then the later sets materials name). `before`
+// triangles precede the primitive's.
+void MeshLoader::read_texcoords(Vertices& v, size_t before) {
+  const tinygltf::Primitive& prim = v.prim;
   const size_t slots = gltf_.texcoord_sets.size();
   if (texcoords_.size() < slots) texcoords_.resize(slots);
-  std::vector<std::vector<glm::vec2>> uv(slots);
+  v.uv.resize(slots);
   std::vector<bool> needed(slots, false);  // does this primitive's material sample the slot?
-  for (const TextureRef* ref : mat.sampled_textures())
+  for (const TextureRef* ref : v.mat.sampled_textures())
     if (ref && *ref) needed[ref->texcoord] = true;
   for (uint32_t slot = 0; slot < slots; ++slot) {
     const bool for_tangents =
-        anisotropic && slot == tangent_set &&
+        v.anisotropic && slot == v.tangent_set &&
         !(prim.attributes.count("TANGENT") && prim.attributes.count("NORMAL"));
     if (!needed[slot] && !for_tangents) continue;
     const std::string name = "TEXCOORD_" + str(gltf_.texcoord_sets[slot]);
     auto attribute = prim.attributes.find(name);
     if (attribute == prim.attributes.end()) {
       if (!needed[slot]) continue;  // tangents from nothing: see untangented_anisotropic_
-      gltf_.fail(where + ": its material samples " + name + ", which the primitive does not have");
+      gltf_.fail(v.where + ": its material samples " + name +
+                 ", which the primitive does not have");
     }
-    const std::string role = name + " of " + where;
-    same_count(attribute->second, role);
+    const std::string role = name + " of " + v.where;
+    v.same_count(attribute->second, role);
     std::vector<glm::vec4> values =
-        read_floats(gltf_, attribute->second, role, 2, 2, texcoord_types, 0.f, which);
-    uv[slot].resize(values.size());
-    for (size_t i = 0; i < values.size(); ++i) uv[slot][i] = glm::vec2(values[i]);
+        read_floats(gltf_, attribute->second, role, 2, 2, v.texcoord_types, 0.f, v.which);
+    v.uv[slot].resize(values.size());
+    for (size_t i = 0; i < values.size(); ++i) v.uv[slot][i] = glm::vec2(values[i]);
     if (needed[slot] && !texcoords_[slot].on) {
       texcoords_[slot].start(before, glm::vec2(0.f));
       kept_texcoords_.push_back(slot);
     }
   }
-  std::vector<glm::vec4> colors;
-  if (auto attribute = prim.attributes.find("COLOR_0"); attribute != prim.attributes.end()) {
-    const std::string role = "COLOR_0 of " + where;
-    same_count(attribute->second, role);
-    colors = read_floats(gltf_, attribute->second, role, 3, 4, {kUnsignedByte | kUnsignedShort},
-                         1.f, which);
-    for (size_t i = 0; i < colors.size(); ++i) {
+}
+
+void MeshLoader::read_colors(Vertices& v, size_t before) {
+  if (auto attribute = v.prim.attributes.find("COLOR_0"); attribute != v.prim.attributes.end()) {
+    const std::string role = "COLOR_0 of " + v.where;
+    v.same_count(attribute->second, role);
+    v.colors = read_floats(gltf_, attribute->second, role, 3, 4, {kUnsignedByte | kUnsignedShort},
+                           1.f, v.which);
+    for (size_t i = 0; i < v.colors.size(); ++i) {
       // Float colours must lie in [0, 1] (the spec's words), normalized ones do by their type.
-      const glm::vec4& c = colors[i];
+      const glm::vec4& c = v.colors[i];
       if (!(glm::all(glm::greaterThanEqual(c, glm::vec4(0.f))) &&
             glm::all(glm::lessThanEqual(c, glm::vec4(1.f)))))
         gltf_.fail("accessor " + str(attribute->second) + " (" + role + ") element " +
-                   str(vertex(i)) + " is not within [0, 1]");
+                   str(v.vertex(i)) + " is not within [0, 1]");
     }
     colors_.start(before, glm::vec4(1.f));
   }
-  std::vector<glm::vec4> tangents;
-  if (auto attribute = prim.attributes.find("TANGENT");
-      wants_tangents && !normals.empty() && attribute != prim.attributes.end()) {
-    const std::string role = "TANGENT of " + where;
-    same_count(attribute->second, role);
-    tangents = read_floats(gltf_, attribute->second, role, 4, 4, direction_types, 0.f, which);
-    std::vector<glm::vec3> xyz(tangents.size());
-    for (size_t i = 0; i < tangents.size(); ++i) xyz[i] = glm::vec3(tangents[i]);
-    morph("TANGENT", xyz, direction_types);
-    for (size_t i = 0; i < tangents.size(); ++i) {
-      glm::vec4& t = tangents[i];
-      // A mirroring transform turns the bitangent cross(n, t) around: flip its sign back.
-      t = glm::vec4(tangent_matrix(i) * xyz[i], (t.w < 0.f) != xf.flips ? -1.f : 1.f);
-      if (!finite(glm::vec3(t))) t = glm::vec4(0.f);
-    }
-  }
+}
 
+// The triangles of `corners` (of material `material`) added to the scene, with their corners'
+// attributes; `before` triangles precede them.
+void MeshLoader::add_triangles(const Vertices& v,
+                               const std::vector<std::array<uint32_t, 3>>& corners,
+                               uint32_t material, size_t before) {
+  const std::vector<glm::vec3>& points = v.points;
   // Shading normals per corner, as stored: computed once, when they are kept or tangents are
   // generated from them.
-  const bool generate =
-      tangents.empty() && wants_tangents && tangent_set < slots && !uv[tangent_set].empty();
+  const bool generate = v.tangents.empty() && v.wants_tangents && v.tangent_set < v.uv.size() &&
+                        !v.uv[v.tangent_set].empty();
   std::vector<glm::vec3> corner_normals;  // 3 per triangle of `corners`
   if (keep_normals_ || generate) {
     corner_normals.reserve(3 * corners.size());
     for (const auto& c : corners) {
       const glm::vec3 g = geometric_normal(points[c[0]], points[c[1]], points[c[2]]);
-      for (uint32_t i : c) corner_normals.push_back(normals.empty() ? g : unit_or(normals[i], g));
+      for (uint32_t i : c)
+        corner_normals.push_back(v.normals.empty() ? g : unit_or(v.normals[i], g));
     }
   }
   std::vector<glm::vec4> corner_tangents;  // 3 per triangle of `corners`
-  if (!tangents.empty()) {
+  if (!v.tangents.empty()) {
     corner_tangents.reserve(3 * corners.size());
     for (const auto& c : corners)
-      for (uint32_t i : c) corner_tangents.push_back(tangents[i]);
+      for (uint32_t i : c) corner_tangents.push_back(v.tangents[i]);
   } else if (generate) {
-    corner_tangents = generate_tangents(points, uv[tangent_set], corners, corner_normals);
+    corner_tangents = generate_tangents(points, v.uv[v.tangent_set], corners, corner_normals);
   }
-  if (wants_tangents) tangents_.start(before, glm::vec4(0.f));
+  if (v.wants_tangents) tangents_.start(before, glm::vec4(0.f));
   // (Without either, anisotropy follows an arbitrary frame: scene/surface.cpp.)
-  untangented_anisotropic_ += anisotropic && corner_tangents.empty() && !corners.empty();
+  untangented_anisotropic_ += v.anisotropic && corner_tangents.empty() && !corners.empty();
 
   // Triangles of zero area (their edges' cross product, in double, is zero) are left out, with
   // their corners' attributes, and counted: no ray hits them, and a file of millions of them at
@@ -418,14 +515,13 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
       const uint32_t i = c[size_t(k)];
       if (keep_normals_) normals_.push_back(corner_normals[3 * t + size_t(k)]);
       for (uint32_t slot : kept_texcoords_)
-        texcoords_[slot].data.push_back(uv[slot].empty() ? glm::vec2(0.f) : uv[slot][i]);
-      if (colors_.on) colors_.data.push_back(colors.empty() ? glm::vec4(1.f) : colors[i]);
+        texcoords_[slot].data.push_back(v.uv[slot].empty() ? glm::vec2(0.f) : v.uv[slot][i]);
+      if (colors_.on) colors_.data.push_back(v.colors.empty() ? glm::vec4(1.f) : v.colors[i]);
       if (tangents_.on)
         tangents_.data.push_back(corner_tangents.empty() ? glm::vec4(0.f)
                                                          : corner_tangents[3 * t + size_t(k)]);
     }
   }
-  scene_.primitive_count += first_instance;
 }
 
 }  // namespace dacrt::gltf
