@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "apps/false_color.h"
+#include "dacrt/render/header.h"
 #include "dacrt/render/request.h"
 #include "dacrt/io/color.h"
 #include "dacrt/io/exr.h"
@@ -200,7 +201,7 @@ int diff_main(const std::vector<std::string>& args) {
     meta.extra = {{"errorMap", "Y: the mean over R, G and B of |A - B|"},
                   {"imageA", d.a},
                   {"imageB", d.b},
-                  {"software", std::string("dacrt ") + version()}};
+                  software_attribute()};
     write_exr(d.map, a.width, a.height, {{"Y", map}}, meta);
   }
   if (!d.preview.empty()) {

@@ -48,11 +48,15 @@ const std::set<std::string> recomputed = {
 
 // What every header ends with: the software that wrote it.
 void add_software(ExrMetadata& meta) {
-  meta.extra.push_back({"software", std::string("dacrt ") + version()});
+  meta.extra.push_back(software_attribute());
   meta.extra.push_back({"dacrtVersion", version()});
 }
 
 }  // namespace
+
+std::pair<std::string, std::string> software_attribute() {
+  return {"software", std::string("dacrt ") + version()};
+}
 
 MatchKeys match_keys(const RenderRequest& r, const Shot& shot, const std::string& animation,
                      const std::string& inputs_hash, const std::string& backend) {

@@ -21,6 +21,10 @@
 
 namespace dacrt {
 
+// "software": "dacrt VERSION", which every EXR dacrt writes carries (the images of renders and
+// merges, converge's reference, diff's error map).
+std::pair<std::string, std::string> software_attribute();
+
 // The match.* attributes, as name and value, in the order they are written.
 using MatchKeys = std::vector<std::pair<std::string, std::string>>;
 

@@ -136,6 +136,8 @@ void check_backend(const std::string& name);
 
 // An integer in [lo, hi] for `flag`, else UsageError.
 long parse_int(const std::string& flag, const std::string& text, long lo, long hi);
+// The number the whole text spells (strtod's forms), or nothing.
+std::optional<double> parse_real(const std::string& text);
 // A positive finite number (seconds, distances) for `flag`, else UsageError.
 double parse_seconds(const std::string& flag, const std::string& text);
 // Whether `t` is a time an animation is posed at (`--time`, Python's load(time=)): seconds,

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "studies/converge_report.h"
+#include "dacrt/render/header.h"
 #include "dacrt/render/request.h"
 #include "dacrt/util/paths.h"
 #include "bench/html_page.h"
@@ -501,7 +502,7 @@ bool render_reference(const ConvergeArgs& a, const ConvergeFiles& f, const Scene
                               std::to_string(seed + 1) + ", averaged"},
       {reference_mse_key, format("%.9g", split.error.mse)},
       {reference_relmse_key, format("%.9g", split.error.relmse)},
-      {"software", std::string("dacrt ") + version()}};
+      software_attribute()};
   write_exr(f.reference_out, *out.image, meta);
   if (verbose)
     std::fprintf(stderr, "converge: reference: %d spp in %.3g s, its own MSE %.3g, %s\n",
