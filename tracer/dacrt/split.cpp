@@ -76,37 +76,17 @@ struct BinMap {
   }
 };
 
-// Bins the node's triangles, estimates α for every candidate split, and partitions the triangles
-// by the cheapest one. Its large scratch arrays live only in this frame, never across the
-// recursion, so deep trees cannot exhaust a worker thread's stack.
-__attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& box,
-                                                                   const Box& centres, uint32_t tb,
-                                                                   uint32_t te, uint32_t rb,
-                                                                   uint32_t re, bool by_area) {
-  const DacrtParams& p = k.params;
-  const uint32_t nt = te - tb, nr = re - rb;
-  static thread_local SplitScratch scratch;
-  stats.binned += nt;
-  // References, not a structured binding: lambdas below use them (clang 14 cannot capture those).
-  auto& bins = scratch.bins;
-  auto& left_box = scratch.left_box;
-  auto& right_box = scratch.right_box;
-  auto& left_n = scratch.left_n;
-  auto& right_n = scratch.right_n;
-  auto& counts = scratch.counts;
-  using Bin = SplitScratch::Bin;
-  // Binning on triangle box centres along the longest axis of the centres' box (Wald 2007). Each
-  // bin also keeps its centres' box, so the children know theirs without another pass.
-  const int axis = centres.longest_axis();
-  const int K = p.bins;
-  const BinMap map(centres.lo[axis], centres.hi[axis], K);
-  if (!map.valid()) return {};  // one centre: make a leaf
-  auto bin_of = [&](const TriangleRef& t) { return map(t.center(axis, t.step())); };
+namespace {
 
-  // Interleaved sets of bins, merged after: consecutive triangles in one bin would otherwise wait
-  // on each other's updates. Boxes are 4-wide vectors (x, y, z, unused) so that a triangle's
-  // decode and its four box updates are one instruction each; the values are exactly the scalar
-  // TriangleRef::hi and center.
+// Bins the triangles [tb, te) by their box centres along `axis` (Wald 2007): each bin's count,
+// its triangles' box and its centres' box, so the children know theirs without another pass.
+// Interleaved sets of bins, merged after: consecutive triangles in one bin would otherwise wait
+// on each other's updates. Boxes are 4-wide vectors (x, y, z, unused) so that a triangle's
+// decode and its four box updates are one instruction each; the values are exactly the scalar
+// TriangleRef::hi and center.
+void bin_triangles(const TriangleRef* tris, uint32_t tb, uint32_t te, int axis, const BinMap& map,
+                   int K, SplitScratch::Bin* bins) {
+  using Bin = SplitScratch::Bin;
   using f4 = float __attribute__((vector_size(16)));
   using i4 = int32_t __attribute__((vector_size(16)));
   struct VBin {
@@ -150,21 +130,57 @@ __attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& bo
       out.centres.lo[a] = v.clo[a], out.centres.hi[a] = v.chi[a];
     }
   }
-  // Split s puts bins [0, s) left and [s, K) right.
-  {
-    Box acc;
-    uint32_t n = 0;
-    for (int s = 1; s < K; ++s) {
-      acc.extend(bins[s - 1].box), n += bins[s - 1].count;
-      left_box[s] = acc, left_n[s] = n;
-    }
-    acc = Box();
-    n = 0;
-    for (int s = K - 1; s >= 1; --s) {
-      acc.extend(bins[s].box), n += bins[s].count;
-      right_box[s] = acc, right_n[s] = n;
-    }
+}
+
+// The boxes and counts of every candidate split: split s puts bins [0, s) left and [s, K) right.
+void sweep_bins(const SplitScratch::Bin* bins, int K, SplitScratch& out) {
+  auto& left_box = out.left_box;
+  auto& right_box = out.right_box;
+  auto& left_n = out.left_n;
+  auto& right_n = out.right_n;
+  Box acc;
+  uint32_t n = 0;
+  for (int s = 1; s < K; ++s) {
+    acc.extend(bins[s - 1].box), n += bins[s - 1].count;
+    left_box[s] = acc, left_n[s] = n;
   }
+  acc = Box();
+  n = 0;
+  for (int s = K - 1; s >= 1; --s) {
+    acc.extend(bins[s].box), n += bins[s].count;
+    right_box[s] = acc, right_n[s] = n;
+  }
+}
+
+}  // namespace
+
+// Bins the node's triangles, estimates α for every candidate split, and partitions the triangles
+// by the cheapest one. Its large scratch arrays live only in this frame, never across the
+// recursion, so deep trees cannot exhaust a worker thread's stack.
+__attribute__((noinline)) Traversal::Split Traversal::choose_split(const Box& box,
+                                                                   const Box& centres, uint32_t tb,
+                                                                   uint32_t te, uint32_t rb,
+                                                                   uint32_t re, bool by_area) {
+  const DacrtParams& p = k.params;
+  const uint32_t nt = te - tb, nr = re - rb;
+  static thread_local SplitScratch scratch;
+  stats.binned += nt;
+  // References, not a structured binding: lambdas below use them (clang 14 cannot capture those).
+  auto& bins = scratch.bins;
+  auto& left_box = scratch.left_box;
+  auto& right_box = scratch.right_box;
+  auto& left_n = scratch.left_n;
+  auto& right_n = scratch.right_n;
+  auto& counts = scratch.counts;
+  // Binning on triangle box centres along the longest axis of the centres' box.
+  const int axis = centres.longest_axis();
+  const int K = p.bins;
+  const BinMap map(centres.lo[axis], centres.hi[axis], K);
+  if (!map.valid()) return {};  // one centre: make a leaf
+  auto bin_of = [&](const TriangleRef& t) { return map(t.center(axis, t.step())); };
+
+  bin_triangles(tris, tb, te, axis, map, K, bins.data());
+  sweep_bins(bins.data(), K, scratch);
 
   // Ray sampling. Above the threshold (or everywhere with small_nodes=all): α of each side of
   // every candidate from a random subset of the rays, and the split by C = C_T + C_I (α_L N_L +
