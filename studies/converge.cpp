@@ -103,11 +103,7 @@ Output
                              exit code is still 0: `gnuplot convergence.gp` in OUTDIR draws it)
   --no-plot                  write the script, do not run gnuplot
   --quiet                    no progress on stderr
-Render options that apply to every configuration: those of `dacrt render --help` (--width,
---height, --camera, --max-depth, --integrator, --threads, ...) but for -o, --preview, --view,
---exposure, --stats, --aov, --spp, --time-limit and --checkpoint. Those that change the image
-itself (--width, --height, --camera, --look-from, --look-at, --up, --fov, --scene, --variant,
---environment, --point-light) cannot be set per configuration.
+RENDER_OPTIONS
 
 Metrics (on linear radiance, every channel of every pixel, against the reference r):
   RMSE sqrt(mean (x-r)^2), relMSE mean (x-r)^2/(r^2 + 0.01), MAE mean |x-r|,
@@ -116,6 +112,44 @@ Seconds are cumulative, as a user waits for them: the backend's build and the re
 sample so far. A configuration whose last point took under 0.1 s gets a warning: times that
 short are noisy.
 )help";
+
+// The help, with the render options that do not apply and those every configuration shares
+// named from the option table.
+std::string help_text() {
+  std::vector<std::string> not_here, shared_only;
+  for (const RenderOption& o : render_options()) {
+    if (o.name == "--help") continue;
+    const std::string name(o.short_name.empty() ? o.name : o.short_name);
+    if (!(o.uses & use_converge))
+      not_here.push_back(name);
+    else if (!(o.uses & use_config) && o.value != OptionValue::none)
+      shared_only.push_back(name);
+  }
+  auto listed = [](const std::vector<std::string>& names, const char* last) {
+    std::string text;
+    for (size_t k = 0; k < names.size(); ++k)
+      text += (k == 0 ? "" : k + 1 == names.size() ? last : ", ") + names[k];
+    return text;
+  };
+  const std::string paragraph =
+      "Render options that apply to every configuration: those of `dacrt render --help` "
+      "(--width, --height, --camera, --max-depth, --integrator, --threads, ...) but for " +
+      listed(not_here, " and ") + ". Those that change the image itself (" +
+      listed(shared_only, ", ") + ") cannot be set per configuration.";
+  // The paragraph in lines of at most 100 characters, as the rest of the help.
+  std::string lines, line;
+  for (size_t at = 0; at < paragraph.size();) {
+    const size_t end = std::min(paragraph.find(' ', at), paragraph.size());
+    const std::string word = paragraph.substr(at, end - at);
+    if (!line.empty() && line.size() + 1 + word.size() > 100) lines += line + "\n", line.clear();
+    line += (line.empty() ? "" : " ") + word;
+    at = end + 1;
+  }
+  std::string text = converge_help;
+  text.replace(text.find("RENDER_OPTIONS\n"), 15, lines + line + "\n");
+  return text;
+}
+
 
 struct Config {
   std::string label;
@@ -600,7 +634,7 @@ void finish(const ConvergeArgs& a, const ConvergeFiles& f, const std::vector<Cur
 
 int converge_main(const std::vector<std::string>& args) {
   ConvergeArgs a = parse_converge(args);
-  if (a.help) return std::fputs(converge_help, stdout), 0;
+  if (a.help) return std::fputs(help_text().c_str(), stdout), 0;
   std::vector<Config> configs = parse_configs(a);
   const bool verbose = !a.shared.quiet;
   const bool bar = verbose && isatty(STDERR_FILENO);

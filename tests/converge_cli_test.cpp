@@ -247,6 +247,10 @@ TEST_CASE("converge: bad input is one line, a non-zero exit, and nothing written
       {"--config 'integrator=nope'" + out, 2, "unknown integrator 'nope'"},
       {"--config '' --config ' '" + out, 2, "given twice"},
       {"--spp 4" + out, 2, "--spp does not apply"},
+      // The option table says where an option is taken: --frames is render's alone.
+      {"--frames 0:1" + out, 2, "--frames does not apply"},
+      {"--config 'frames=0:1'" + out, 2, "frames does not apply"},
+      {"--config 'look-from=0,1,2'" + out, 2, "look-from changes the image"},
       {"--metric rms" + out, 2, "--metric wants"},
       {"--time-budget 0" + out, 2, "--time-budget wants a positive number"},
       {"--repeats 0" + out, 2, "--repeats"},
