@@ -154,13 +154,31 @@ int Film::channel_count(AovSet a) {
 }
 
 std::vector<Channel> Film::channels(bool counts) const {
+  return channels(counts, nullptr);
+}
+
+std::vector<Film::Output> Film::outputs(bool counts) const {
+  std::vector<std::string> owners;
+  std::vector<Output> out;
+  std::vector<Channel> all = channels(counts, &owners);
+  for (size_t c = 0; c < all.size(); ++c) {
+    if (out.empty() || out.back().name != owners[c]) out.push_back({owners[c], {}});
+    out.back().channels.push_back(std::move(all[c]));
+  }
+  return out;
+}
+
+std::vector<Channel> Film::channels(bool counts, std::vector<std::string>* owners) const {
   std::vector<Channel> out;
   const size_t n = pixels();
+  // The output the channels made next belong to ("" for the colour).
+  std::string owner;
   // A channel whose value at pixel p is value(p).
   auto channel = [&](std::string name, auto value) {
     Channel ch{std::move(name), std::vector<float>(n)};
     tbb::parallel_for(size_t(0), n, [&](size_t p) { ch.values[p] = float(value(p)); });
     out.push_back(std::move(ch));
+    if (owners) owners->push_back(owner);
   };
   auto mean = [&](size_t p, Fixed sum) {
     return count_[p] ? from_fixed<value_bits>(sum) / count_[p] : 0.0;
@@ -173,22 +191,34 @@ std::vector<Channel> Film::channels(bool counts) const {
   auto over_hits = [&](size_t p, int k, double none) {
     return hits_[p] ? from_fixed<value_bits>(first(p, k)) / hits_[p] : none;
   };
-  if (aovs_.has(Aov::albedo))
+  if (aovs_.has(Aov::albedo)) {
+    owner = AovSet::name(Aov::albedo);
     for (int c = 0; c < 3; ++c)
       channel(std::string("albedo.") + rgb[c], [&](size_t p) { return mean(p, first(p, c)); });
-  if (aovs_.has(Aov::normal))
+  }
+  if (aovs_.has(Aov::normal)) {
+    owner = AovSet::name(Aov::normal);
     for (int c = 0; c < 3; ++c)
       channel(std::string("N.") + xyz[c], [&](size_t p) { return mean(p, first(p, 3 + c)); });
-  if (aovs_.has(Aov::depth))
+  }
+  if (aovs_.has(Aov::depth)) {
+    owner = AovSet::name(Aov::depth);
     channel("Z", [&](size_t p) { return over_hits(p, 6, double(background_depth)); });
-  if (aovs_.has(Aov::position))
+  }
+  if (aovs_.has(Aov::position)) {
+    owner = AovSet::name(Aov::position);
     for (int c = 0; c < 3; ++c)
       channel(std::string("P.") + xyz[c], [&](size_t p) { return over_hits(p, 7 + c, 0.0); });
-  if (aovs_.has(Aov::variance))
+  }
+  if (aovs_.has(Aov::variance)) {
+    owner = AovSet::name(Aov::variance);
     for (int c = 0; c < 3; ++c)
       channel(std::string("variance.") + rgb[c], [&](size_t p) { return variance_of_mean(p, c); });
-  if (counts || aovs_.has(Aov::samples))
+  }
+  if (counts || aovs_.has(Aov::samples)) {
+    owner = AovSet::name(Aov::samples);
     channel(samples_channel, [&](size_t p) { return double(count_[p]); });
+  }
   return out;
 }
 

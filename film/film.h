@@ -163,10 +163,19 @@ class Film {
   // anything. `counts`: the samples channel even when the AOVs do not ask for it (for a film
   // whose pixels have different counts).
   std::vector<Channel> channels(bool counts = false) const;
+  // The same channels by the output they belong to, in order: "" (R, G, B), then each AOV by
+  // its name ("albedo": albedo.R/G/B, "normal": N.X/Y/Z, "depth": Z, ...).
+  struct Output {
+    std::string name;
+    std::vector<Channel> channels;
+  };
+  std::vector<Output> outputs(bool counts = false) const;
   // How many channels channels() returns, at most (the samples channel counted).
   static int channel_count(AovSet aovs);
 
  private:
+  // channels(), and the output each belongs to in `owners` (when given).
+  std::vector<Channel> channels(bool counts, std::vector<std::string>* owners) const;
   // Adds a sample: added, clamped (added with values clamped) or dropped (not finite, nothing
   // added).
   enum class Added { dropped, added, clamped };

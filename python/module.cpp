@@ -139,15 +139,6 @@ py::array_t<float> stack(const std::vector<const Channel*>& channels, int width,
   return out;
 }
 
-// The AOV a channel belongs to, by the layer its name starts with.
-std::string aov_of(const std::string& channel) {
-  const std::string layer = channel.substr(0, channel.find('.'));
-  if (layer == "N") return "normal";
-  if (layer == "Z" || layer == "depth") return "depth";
-  if (layer == "P") return "position";
-  return layer;
-}
-
 py::object render(const py::object& scene, const py::kwargs& kwargs) {
   ScenePtr loaded;
   std::string path;
@@ -181,28 +172,17 @@ py::object render(const py::object& scene, const py::kwargs& kwargs) {
   });
 
   const Film& film = done.film;
-  const std::vector<Channel> channels = film.channels(film.min_count() != film.max_count());
-  auto named = [&](const std::string& name) -> const Channel* {
-    for (const Channel& c : channels)
-      if (c.name == name) return &c;
-    throw Error("no channel " + name);
-  };
-  const py::array_t<float> image =
-      stack({named("R"), named("G"), named("B")}, film.width(), film.height());
+  const std::vector<Film::Output> outputs = film.outputs(film.min_count() != film.max_count());
+  std::vector<const Channel*> rgb;
+  for (const Channel& c : outputs.front().channels) rgb.push_back(&c);
+  const py::array_t<float> image = stack(rgb, film.width(), film.height());
   if (!aovs_asked) return image;
   py::dict aovs;
-  std::vector<const Channel*> layer;
-  std::string current;
-  auto flush = [&] {
-    if (!layer.empty()) aovs[py::str(current)] = stack(layer, film.width(), film.height());
-    layer.clear();
-  };
-  for (const Channel& c : channels) {
-    if (c.name == "R" || c.name == "G" || c.name == "B") continue;
-    if (aov_of(c.name) != current) flush(), current = aov_of(c.name);
-    layer.push_back(&c);
+  for (size_t k = 1; k < outputs.size(); ++k) {
+    std::vector<const Channel*> layer;
+    for (const Channel& c : outputs[k].channels) layer.push_back(&c);
+    aovs[py::str(outputs[k].name)] = stack(layer, film.width(), film.height());
   }
-  flush();
   return py::make_tuple(image, aovs);
 }
 

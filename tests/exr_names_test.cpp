@@ -148,3 +148,25 @@ TEST_CASE("exr names: the Blender and Nuke rules as their readers apply them") {
   CHECK(nuke_name("exact.sums.12.w3") == "exact_sums.w3");
   CHECK(nuke_name("my-layer.b") == "my_layer.blue");
 }
+
+TEST_CASE("film: outputs() groups the channels by the AOV they belong to, as channels() orders them") {
+  const AovSet every = AovSet::parse("albedo,normal,depth,position,variance,samples");
+  Film film(2, 1, every);
+  const std::vector<Film::Output> outputs = film.outputs();
+  std::vector<std::string> names, flat;
+  for (const Film::Output& o : outputs) {
+    names.push_back(o.name);
+    for (const Channel& c : o.channels) flat.push_back(c.name);
+  }
+  CHECK(names == std::vector<std::string>{"", "albedo", "normal", "depth", "position",
+                                          "variance", "samples"});
+  std::vector<std::string> channels;
+  for (const Channel& c : film.channels()) channels.push_back(c.name);
+  CHECK(flat == channels);
+  CHECK(outputs[3].channels.size() == 1);  // depth: Z
+  CHECK(outputs[2].channels[0].name == "N.X");
+  // The per-pixel counts alone (a render cut short) are the samples output too.
+  const std::vector<Film::Output> cut = Film(2, 1, AovSet::parse("depth")).outputs(true);
+  REQUIRE(cut.size() == 3);
+  CHECK(cut[2].name == "samples");
+}
