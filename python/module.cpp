@@ -252,6 +252,41 @@ py::dict exr_channels(const py::object& path_object) {
   return out;
 }
 
+// load(): the arguments as --variant and --animation take them, checked (TypeError, ValueError),
+// then the file loaded with the GIL released.
+ScenePtr load(const py::object& path, const py::object& variant, std::optional<int> scene,
+              std::optional<double> time, const py::object& animation) {
+  const std::string bytes = path_argument(path, "path");
+  // A variant name as the CLI takes it: any bytes (a str with surrogate escapes too).
+  std::optional<std::string> name;
+  if (!variant.is_none()) {
+    if (!py::isinstance<py::str>(variant) && !py::isinstance<py::bytes>(variant))
+      throw py::type_error("variant= wants a str, not " +
+                           std::string(py::str(variant.get_type().attr("__name__"))));
+    name = path_argument(variant, "variant");
+  }
+  // An animation as --animation takes it: a name (str or bytes), an index, or "all".
+  std::optional<std::string> clip;
+  if (!animation.is_none()) {
+    if (py::isinstance<py::bool_>(animation) ||
+        !(py::isinstance<py::int_>(animation) || py::isinstance<py::str>(animation) ||
+          py::isinstance<py::bytes>(animation)))
+      throw py::type_error("animation= wants a name, an index or 'all', not " +
+                           std::string(py::str(animation.get_type().attr("__name__"))));
+    if (py::isinstance<py::int_>(animation)) {
+      const long long index = py::cast<long long>(animation);
+      if (index < 0) throw py::value_error("animation= wants an index >= 0");
+      clip = std::to_string(index);
+    } else {
+      clip = path_argument(animation, "animation");
+      if (clip->empty()) throw py::value_error("animation= wants a name, an index or 'all'");
+    }
+  }
+  check_time(time);
+  const py::gil_scoped_release release;
+  return load_scene(bytes, std::move(name), scene, time, std::move(clip));
+}
+
 }  // namespace
 
 }  // namespace dacrt::python
@@ -306,41 +341,7 @@ PYBIND11_MODULE(dacrt, m) {
                std::to_string(s.scene.geometry.size()) + " triangles>";
       });
 
-  m.def(
-      "load",
-      [](const py::object& path, const py::object& variant, std::optional<int> scene,
-         std::optional<double> time, const py::object& animation) {
-        const std::string bytes = path_argument(path, "path");
-        // A variant name as the CLI takes it: any bytes (a str with surrogate escapes too).
-        std::optional<std::string> name;
-        if (!variant.is_none()) {
-          if (!py::isinstance<py::str>(variant) && !py::isinstance<py::bytes>(variant))
-            throw py::type_error("variant= wants a str, not " +
-                                 std::string(py::str(variant.get_type().attr("__name__"))));
-          name = path_argument(variant, "variant");
-        }
-        // An animation as --animation takes it: a name (str or bytes), an index, or "all".
-        std::optional<std::string> clip;
-        if (!animation.is_none()) {
-          if (py::isinstance<py::bool_>(animation) ||
-              !(py::isinstance<py::int_>(animation) || py::isinstance<py::str>(animation) ||
-                py::isinstance<py::bytes>(animation)))
-            throw py::type_error("animation= wants a name, an index or 'all', not " +
-                                 std::string(py::str(animation.get_type().attr("__name__"))));
-          if (py::isinstance<py::int_>(animation)) {
-            const long long index = py::cast<long long>(animation);
-            if (index < 0) throw py::value_error("animation= wants an index >= 0");
-            clip = std::to_string(index);
-          } else {
-            clip = path_argument(animation, "animation");
-            if (clip->empty()) throw py::value_error("animation= wants a name, an index or 'all'");
-          }
-        }
-        check_time(time);
-        const py::gil_scoped_release release;
-        return load_scene(bytes, std::move(name), scene, time, std::move(clip));
-      },
-      py::arg("path"), py::kw_only(), py::arg("variant") = py::none(),
+  m.def("load", &load, py::arg("path"), py::kw_only(), py::arg("variant") = py::none(),
         py::arg("scene") = py::none(), py::arg("time") = py::none(),
         py::arg("animation") = py::none(),
         "load(path, *, variant=None, scene=None, time=None, animation=None) -> Scene\n\n"
