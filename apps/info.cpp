@@ -162,7 +162,7 @@ int info_main(const std::vector<std::string>& args) {
     else if ((options.animation = args[i + 1]).empty())
       throw UsageError("--animation needs a name, an index or all");
   }
-  const GltfAnimation file(args[0], options);
+  const GltfAnimation file(args[0], options, false);  // loaded once, never posed
   const Scene scene = file.load();
   const MaterialCounts counts = count_materials(scene);
   print_contents(args[0], scene, counts);

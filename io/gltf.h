@@ -2,6 +2,7 @@
 // naming the file and the element at fault for anything malformed.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -45,13 +46,29 @@ Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_
 // posed at other times without reading the file again: the frames of an animation.
 class GltfAnimation {
  public:
-  // Reads the file; throws Error as load_gltf does.
-  GltfAnimation(const std::string& path, const GltfOptions& options = {});
+  // Reads the file; throws Error as load_gltf does. `poses`: the scene will be posed, so the
+  // first load keeps what posing reads (see pose()); false for a file loaded once (load_gltf, a
+  // render of one frame), which then keeps no more than a load needs.
+  GltfAnimation(const std::string& path, const GltfOptions& options = {}, bool poses = true);
   ~GltfAnimation();
   // The whole scene at options.time (load_gltf's).
   Scene load() const;
-  // Re-makes `scene` (which load() made) at `time`: its triangles and per-corner attributes, its
-  // cameras and lights; materials and textures are kept as they are.
+  // Re-makes `scene` (which load() made) at `time`, bit for bit as load() would make it at that
+  // time. It replaces these members with new arrays (none is rewritten in place: a triangle of
+  // zero area at one time is dropped, so their count changes): geometry (the triangles in the
+  // file's order, each with its material index), degenerate_triangles, normals, texcoords,
+  // colors, tangents, cameras, cameras_from_file, view_bounds and lights. Everything else stays
+  // as load() made it and is never touched: materials, textures, images, variants, the counts,
+  // files and `ignored`.
+  // Nothing of the file is decoded or checked again: the first load (with `poses`) keeps each
+  // primitive's corners and its vertices' attributes as its accessors gave them (after Draco or
+  // meshopt decompression, sparse patches and normalisation, in the mesh's space), the skins'
+  // inverse bind matrices, EXT_mesh_gpu_instancing's transforms and the materials; a pose
+  // evaluates the animations at `time` (node transforms, joint matrices, morph weights) and
+  // morphs, skins and places copies of those. The one read a pose may add: a morph target of
+  // weight 0 until then is read the first time a pose weighs it, then kept. Without `poses`,
+  // a pose reads the accessors again (their decompressed data is kept all the same).
+  // load() and pose() take turns on one GltfAnimation.
   void pose(double time, Scene& scene) const;
   // The last keyframe time of the animations that play (0 without any).
   double end() const;
@@ -61,6 +78,9 @@ class GltfAnimation {
   // What GltfOptions::animation chose, as match keys and messages say it: "none" (a file without
   // animations), "all", or the index.
   std::string animation_choice() const;
+  // The accessors read and the bufferViews and primitives decompressed so far, for tests that
+  // hold a pose to reading nothing.
+  uint64_t decodes() const;
 
  private:
   struct Impl;

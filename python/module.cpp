@@ -76,7 +76,7 @@ ScenePtr load_scene(const std::string& path, std::optional<std::string> variant,
   GltfOptions at = s->options;
   at.time = time;
   s->file = std::make_unique<GltfAnimation>(path, s->options);
-  s->scene = time ? GltfAnimation(path, at).load() : s->file->load();
+  s->scene = time ? GltfAnimation(path, at, false).load() : s->file->load();
   s->time = time;
   return s;
 }
@@ -165,7 +165,7 @@ py::object render(const py::object& scene, const py::kwargs& kwargs) {
   std::atomic<bool> stop{false};
   r.passes.stop = &stop;
   const FilmRender done = run_interruptible(stop, [&]() -> FilmRender {
-    if (!loaded) return render_to_film(r, GltfAnimation(path, r.gltf).load());
+    if (!loaded) return render_to_film(r, GltfAnimation(path, r.gltf, false).load());
     const std::lock_guard<std::mutex> lock(loaded->busy);
     loaded->pose(r.gltf.time);
     return render_to_film(r, loaded->scene);

@@ -339,9 +339,9 @@ const RenderOption table[] = {
      set_animation},
     {"--frames", "Animation", V::range, use_render, false,
      R"h(  --frames FIRST:LAST        render frames FIRST..LAST, frame f at time f / fps, to OUT.%04d.exr
-                             (and PREVIEW.%04d.png); each frame's geometry is re-made in place, and
-                             the time that takes and each backend's build time are printed (and
-                             written to --stats)
+                             (and PREVIEW.%04d.png); each frame's geometry is made anew from the
+                             file decoded once, and the time that takes and each backend's build
+                             time are printed (and written to --stats)
 )h",
      set_frames},
     {"--fps", "Animation", V::number, use_render, false,

@@ -296,7 +296,7 @@ void RenderSession::State::check_files() {
 void RenderSession::State::load() {
   if (r.frames) r.gltf.time = frame_time(frames.front());
   const auto t_load = Clock::now();
-  file.emplace(r.scene, r.gltf);
+  file.emplace(r.scene, r.gltf, frames.size() > 1);  // one frame is never posed
   scene = file->load();
   animation = file->animation_choice();
   // One frame is never posed again: the file's buffers (as large as the scene's) go now.

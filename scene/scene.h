@@ -1,7 +1,10 @@
 // Scene: what a glTF file becomes. Immutable once loaded: world-space triangles (Geometry), their
 // shading data, a material table, cameras and lights. Elements refer to each other by index. What
 // one render adds (a moved camera, an image size, more lights, an environment) is its Shot
-// (scene/shot.h).
+// (scene/shot.h). The one change after loading is animation's: GltfAnimation::pose (io/gltf.h)
+// replaces the geometry, its per-corner attributes, the cameras and the lights with new arrays
+// for another time, made from what the load kept (the file is not decoded again); materials,
+// textures and images stay as loaded.
 #pragma once
 
 #include <array>

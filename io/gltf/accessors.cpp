@@ -352,6 +352,7 @@ std::vector<glm::quat> read_rotations(const Gltf& gltf, int accessor, const std:
 std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::string& role,
                                    int min_components, int max_components, IntegerTypes integers,
                                    float fill, Elements which) {
+  ++gltf.decodes;
   const View v = view(gltf, accessor, role);
   const int type = v.component_type;
   const std::string what = "accessor " + str(accessor) + " (" + role + ")";
@@ -374,6 +375,7 @@ std::vector<glm::vec4> read_floats(const Gltf& gltf, int accessor, const std::st
 
 std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::string& role,
                                  Elements which, IntegerTypes integers) {
+  ++gltf.decodes;
   const View v = view(gltf, accessor, role);
   const std::string what = "accessor " + str(accessor) + " (" + role + ")";
   const int type = v.component_type;
@@ -395,6 +397,7 @@ std::vector<glm::vec3> read_vec3(const Gltf& gltf, int accessor, const std::stri
 
 std::vector<glm::vec4> read_matrix_columns(const Gltf& gltf, int accessor,
                                           const std::string& role) {
+  ++gltf.decodes;
   const View v = view(gltf, accessor, role);
   if (v.components != 16 || v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT)
     gltf.fail("accessor " + str(accessor) + " (" + role + ") must be FLOAT MAT4");
@@ -405,6 +408,7 @@ std::vector<glm::vec4> read_matrix_columns(const Gltf& gltf, int accessor,
 
 std::vector<uint32_t> read_indices(const Gltf& gltf, int accessor, const std::string& role,
                                    size_t vertex_count) {
+  ++gltf.decodes;
   const View v = view(gltf, accessor, role);
   size_t size = component_size(v.component_type);
   if (v.components != 1 || !unsigned_index_type(v.component_type))

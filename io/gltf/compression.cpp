@@ -138,6 +138,7 @@ Span meshopt_view(const Gltf& gltf, int index) {
     Bytes out;
     const tinygltf::BufferView& bv = gltf.model.bufferViews[size_t(index)];
     decode_meshopt(gltf, index, bv.extensions.at("EXT_meshopt_compression"), out);
+    ++gltf.decodes;
     known = gltf.decoded_views.emplace(index, std::move(out)).first;
   }
   const tinygltf::BufferView& bv = gltf.model.bufferViews[size_t(index)];
@@ -164,6 +165,7 @@ void decode_draco(const Gltf& gltf, const tinygltf::Primitive& prim, const std::
   const Span data = buffer_view(gltf, view, what);
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(data.data), data.size);
+  ++gltf.decodes;
   draco::Decoder decoder;
   auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
   if (!decoded.ok())

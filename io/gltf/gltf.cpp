@@ -109,10 +109,12 @@ std::vector<std::string> variant_names(const Gltf& gltf) {
 }
 
 // The scene at options.time. `geometry_only`: what a frame re-makes (triangles, their attributes,
-// cameras and lights), without decoding the textures or warning again.
+// cameras and lights), without decoding the textures, noting what is not read or warning again.
+// `gltf` may have served earlier runs: what they decoded and kept (Gltf::kept) is not read again.
 Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& animations,
           bool geometry_only = false) {
-  if (options.time) gltf.pose = pose_at(animations, gltf.model.nodes.size(), *options.time);
+  gltf.pose = options.time ? pose_at(animations, gltf.model.nodes.size(), *options.time)
+                           : std::vector<NodePose>{};
   int scene = options.scene;
   Scene out;
   out.variants = variant_names(gltf);
@@ -140,9 +142,14 @@ Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& 
   if ((scene < 0 || size_t(scene) >= count) && !(count == 0 && by_default && scene == 0))
     gltf.fail(std::string(by_default ? "default " : "") + "scene " + str(scene) +
               " does not exist (" + str(count) + " scenes)");
-  out.materials = load_materials(gltf);
+  if (gltf.kept && gltf.kept->materials) {
+    out.materials = *gltf.kept->materials;
+  } else {
+    out.materials = load_materials(gltf);
+    if (gltf.kept) gltf.kept->materials = out.materials;
+  }
   if (!geometry_only) check_skins(gltf);
-  note_unread(gltf, out.ignored);
+  if (!geometry_only) note_unread(gltf, out.ignored);
   if (count > 0) load_nodes(gltf, scene, meshes, out);
   if (!geometry_only) load_textures(gltf, meshes.texture_used(), out);
 
@@ -213,6 +220,11 @@ struct GltfAnimation::Impl {
   GltfOptions options;
   std::vector<FileRead> files;
   tinygltf::Model model;
+  // The file as every load reads it, once: its sparse patches, decompressed bufferViews and
+  // primitives, and (when the loads keep it) what posing reads (`kept`). Loads take turns on it.
+  std::optional<gltf::Gltf> gltf;
+  std::optional<gltf::KeptGeometry> kept;
+  std::mutex running;
   std::vector<gltf::Animation> animations;  // those that play (GltfOptions::animation)
   std::vector<AnimationSummary> summaries;  // every animation of the file
   std::string choice;                       // "none", "all" or the index that plays
@@ -223,16 +235,18 @@ struct GltfAnimation::Impl {
   mutable Box rest_bounds;
   mutable Camera rest_camera;
 
+  // `keep`: what posing reads is kept for later loads and poses (a GltfAnimation that poses).
   template <typename Read>
-  Impl(const std::string& path, const GltfOptions& options, Read read)
+  Impl(const std::string& path, const GltfOptions& options, bool keep, Read read)
       : path(path), options(options) {
     guarded(path, [&] {
       model = read(files);
-      gltf::Gltf gltf(path, model);
-      std::vector<gltf::Animation> all = gltf::read_animations(gltf);
-      const std::vector<size_t> chosen = gltf::choose_animations(gltf, options.animation);
-      summaries = gltf::summarize_animations(gltf, all, chosen);
-      note = gltf::animation_note(gltf, summaries, options.animation);
+      gltf.emplace(this->path, model);
+      if (keep) gltf->kept = &kept.emplace();
+      std::vector<gltf::Animation> all = gltf::read_animations(*gltf);
+      const std::vector<size_t> chosen = gltf::choose_animations(*gltf, options.animation);
+      summaries = gltf::summarize_animations(*gltf, all, chosen);
+      note = gltf::animation_note(*gltf, summaries, options.animation);
       choice = all.empty()                  ? "none"
                : options.animation == "all" ? "all"
                                             : std::to_string(chosen[0]);
@@ -240,10 +254,10 @@ struct GltfAnimation::Impl {
       return 0;
     });
   }
-  Scene load(const GltfOptions& at, bool geometry_only) const {
+  Scene load(const GltfOptions& at, bool geometry_only) {
     return guarded(path, [&] {
-      gltf::Gltf gltf(path, model);
-      Scene scene = gltf::run(gltf, at, animations, geometry_only);
+      const std::lock_guard<std::mutex> lock(running);
+      Scene scene = gltf::run(*gltf, at, animations, geometry_only);
       scene.files = files;
       if (at.time && !geometry_only && !note.empty()) print_message(note);
       // Posed, the scene is framed as at rest (the camera made for a file without one, a
@@ -253,8 +267,7 @@ struct GltfAnimation::Impl {
         std::call_once(rest_made, [&] {
           GltfOptions rest = at;
           rest.time.reset();
-          gltf::Gltf again(path, model);
-          const Scene still = gltf::run(again, rest, animations, true);
+          const Scene still = gltf::run(*gltf, rest, animations, true);
           rest_bounds = still.bounds();
           rest_camera = still.cameras.at(0);
         });
@@ -266,8 +279,8 @@ struct GltfAnimation::Impl {
   }
 };
 
-GltfAnimation::GltfAnimation(const std::string& path, const GltfOptions& options)
-    : impl_(std::make_unique<Impl>(path, options, [&](std::vector<FileRead>& files) {
+GltfAnimation::GltfAnimation(const std::string& path, const GltfOptions& options, bool poses)
+    : impl_(std::make_unique<Impl>(path, options, poses, [&](std::vector<FileRead>& files) {
         return read_gltf_model(path, options.scene, &files, options.variant);
       })) {}
 
@@ -309,13 +322,17 @@ std::string GltfAnimation::animation_choice() const {
   return impl_->choice;
 }
 
+uint64_t GltfAnimation::decodes() const {
+  return impl_->gltf->decodes;
+}
+
 Scene load_gltf(const std::string& path, const GltfOptions& options) {
-  return GltfAnimation(path, options).load();
+  return GltfAnimation(path, options, false).load();
 }
 
 Scene load_gltf_memory(const std::string& path, const unsigned char* data, size_t size,
                        const GltfOptions& options) {
-  const GltfAnimation::Impl file(path, options, [&](std::vector<FileRead>& files) {
+  GltfAnimation::Impl file(path, options, false, [&](std::vector<FileRead>& files) {
     return parse_gltf_model(path, data, size, options.scene, &files, options.variant);
   });
   Scene scene = file.load(options, false);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -50,6 +51,48 @@ struct NodePose {
   std::vector<float> weights;  // empty: not animated
 };
 
+// One JOINTS_n / WEIGHTS_n pair of a primitive (skins.cpp), read and checked for type and count.
+struct SkinSet {
+  int joints_accessor, weights_accessor;
+  std::vector<glm::vec4> joints, weights;  // of the vertices read (Vertices::which)
+};
+// A primitive as its first instance read it: its corners and the vertices they use, and those
+// vertices' attributes in the mesh's space as read and checked (none is ever morphed, skinned or
+// placed here: every instance and pose does that to a copy).
+struct KeptPrimitive {
+  bool complete = false;    // every read of the first instance succeeded
+  size_t vertex_count = 0;  // POSITION's elements
+  size_t triangles = 0;     // as counted against memory, strips' degenerate ones included
+  // The triangles' corners as the file winds them (before a mirrored instance swaps them), in
+  // the numbering of `used` when `selected` (Vertices::select), else of the file.
+  std::vector<std::array<uint32_t, 3>> corners;
+  std::vector<uint32_t> used;
+  bool selected = false;
+  std::vector<glm::vec3> positions, normals;
+  std::vector<std::vector<glm::vec2>> uv;  // by slot (Gltf::texcoord_sets); empty: not read
+  std::vector<glm::vec4> colors, tangents;
+  // Morph targets' deltas by (target, attribute): read the first time an instance or a pose
+  // weighs the target (a target of weight 0 is never read).
+  std::map<std::pair<size_t, std::string>, std::vector<glm::vec3>> deltas;
+  std::optional<std::vector<SkinSet>> skin;  // read the first time an instance is skinned
+};
+// What posing reads of the file, kept from its first read for every later one (Gltf::kept): a
+// GltfAnimation that poses keeps it, so that a pose evaluates the animations and rebuilds the
+// world-space geometry from it through the loader's own steps, reading no accessor and checking
+// none again. Later instances of a primitive in one load take it too.
+struct KeptGeometry {
+  std::map<std::pair<int, int>, KeptPrimitive> primitives;  // by (mesh, primitive)
+  std::map<int, std::vector<glm::dmat4>> inverse_binds;     // by skin, checked
+  // EXT_mesh_gpu_instancing, by node: the work its instances were counted as, and their
+  // transforms.
+  struct Instances {
+    std::vector<uint64_t> work;
+    std::vector<glm::mat4> transforms;
+  };
+  std::map<int, Instances> instances;
+  std::optional<std::vector<Material>> materials;  // as load_materials made them
+};
+
 // The file being loaded: its path (which starts every message) and tinygltf's model of it, and
 // what reading its accessors has worked out once for all their reads.
 struct Gltf {
@@ -63,7 +106,8 @@ struct Gltf {
   bool quantized = false;
   // The KHR_materials_variants variant the primitives take their materials from (-1: their own).
   int variant = -1;
-  // Decompressed geometry (compression.cpp), made once and kept for the load:
+  // Decompressed geometry (compression.cpp), made once and kept for every load of the file (a
+  // GltfAnimation's loads and poses share one Gltf):
   // EXT_meshopt_compression bufferViews, and the accessors of KHR_draco_mesh_compression primitives
   // (by index; the primitives decoded); its bytes in all, which are bounded.
   mutable std::mutex decoded_mutex;
@@ -75,6 +119,11 @@ struct Gltf {
   mutable std::set<int> sourceless_textures, unknown_lights;
   // The animated values of each node at the time rendered (empty: the rest pose).
   std::vector<NodePose> pose;
+  // What posing reads, kept across the loads of one GltfAnimation (null: nothing is kept).
+  KeptGeometry* kept = nullptr;
+  // The accessors read and the bufferViews and primitives decompressed so far (tests hold a
+  // pose to none).
+  mutable std::atomic<uint64_t> decodes{0};
   // The TEXCOORD sets materials refer to, by Scene::texcoords slot (Scene::texcoord_sets), and
   // the slot of each set: 0 and 1 are themselves, later sets numbered as they come.
   mutable std::vector<uint32_t> texcoord_sets = {0, 1};
@@ -223,10 +272,14 @@ struct MeshPose {
   const std::vector<glm::dmat4>* joints = nullptr;
 };
 
-// Per-vertex skinning matrices (skins.cpp) of primitive `prim` (`where` names it) for the vertices
-// `which` of its `vertex_count`: the JOINTS_n / WEIGHTS_n sets' weighted sum of `joints`.
-std::vector<glm::dmat4> skin_matrices(const Gltf& gltf, const tinygltf::Primitive& prim,
-                                      const std::string& where, size_t vertex_count,
+// Skins (skins.cpp). The JOINTS_n / WEIGHTS_n sets of primitive `prim` (`where` names it) for
+// the vertices `which` of its `vertex_count`, read and checked (in pairs, counts, types).
+std::vector<SkinSet> read_skin_sets(const Gltf& gltf, const tinygltf::Primitive& prim,
+                                    const std::string& where, size_t vertex_count, Elements which);
+// Per-vertex skinning matrices of those vertices: the sets' weighted sum of `joints` (each
+// weight checked, and each joint a weight names).
+std::vector<glm::dmat4> skin_matrices(const Gltf& gltf, const std::vector<SkinSet>& sets,
+                                      const std::string& where,
                                       const std::vector<glm::dmat4>& joints, Elements which);
 
 // Meshes flattened into the scene's world-space triangles, one instance at a time, with the
@@ -258,9 +311,9 @@ class MeshLoader {
   void start_normals();
   void add_primitive(int mesh, int index, const Transform& xf, bool first_instance);
   // add_primitive's steps that change the loader's state, in the order it takes them.
-  std::vector<std::array<uint32_t, 3>> read_corners(const tinygltf::Primitive& prim,
-                                                    const std::string& where, size_t vertex_count,
-                                                    const Transform& xf);
+  void read_corners(const tinygltf::Primitive& prim, const std::string& where, const Transform& xf,
+                    KeptPrimitive& kept);
+  void count_triangles(size_t triangles, const std::string& where, int node);
   void read_normals(Vertices& v);
   void read_texcoords(Vertices& v, size_t before);
   void read_colors(Vertices& v, size_t before);

@@ -28,10 +28,19 @@ std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
   };
   const int t = accessor("TRANSLATION"), r = accessor("ROTATION"), s = accessor("SCALE");
   // Reading the instances is work of its own (a mesh without triangles costs nothing else), so
-  // it is bounded with the triangles before it is done.
+  // it is bounded with the triangles before it is done; a GltfAnimation's later loads count the
+  // same work and take the transforms its first load read (Gltf::kept).
+  if (gltf.kept)
+    if (auto known = gltf.kept->instances.find(index); known != gltf.kept->instances.end()) {
+      for (uint64_t units : known->second.work) meshes.add_work(units, where, index);
+      return known->second.transforms;
+    }
+  std::vector<uint64_t> work;
   for (const auto& [a, name] : {std::pair{t, "TRANSLATION"}, {r, "ROTATION"}, {s, "SCALE"}})
-    if (a != -1)
-      meshes.add_work(accessor_count(gltf, a, std::string(name) + " of " + where), where, index);
+    if (a != -1) {
+      work.push_back(accessor_count(gltf, a, std::string(name) + " of " + where));
+      meshes.add_work(work.back(), where, index);
+    }
   std::vector<glm::vec3> translation, scale;
   std::vector<glm::quat> rotation;
   size_t count = 0;
@@ -64,6 +73,7 @@ std::optional<std::vector<glm::mat4>> instance_transforms(const Gltf& gltf,
       gltf.fail(where + ": instance " + str(i) + " has a non-finite transform");
     out[i] = m;
   }
+  if (gltf.kept) gltf.kept->instances[index] = {std::move(work), out};
   return out;
 }
 

@@ -150,15 +150,23 @@ void MeshLoader::add_work(uint64_t units, const std::string& where, int node) {
 
 // One instance of a primitive as its vertices are read: where they come from, which of the
 // accessors' elements are read and how, and the attributes read (per vertex, in world space;
-// empty when the primitive lacks them or nothing needs them).
+// empty when the primitive lacks them or nothing needs them). The file is read only by the
+// primitive's first instance (`read`), into its KeptPrimitive; the later instances and poses
+// copy from there.
 struct MeshLoader::Vertices {
   Vertices(const Gltf& gltf, const tinygltf::Primitive& prim, const std::string& where,
-           const Transform& xf, const Material& mat, size_t count);
-  Vertices(const Vertices&) = delete;  // `which` may point at `used`
+           const Transform& xf, const Material& mat, KeptPrimitive& kept, bool read);
+  Vertices(const Vertices&) = delete;  // `which` may point into `kept`
   Vertices& operator=(const Vertices&) = delete;
 
   // Vertex i's number in the file.
-  size_t vertex(size_t i) const { return which ? size_t(used[i]) : i; }
+  size_t vertex(size_t i) const { return which ? size_t((*which)[i]) : i; }
+  // A kept attribute for this instance to change: a copy when the record outlives the load, else
+  // the record's own (it goes with this instance).
+  template <class T>
+  T take(T& kept_values) const {
+    return gltf.kept ? kept_values : std::move(kept_values);
+  }
   // Fails unless accessor `accessor` (`role` in messages) has as many elements as POSITION.
   void same_count(int accessor, const std::string& role) const;
   // Morph targets: each target's `attribute` deltas times its weight, added to `values`.
@@ -177,9 +185,10 @@ struct MeshLoader::Vertices {
   const std::string& where;  // "mesh m primitive p"
   const Transform& xf;
   const Material& mat;
-  size_t count;  // POSITION's elements
-  // The elements read: all (`which` is null), or those `used` (select()).
-  std::vector<uint32_t> used;
+  KeptPrimitive& kept;
+  const bool read;  // the first instance: the file is read into `kept`
+  size_t count;     // POSITION's elements
+  // The elements read: all (`which` is null), or those kept.used (select()).
   Elements which = nullptr;
   // The integer types KHR_mesh_quantization allows, by attribute.
   IntegerTypes position_types, direction_types, texcoord_types;
@@ -195,8 +204,15 @@ struct MeshLoader::Vertices {
 
 MeshLoader::Vertices::Vertices(const Gltf& gltf, const tinygltf::Primitive& prim,
                                const std::string& where, const Transform& xf, const Material& mat,
-                               size_t count)
-    : gltf(gltf), prim(prim), where(where), xf(xf), mat(mat), count(count) {
+                               KeptPrimitive& kept, bool read)
+    : gltf(gltf),
+      prim(prim),
+      where(where),
+      xf(xf),
+      mat(mat),
+      kept(kept),
+      read(read),
+      count(kept.vertex_count) {
   // KHR_mesh_quantization lets attributes be integers: positions and texture coordinates of any
   // 8- or 16-bit type, normalized or not, normals and tangents of the signed ones, normalized (the
   // node's transform scales them back).
@@ -235,9 +251,14 @@ void MeshLoader::Vertices::morph(const char* attribute, std::vector<glm::vec3>& 
     auto a = prim.targets[k].find(attribute);
     if (a == prim.targets[k].end()) continue;
     const std::string role = std::string(attribute) + " of " + where + " target " + str(k);
-    same_count(a->second, role);
+    if (read) same_count(a->second, role);
     if (weights[k] == 0.f) continue;  // nothing to add: not read
-    const std::vector<glm::vec3> deltas = read_vec3(gltf, a->second, role, which, types);
+    auto known = kept.deltas.find({k, attribute});
+    if (known == kept.deltas.end())
+      known = kept.deltas
+                  .emplace(std::pair{k, attribute}, read_vec3(gltf, a->second, role, which, types))
+                  .first;
+    const std::vector<glm::vec3>& deltas = known->second;
     for (size_t i = 0; i < values.size(); ++i) {
       values[i] += weights[k] * deltas[i];
       if (!finite(values[i]))
@@ -260,9 +281,10 @@ glm::mat3 MeshLoader::Vertices::tangent_matrix(size_t i) const {
 
 // The vertices read: all of them when the corners use about as many, else only those the
 // corners use (renumbered in order), so that a handful of indices into a million vertices
-// costs a handful.
+// costs a handful. Chosen by the first instance (for kept.corners), then kept.
 void MeshLoader::Vertices::select(std::vector<std::array<uint32_t, 3>>& corners) {
-  if (count > 2 * 3 * corners.size()) {
+  if (read && count > 2 * 3 * corners.size()) {
+    std::vector<uint32_t>& used = kept.used;
     used.reserve(3 * corners.size());
     for (const auto& c : corners) used.insert(used.end(), c.begin(), c.end());
     std::sort(used.begin(), used.end());
@@ -270,17 +292,21 @@ void MeshLoader::Vertices::select(std::vector<std::array<uint32_t, 3>>& corners)
     for (auto& c : corners)
       for (uint32_t& k : c)
         k = uint32_t(std::lower_bound(used.begin(), used.end(), k) - used.begin());
-    which = &used;
+    kept.selected = true;
   }
+  if (kept.selected) which = &kept.used;
 }
 
 // The positions (accessor `accessor`), morphed, skinned and placed by the instance's transform.
 void MeshLoader::Vertices::read_positions(int accessor) {
-  points = read_vec3(gltf, accessor, "POSITION of " + where, which, position_types);
-  for (size_t i = 0; i < points.size(); ++i)
-    if (!finite(points[i]))
-      gltf.fail("accessor " + str(accessor) + " (POSITION of " + where + ") vertex " +
-                str(vertex(i)) + " is not finite");
+  if (read) {
+    kept.positions = read_vec3(gltf, accessor, "POSITION of " + where, which, position_types);
+    for (size_t i = 0; i < kept.positions.size(); ++i)
+      if (!finite(kept.positions[i]))
+        gltf.fail("accessor " + str(accessor) + " (POSITION of " + where + ") vertex " +
+                  str(vertex(i)) + " is not finite");
+  }
+  points = take(kept.positions);
   // Morph targets: one weight each, from the node (morph()).
   const std::vector<float>& weights = xf.pose->weights;
   if (prim.targets.size() != weights.size())
@@ -288,7 +314,10 @@ void MeshLoader::Vertices::read_positions(int accessor) {
               str(weights.size()) + " weights");
   morph("POSITION", points, position_types);
   // Skinning: each vertex by its own matrix (the joints', weighted); else the node's transform.
-  if (xf.pose->joints) skin = skin_matrices(gltf, prim, where, count, *xf.pose->joints, which);
+  if (xf.pose->joints) {
+    if (!kept.skin) kept.skin = read_skin_sets(gltf, prim, where, count, which);
+    skin = skin_matrices(gltf, *kept.skin, where, *xf.pose->joints, which);
+  }
   for (size_t i = 0; i < points.size(); ++i) {
     points[i] =
         glm::vec3((skin.empty() ? xf.world : xf.world * skin[i]) * glm::dvec4(points[i], 1.0));
@@ -302,9 +331,12 @@ void MeshLoader::Vertices::read_positions(int accessor) {
 void MeshLoader::Vertices::read_tangents() {
   if (auto attribute = prim.attributes.find("TANGENT");
       wants_tangents && !normals.empty() && attribute != prim.attributes.end()) {
-    const std::string role = "TANGENT of " + where;
-    same_count(attribute->second, role);
-    tangents = read_floats(gltf, attribute->second, role, 4, 4, direction_types, 0.f, which);
+    if (read) {
+      const std::string role = "TANGENT of " + where;
+      same_count(attribute->second, role);
+      kept.tangents = read_floats(gltf, attribute->second, role, 4, 4, direction_types, 0.f, which);
+    }
+    tangents = take(kept.tangents);
     std::vector<glm::vec3> xyz(tangents.size());
     for (size_t i = 0; i < tangents.size(); ++i) xyz[i] = glm::vec3(tangents[i]);
     morph("TANGENT", xyz, direction_types);
@@ -338,14 +370,29 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   uint32_t material = material_for(variant_material(prim), where);
   const Material& mat = scene_.materials[material];
   use_textures(mat);
-  if (prim.extensions.count("KHR_draco_mesh_compression")) decode_draco(gltf_, prim, where);
+  // The file is read by the primitive's first instance (of any load of a GltfAnimation, which
+  // keeps what it read: Gltf::kept), once it read all it needed; the others take that.
+  KeptPrimitive scratch;  // nothing is kept: the record goes with this instance
+  KeptPrimitive* kept = gltf_.kept ? &gltf_.kept->primitives[{mesh, index}] : &scratch;
+  const bool read = !kept->complete;
+  if (read) *kept = KeptPrimitive{};  // begun again after a read that failed
+  if (read && prim.extensions.count("KHR_draco_mesh_compression")) decode_draco(gltf_, prim, where);
 
   // The work is bounded from the accessors' counts, before anything is read: an instance costs
   // its triangles, never its accessors' sizes (only the vertices its indices use are read).
-  const size_t vertex_count = accessor_count(gltf_, position->second, "POSITION of " + where);
-  std::vector<std::array<uint32_t, 3>> corners = read_corners(prim, where, vertex_count, xf);
-  Vertices v(gltf_, prim, where, xf, mat, vertex_count);
+  if (read) {
+    kept->vertex_count = accessor_count(gltf_, position->second, "POSITION of " + where);
+    read_corners(prim, where, xf, *kept);
+  } else {
+    count_triangles(kept->triangles, where, xf.node);
+  }
+  Vertices v(gltf_, prim, where, xf, mat, *kept, read);
+  std::vector<std::array<uint32_t, 3>> corners = v.take(kept->corners);
   v.select(corners);
+  if (read && gltf_.kept) kept->corners = corners;
+  // A mirrored instance turns counter-clockwise (front) into clockwise: swap back.
+  if (xf.flips)
+    for (auto& c : corners) std::swap(c[1], c[2]);
   v.read_positions(position->second);
   read_normals(v);
   const size_t before = scene_.geometry.size();  // the triangles of earlier primitives
@@ -354,14 +401,23 @@ void MeshLoader::add_primitive(int mesh, int index, const Transform& xf, bool fi
   v.read_tangents();
   add_triangles(v, corners, material, before);
   scene_.primitive_count += first_instance;
+  kept->complete = true;
 }
 
-// The triangles' corners (vertex indices), in the order the front face winds; the triangles are
-// counted as work before the indices are read.
-std::vector<std::array<uint32_t, 3>> MeshLoader::read_corners(const tinygltf::Primitive& prim,
-                                                              const std::string& where,
-                                                              size_t vertex_count,
-                                                              const Transform& xf) {
+// Each instance's triangles, counted against the limit and the memory before they are added.
+void MeshLoader::count_triangles(size_t triangles, const std::string& where, int node) {
+  if (triangles > kMaxTriangles - scene_.geometry.size())
+    gltf_.fail("has more than " + str(kMaxTriangles) + " triangles");
+  // A small file can instance a large mesh many times: the triangles are bounded by memory as
+  // they are added, before they are.
+  add_work(triangles, where, node);
+}
+
+// The triangles' corners (vertex indices) into kept.corners, in the order the file winds them
+// (the front face); the triangles are counted as work before the indices are read.
+void MeshLoader::read_corners(const tinygltf::Primitive& prim, const std::string& where,
+                              const Transform& xf, KeptPrimitive& kept) {
+  const size_t vertex_count = kept.vertex_count;
   const int mode = prim.mode;
   const size_t corner_count = prim.indices == -1
                                   ? vertex_count
@@ -372,16 +428,13 @@ std::vector<std::array<uint32_t, 3>> MeshLoader::read_corners(const tinygltf::Pr
   const size_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? corner_count / 3
                            : corner_count >= 3             ? corner_count - 2
                                                            : 0;
-  if (triangles > kMaxTriangles - scene_.geometry.size())
-    gltf_.fail("has more than " + str(kMaxTriangles) + " triangles");
-  // A small file can instance a large mesh many times: the triangles are bounded by memory as
-  // they are added, before they are.
-  add_work(triangles, where, xf.node);
+  kept.triangles = triangles;
+  count_triangles(triangles, where, xf.node);
 
   std::vector<uint32_t> indices;
   if (prim.indices != -1)
     indices = read_indices(gltf_, prim.indices, "indices of " + where, vertex_count);
-  std::vector<std::array<uint32_t, 3>> corners;
+  std::vector<std::array<uint32_t, 3>>& corners = kept.corners;
   corners.reserve(triangles);
   for (size_t t = 0; t < triangles; ++t) {
     size_t c[3] = {3 * t, 3 * t + 1, 3 * t + 2};
@@ -392,18 +445,18 @@ std::vector<std::array<uint32_t, 3>> MeshLoader::read_corners(const tinygltf::Pr
     if (!indices.empty())
       for (size_t& k : c) k = indices[k];
     if (mode != TINYGLTF_MODE_TRIANGLES && (c[0] == c[1] || c[1] == c[2] || c[0] == c[2])) continue;
-    // A mirrored instance turns counter-clockwise (front) into clockwise: swap back.
-    if (xf.flips) std::swap(c[1], c[2]);
     corners.push_back({uint32_t(c[0]), uint32_t(c[1]), uint32_t(c[2])});
   }
-  return corners;
 }
 
 void MeshLoader::read_normals(Vertices& v) {
   if (auto normal = v.prim.attributes.find("NORMAL"); normal != v.prim.attributes.end()) {
-    v.same_count(normal->second, "NORMAL of " + v.where);
-    v.normals =
-        read_vec3(gltf_, normal->second, "NORMAL of " + v.where, v.which, v.direction_types);
+    if (v.read) {
+      v.same_count(normal->second, "NORMAL of " + v.where);
+      v.kept.normals =
+          read_vec3(gltf_, normal->second, "NORMAL of " + v.where, v.which, v.direction_types);
+    }
+    v.normals = v.take(v.kept.normals);
     v.morph("NORMAL", v.normals, v.direction_types);
     for (size_t i = 0; i < v.normals.size(); ++i)
       v.normals[i] = v.normal_matrix(i) * v.normals[i];  // normalised per corner (add_triangles)
@@ -420,6 +473,7 @@ void MeshLoader::read_texcoords(Vertices& v, size_t before) {
   const size_t slots = gltf_.texcoord_sets.size();
   if (texcoords_.size() < slots) texcoords_.resize(slots);
   v.uv.resize(slots);
+  if (v.read) v.kept.uv.resize(slots);
   std::vector<bool> needed(slots, false);  // does this primitive's material sample the slot?
   for (const TextureRef* ref : v.mat.sampled_textures())
     if (ref && *ref) needed[ref->texcoord] = true;
@@ -435,12 +489,15 @@ void MeshLoader::read_texcoords(Vertices& v, size_t before) {
       gltf_.fail(v.where + ": its material samples " + name +
                  ", which the primitive does not have");
     }
-    const std::string role = name + " of " + v.where;
-    v.same_count(attribute->second, role);
-    std::vector<glm::vec4> values =
-        read_floats(gltf_, attribute->second, role, 2, 2, v.texcoord_types, 0.f, v.which);
-    v.uv[slot].resize(values.size());
-    for (size_t i = 0; i < values.size(); ++i) v.uv[slot][i] = glm::vec2(values[i]);
+    if (v.read) {
+      const std::string role = name + " of " + v.where;
+      v.same_count(attribute->second, role);
+      std::vector<glm::vec4> values =
+          read_floats(gltf_, attribute->second, role, 2, 2, v.texcoord_types, 0.f, v.which);
+      v.kept.uv[slot].resize(values.size());
+      for (size_t i = 0; i < values.size(); ++i) v.kept.uv[slot][i] = glm::vec2(values[i]);
+    }
+    v.uv[slot] = v.take(v.kept.uv[slot]);
     if (needed[slot] && !texcoords_[slot].on) {
       texcoords_[slot].start(before, glm::vec2(0.f));
       kept_texcoords_.push_back(slot);
@@ -450,18 +507,21 @@ void MeshLoader::read_texcoords(Vertices& v, size_t before) {
 
 void MeshLoader::read_colors(Vertices& v, size_t before) {
   if (auto attribute = v.prim.attributes.find("COLOR_0"); attribute != v.prim.attributes.end()) {
-    const std::string role = "COLOR_0 of " + v.where;
-    v.same_count(attribute->second, role);
-    v.colors = read_floats(gltf_, attribute->second, role, 3, 4, {kUnsignedByte | kUnsignedShort},
-                           1.f, v.which);
-    for (size_t i = 0; i < v.colors.size(); ++i) {
-      // Float colours must lie in [0, 1] (the spec's words), normalized ones do by their type.
-      const glm::vec4& c = v.colors[i];
-      if (!(glm::all(glm::greaterThanEqual(c, glm::vec4(0.f))) &&
-            glm::all(glm::lessThanEqual(c, glm::vec4(1.f)))))
-        gltf_.fail("accessor " + str(attribute->second) + " (" + role + ") element " +
-                   str(v.vertex(i)) + " is not within [0, 1]");
+    if (v.read) {
+      const std::string role = "COLOR_0 of " + v.where;
+      v.same_count(attribute->second, role);
+      v.kept.colors = read_floats(gltf_, attribute->second, role, 3, 4,
+                                  {kUnsignedByte | kUnsignedShort}, 1.f, v.which);
+      for (size_t i = 0; i < v.kept.colors.size(); ++i) {
+        // Float colours must lie in [0, 1] (the spec's words), normalized ones do by their type.
+        const glm::vec4& c = v.kept.colors[i];
+        if (!(glm::all(glm::greaterThanEqual(c, glm::vec4(0.f))) &&
+              glm::all(glm::lessThanEqual(c, glm::vec4(1.f)))))
+          gltf_.fail("accessor " + str(attribute->second) + " (" + role + ") element " +
+                     str(v.vertex(i)) + " is not within [0, 1]");
+      }
     }
+    v.colors = v.take(v.kept.colors);
     colors_.start(before, glm::vec4(1.f));
   }
 }

@@ -40,26 +40,31 @@ std::vector<glm::dmat4> inverse_binds(const Gltf& gltf, int skin) {
   return out;
 }
 
+// The same, read once for the loads of a GltfAnimation (Gltf::kept).
+std::vector<glm::dmat4> kept_inverse_binds(const Gltf& gltf, int skin) {
+  if (!gltf.kept) return inverse_binds(gltf, skin);
+  auto known = gltf.kept->inverse_binds.find(skin);
+  if (known == gltf.kept->inverse_binds.end())
+    known = gltf.kept->inverse_binds.emplace(skin, inverse_binds(gltf, skin)).first;
+  return known->second;
+}
+
 }  // namespace
 
 void check_skins(const Gltf& gltf) {
-  for (size_t s = 0; s < gltf.model.skins.size(); ++s) inverse_binds(gltf, int(s));
+  for (size_t s = 0; s < gltf.model.skins.size(); ++s) kept_inverse_binds(gltf, int(s));
 }
 
 std::vector<glm::dmat4> joint_matrices(const Gltf& gltf, int skin,
                                        const std::vector<glm::dmat4>& world) {
-  std::vector<glm::dmat4> out = inverse_binds(gltf, skin);
+  std::vector<glm::dmat4> out = kept_inverse_binds(gltf, skin);
   const std::vector<int>& joints = gltf.model.skins[size_t(skin)].joints;
   for (size_t j = 0; j < joints.size(); ++j) out[j] = world[size_t(joints[j])] * out[j];
   return out;
 }
 
-std::vector<glm::dmat4> skin_matrices(const Gltf& gltf, const tinygltf::Primitive& prim,
-                                      const std::string& where, size_t vertex_count,
-                                      const std::vector<glm::dmat4>& joints, Elements which) {
-  const size_t n = which ? which->size() : vertex_count;
-  std::vector<glm::dmat4> out(n, glm::dmat4(0.0));
-  std::vector<double> total(n, 0.0);
+std::vector<SkinSet> read_skin_sets(const Gltf& gltf, const tinygltf::Primitive& prim,
+                                    const std::string& where, size_t vertex_count, Elements which) {
   // The sets JOINTS_0 / WEIGHTS_0, JOINTS_1 / WEIGHTS_1, ... in pairs, numbered from 0 without
   // gaps (the spec's TEXCOORD-like naming); however many there are, each is bounded by the
   // file's attributes.
@@ -83,6 +88,7 @@ std::vector<glm::dmat4> skin_matrices(const Gltf& gltf, const tinygltf::Primitiv
                     (sets ? str(sets - 1) : std::string("(none)")) + " in pairs with WEIGHTS_n");
       }
   if (sets == 0) gltf.fail(where + " is skinned (its node has a skin) but has no JOINTS_0");
+  std::vector<SkinSet> out(sets);
   for (size_t set = 0; set < sets; ++set) {
     const int ja = prim.attributes.at("JOINTS_" + str(set)),
               wa = prim.attributes.at("WEIGHTS_" + str(set));
@@ -97,11 +103,28 @@ std::vector<glm::dmat4> skin_matrices(const Gltf& gltf, const tinygltf::Primitiv
     if (gltf.model.accessors[size_t(ja)].componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
       gltf.fail("accessor " + str(ja) + " (" + jrole +
                 ") must be UNSIGNED_BYTE or UNSIGNED_SHORT VEC4 (it is FLOAT)");
-    const std::vector<glm::vec4> j =
+    out[set].joints_accessor = ja, out[set].weights_accessor = wa;
+    out[set].joints =
         read_floats(gltf, ja, jrole, 4, 4, {0, kUnsignedByte | kUnsignedShort}, 0.f, which);
     // WEIGHTS: FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT, VEC4.
-    const std::vector<glm::vec4> w =
+    out[set].weights =
         read_floats(gltf, wa, wrole, 4, 4, {kUnsignedByte | kUnsignedShort, 0}, 0.f, which);
+  }
+  return out;
+}
+
+std::vector<glm::dmat4> skin_matrices(const Gltf& gltf, const std::vector<SkinSet>& sets,
+                                      const std::string& where,
+                                      const std::vector<glm::dmat4>& joints, Elements which) {
+  const size_t n = sets.empty() ? 0 : sets[0].weights.size();
+  std::vector<glm::dmat4> out(n, glm::dmat4(0.0));
+  std::vector<double> total(n, 0.0);
+  for (size_t set = 0; set < sets.size(); ++set) {
+    const int ja = sets[set].joints_accessor, wa = sets[set].weights_accessor;
+    const std::string jrole = "JOINTS_" + str(set) + " of " + where,
+                      wrole = "WEIGHTS_" + str(set) + " of " + where;
+    const std::vector<glm::vec4>& j = sets[set].joints;
+    const std::vector<glm::vec4>& w = sets[set].weights;
     for (size_t i = 0; i < n; ++i)
       for (int c = 0; c < 4; ++c) {
         const float weight = w[i][c];
