@@ -106,7 +106,7 @@ TEST_CASE("glTF BRDF samples carry eval · cos / pdf, and pdf() is their density
   }
 }
 
-TEST_CASE("glTF BRDF: a coloured specular does not tint the diffuse; an infinite IOR is a mirror") {
+TEST_CASE("glTF BRDF: a coloured specular does not tint the diffuse, an infinite IOR is a mirror") {
   // Far from the mirror direction of a sharp lobe only the diffuse part is left: grey for a white
   // base, whatever the specular colour (fresnel_mix keeps 1 − max F of the base).
   const GltfBrdf tinted({glm::vec3(1.f), 0.f, 0.05f, 1.5f, 1.f, glm::vec3(1.f, 0.f, 0.f)});

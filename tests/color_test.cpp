@@ -168,7 +168,7 @@ TEST_CASE("ACES 1.0 SDR-video views tone-map: mid-grey 0.18 → 0.356 on sRGB, h
   CHECK(r[2] < 0.05f);
 }
 
-TEST_CASE("exposure +1 is the image doubled, -1 halved, in every view; a non-finite one throws") {
+TEST_CASE("exposure +1 is the image doubled, -1 halved, in every view, a non-finite one throws") {
   ScopedOcioEnv env(nullptr);
   std::vector<float> in;
   for (float v = 0.f; v < 2.f; v += 1.f / 32) in.push_back(v);

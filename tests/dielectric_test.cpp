@@ -164,7 +164,7 @@ TEST_CASE("dielectric: white furnace: energy <= 1, and all of it when smooth") {
       }
 }
 
-TEST_CASE("dielectric: reflection is reciprocal; refraction f(wo, wi) / η_wo² = f(wi, wo) / η_wi²") {
+TEST_CASE("dielectric: reflection is reciprocal, refraction f(wo, wi) / η_wo² = f(wi, wo) / η_wi²") {
   Pcg32 rng(3);
   for (float eta : {1.5f, 1.f / 1.2f})
     for (float alpha : {0.1f, 0.5f}) {
@@ -190,7 +190,7 @@ TEST_CASE("dielectric: reflection is reciprocal; refraction f(wo, wi) / η_wo² 
     }
 }
 
-TEST_CASE("dielectric: a smooth interface refracts by Snell's law, tinted; index-matched passes") {
+TEST_CASE("dielectric: a smooth interface refracts by Snell's law, tinted, index-matched passes") {
   const float eta = 1.5f, theta_o = glm::radians(50.f);
   const RoughDielectric d(eta, 0.f, glm::vec3(0.5f, 1.f, 1.f));
   const glm::vec3 wo = direction(theta_o, 0.f);

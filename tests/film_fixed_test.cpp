@@ -37,7 +37,7 @@ TEST_CASE("fixed point: values convert toward zero to the step, whole and fracti
   }
 }
 
-TEST_CASE("film: sums are the same bit for bit in any order; values past the limit are clamped") {
+TEST_CASE("film: sums are the same bit for bit in any order, values past the limit are clamped") {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(-2.f, 8.f);
   std::vector<glm::vec3> samples;

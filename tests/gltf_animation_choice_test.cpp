@@ -134,7 +134,7 @@ TEST_CASE("cli: --animation plays the first clip, one by index or name, or all o
   CHECK(node_x("all") == doctest::Approx(0.0).scale(1).epsilon(1e-4));
 }
 
-TEST_CASE("cli: dacrt info lists the animations; an unknown one is a usage error") {
+TEST_CASE("cli: dacrt info lists the animations, an unknown one is a usage error") {
   TempDir dir;
   const std::string scene = two_clips(dir);
   const Run info = run(dir, "info " + scene);
@@ -168,7 +168,7 @@ TEST_CASE("cli: dacrt info lists the animations; an unknown one is a usage error
   CHECK(!fs::exists(dir / "x.exr"));
 }
 
-TEST_CASE("cli: a sequence of a file without a camera keeps one view; each frame its own time") {
+TEST_CASE("cli: a sequence of a file without a camera keeps one view, each frame its own time") {
   TempDir dir;
   const std::string scene = two_clips(dir, false);
   // Frames 0..2 at 2 fps: t = 0, 0.5, 1, the square moving and shrinking ("walk").

@@ -210,7 +210,7 @@ TEST_CASE("glTF pose: the Khronos samples' poses equal fresh loads bit for bit")
 }
 
 TEST_CASE(
-    "glTF pose: the file is decoded once; a pose reads no accessor and decompresses nothing") {
+    "glTF pose: the file is decoded once, and a pose reads no accessor and decompresses nothing") {
   TempDir dir;
   const fs::path seeds = fs::path(DACRT_SOURCE_DIR) / "fuzz" / "seeds-gltf";
   for (const std::string& path :

@@ -240,7 +240,7 @@ TEST_CASE("gltf schema: KHR_texture_transform as an array") {
                "KHR_texture_transform: an array is not an object"});
 }
 
-TEST_CASE("gltf schema: primitive mode 99 is an error; points and lines still warn") {
+TEST_CASE("gltf schema: primitive mode 99 is an error, points and lines still warn") {
   TempDir dir("schema-mode");
   GltfWriter w = rich_file();
   w.doc["meshes"][0]["primitives"][0]["mode"] = 99;

@@ -426,7 +426,7 @@ TEST_CASE("gltf: GLB gives the same scene as .gltf") {
   CHECK(load_gltf(dir / "quad-glb.gltf").geometry.size() == 2);
 }
 
-TEST_CASE("gltf: triangle strips and fans become triangles; points and lines are skipped") {
+TEST_CASE("gltf: triangle strips and fans become triangles, points and lines are skipped") {
   TempDir dir("modes");
   GltfWriter w;
   int position = w.add_vec3(kQuad);

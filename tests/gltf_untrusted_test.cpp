@@ -187,7 +187,7 @@ TEST_CASE(
 // ---------------------------------------------------------------------------------------------
 // 7. Images the render does not use are not read.
 
-TEST_CASE("gltf untrusted: images no used material shows are never read; used ones still load") {
+TEST_CASE("gltf untrusted: images no used material shows are never read, used ones still load") {
   TempDir dir("unused-images");
   GltfWriter w = textured_triangle();
   const std::vector<unsigned char> png = grey_png(200);

@@ -105,7 +105,7 @@ TEST_CASE("thin film: the Fresnel is the film's spectrum, integrated wavelength 
         }
 }
 
-TEST_CASE("thin film: a quarter-wave film cancels reflection; a film of the outside's IOR or of "
+TEST_CASE("thin film: a quarter-wave film cancels reflection, a film of the outside's IOR or of "
           "thickness 0 is not there") {
   // n2 = √n3 and n2 d = 550 / 4 at normal incidence: both interfaces reflect alike and the two
   // waves leave half a wave apart, so nothing is reflected at 550 nm (the direct computation

@@ -19,7 +19,7 @@ size_t find_bytes(const std::vector<unsigned char>& bytes, const std::vector<uns
 
 }  // namespace
 
-TEST_CASE("JPEG: grey, progressive and Adobe CMYK decode to RGBA; data cut short is refused") {
+TEST_CASE("JPEG: grey, progressive and Adobe CMYK decode to RGBA, data cut short is refused") {
   auto texel = [](const TextureImage& image, int x, int y) {
     return glm::ivec4(image.texel(x, y, false) * 255.f + 0.5f);
   };

@@ -264,7 +264,7 @@ TEST_CASE("volume: glass carries every layer: each changes it, and the layered B
   }
 }
 
-TEST_CASE("volume: specularFactor 0 glass refracts everything; a smooth coat reflects F(V·N)") {
+TEST_CASE("volume: specularFactor 0 glass refracts everything, a smooth coat reflects F(V·N)") {
   // Smooth glass with specularFactor 0 reflects nothing: head-on, all of the light goes in.
   BrdfParams p = glass();
   p.roughness = 0.f, p.specular = 0.f;
@@ -348,7 +348,7 @@ TEST_CASE("volume: a glass whose metallic comes from its texture (factor 1) is a
   for (float v : image.rgb) CHECK(v == doctest::Approx(0.5f).epsilon(1e-3));
 }
 
-TEST_CASE("unlit: camera rays see its colour; it lights nothing") {
+TEST_CASE("unlit: camera rays see its colour, it lights nothing") {
   // A white Lambert plane seen from above and, beside the view, an unlit quad facing it.
   Scene scene = lit_plane();
   Material unlit;

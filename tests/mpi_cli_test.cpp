@@ -79,7 +79,7 @@ TEST_CASE("mpirun: render on 1, 2, 3 and 9 ranks is one process's render bit for
   check_same_image(dir / "merged.exr", dir / "one.exr");
 }
 
-TEST_CASE("mpirun: a rank that fails fails the job with its message; usage errors once") {
+TEST_CASE("mpirun: a rank that fails fails the job with its message, usage errors once") {
   if (!have_mpirun()) {
     MESSAGE("skipped: no mpirun (apt-get install openmpi-bin libopenmpi-dev)");
     return;

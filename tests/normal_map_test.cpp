@@ -13,7 +13,7 @@ using namespace dacrt;
 using namespace dacrt::test;
 using nlohmann::json;
 
-TEST_CASE("normal maps: tangents from the file or generated agree; mirrors and +Y up") {
+TEST_CASE("normal maps: tangents from the file or generated agree, mirrors and +Y up") {
   TempDir dir("normal-map");
   // A constant normal map tilted towards +X of tangent space, or +Y.
   const float s = std::sin(0.5f), c = std::cos(0.5f);

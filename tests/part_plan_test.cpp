@@ -26,7 +26,7 @@ PartHeader part(const std::string& file, uint32_t first, uint32_t last, uint32_t
 
 }  // namespace
 
-TEST_CASE("part plan: parts in any order, by first sample; every sample in one part") {
+TEST_CASE("part plan: parts in any order, by first sample, every sample in one part") {
   const PartPlan plan = plan_merge({part("c.exr", 5, 8), part("a.exr", 0, 2), part("b.exr", 2, 5)},
                                    false);
   CHECK(plan.spp == 8);

@@ -403,7 +403,7 @@ TEST_CASE("render cli: a signal during the first of several backends writes its 
   CHECK(j["backends"][0]["stopped_by"] == "SIGINT");
 }
 
-TEST_CASE("render cli: --adaptive stops converged pixels; the samples, header and stats say so") {
+TEST_CASE("render cli: --adaptive stops converged pixels, the samples, header and stats say so") {
   TempDir dir("render-cli-adaptive");
   const std::string out = dir / "out.exr", stats = dir / "stats.json";
   Run r = run(dir, "render " + cornell + " --width 24 --height 24 --spp 48 --quiet --seed 2" +

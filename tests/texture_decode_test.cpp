@@ -18,7 +18,7 @@
 using namespace dacrt;
 using namespace dacrt::test;
 
-TEST_CASE("texture images: 8- and 16-bit PNGs and JPEGs decode to RGBA; bad data is one error") {
+TEST_CASE("texture images: 8- and 16-bit PNGs and JPEGs decode to RGBA, bad data is one error") {
   const TextureImage rgb = decode_image(png8(2, 1, 3, {10, 20, 30, 40, 50, 60}).data(),
                                         png8(2, 1, 3, {10, 20, 30, 40, 50, 60}).size(), "x");
   CHECK(rgb.width == 2);
@@ -111,7 +111,7 @@ std::vector<unsigned char> psd() {  // 1 × 1 RGB, raw
 
 }  // namespace
 
-TEST_CASE("image formats: only PNG, JPEG and WebP are decoded; others are refused by signature") {
+TEST_CASE("image formats: only PNG, JPEG and WebP are decoded, others are refused by signature") {
   const struct {
     const char* name;
     std::vector<unsigned char> bytes;

@@ -17,7 +17,7 @@ using namespace dacrt;
 using namespace dacrt::test;
 using nlohmann::json;
 
-TEST_CASE("textures: images no used material samples are never decoded; copies once") {
+TEST_CASE("textures: images no used material samples are never decoded, copies once") {
   TempDir dir("unused-images");
   GltfWriter w = quad_file(json::object());
   w.doc["images"] = {{{"uri", "missing.png"}}, {{"uri", "data:image/png;base64,AAAA"}}};
