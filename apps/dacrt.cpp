@@ -59,6 +59,8 @@ namespace {
 
 // The processes of this run: one, or the ranks of `mpirun -np R dacrt render …` (apps/ranks.h).
 Ranks* ranks = nullptr;
+// Where a usage error points: the help of the command it was made in.
+std::string help_pointer = "dacrt --help";
 
 constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer ray tracing
 
@@ -81,6 +83,7 @@ Usage:
   dacrt merge PART.exr... -o OUT  add the parts of one render (`render --samples FIRST:LAST`)
                                  into its image, exactly (`dacrt merge --help`)
   dacrt --help                   this text; `dacrt render --help` lists the render options
+  dacrt --version                the version
 )";
 
 int render(const std::vector<std::string>& args) {
@@ -161,6 +164,15 @@ int run(std::vector<std::string> args) {
     std::fputs(main_help, stdout);
     return 0;
   }
+  if (command == "--version" || command == "-V") {
+    std::printf("dacrt %s\n", version());
+    return 0;
+  }
+  const std::vector<std::string> commands = {"render", "info",     "views", "bench",
+                                             "converge", "diff", "merge"};
+  if (std::find(commands.begin(), commands.end(), command) == commands.end())
+    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, commands));
+  help_pointer = "dacrt " + command + " --help";
   // Only render's ranks work together; under mpirun any other command runs in every rank alone.
   ranks->collectives_over = command != "render";
   if (command == "render") return render(args);
@@ -169,8 +181,7 @@ int run(std::vector<std::string> args) {
   if (command == "bench") return bench_main(args);
   if (command == "converge") return converge_main(args);
   if (command == "diff") return diff_main(args);
-  if (command == "merge") return merge_main(args);
-  throw UsageError("unknown command '" + command + "'");
+  return merge_main(args);
 }
 
 // A message on stderr: one line of at most 1000 characters, whatever it quotes.
@@ -202,11 +213,11 @@ int main(int argc, char** argv) {
     if (ranks->root()) print_message(e.message);
     return e.code;
   } catch (const UsageError& e) {
-    code = 2, message = "dacrt: " + std::string(e.what()) + " (see dacrt --help)";
+    code = 2, message = "dacrt: " + std::string(e.what()) + " (see " + help_pointer + ")";
   } catch (const std::invalid_argument& e) {  // usage errors of `dacrt bench`
     code = 2, message = "dacrt bench: " + std::string(e.what()) + " (see dacrt bench --help)";
-  } catch (const SettingError& e) {  // a camera override that cannot make a view
-    code = 2, message = "dacrt: " + std::string(e.what()) + " (see dacrt --help)";
+  } catch (const SettingError& e) {  // a view, variant or camera the request cannot have
+    code = 2, message = "dacrt: " + std::string(e.what()) + " (see " + help_pointer + ")";
   } catch (const Error& e) {
     code = 1, message = "dacrt: error: " + std::string(e.what());
   } catch (const std::bad_alloc&) {

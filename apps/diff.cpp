@@ -56,10 +56,12 @@ struct DiffArgs {
   bool json = false, help = false;
 };
 
-DiffArgs parse_diff(const std::vector<std::string>& args) {
+DiffArgs parse_diff(const std::vector<std::string>& given) {
   DiffArgs d;
+  std::vector<std::string> args = given;
   std::vector<std::string> images;
   for (size_t i = 0; i < args.size(); ++i) {
+    split_option_value(args, i, {"--json", "--help"});
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
       if (i + 1 >= args.size() || args[i + 1].empty()) throw UsageError(a + " needs a value");
@@ -76,7 +78,8 @@ DiffArgs parse_diff(const std::vector<std::string>& args) {
     else if (a == "--json")
       d.json = true;
     else if (a.size() > 1 && a[0] == '-')
-      throw UsageError("diff: unknown option " + a);
+      throw UsageError("diff: unknown option " + a +
+                       did_you_mean(a, {"--output", "--preview", "--scale", "--json"}));
     else
       images.push_back(a);
   }

@@ -54,9 +54,12 @@ struct MergeArgs {
   bool allow_gaps = false, keep_sums = false, quiet = false, help = false;
 };
 
-MergeArgs parse_merge(const std::vector<std::string>& args) {
+MergeArgs parse_merge(const std::vector<std::string>& given) {
   MergeArgs m;
+  std::vector<std::string> args = given;
+  const std::vector<std::string> flags = {"--allow-gaps", "--keep-sums", "--quiet", "--help"};
   for (size_t i = 0; i < args.size(); ++i) {
+    split_option_value(args, i, flags);
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
       if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
@@ -77,7 +80,9 @@ MergeArgs parse_merge(const std::vector<std::string>& args) {
     } else if (a == "--quiet") {
       m.quiet = true;
     } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("unknown option " + a);
+      throw UsageError("unknown option " + a +
+                       did_you_mean(a, {"--output", "--preview", "--view", "--exposure",
+                                        "--allow-gaps", "--keep-sums", "--quiet"}));
     } else {
       m.parts.push_back(a);
     }

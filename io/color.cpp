@@ -25,6 +25,7 @@
 
 #include "dacrt/util/atomic_file.h"
 #include "dacrt/util/error.h"
+#include "dacrt/util/text.h"
 #include "dacrt/util/paths.h"
 
 namespace OCIO = OCIO_NAMESPACE;
@@ -125,8 +126,8 @@ OCIO::ConstProcessorRcPtr builtin_processor(const std::string& view) {
   const auto* found = std::find_if(std::begin(kBuiltinViews), std::end(kBuiltinViews),
                                    [&](const BuiltinView& v) { return name == v.name; });
   if (found == std::end(kBuiltinViews))
-    throw Error("no view '" + name + "' (without $OCIO the views are " +
-                quoted_list(builtin_view_names()) + ")");
+    throw SettingError("no view '" + name + "'" + did_you_mean(name, builtin_view_names()) +
+                       " (without $OCIO the views are " + quoted_list(builtin_view_names()) + ")");
   return with_ocio_errors("", [&] {
     auto group = OCIO::GroupTransform::Create();
     auto to_xyz = OCIO::MatrixTransform::Create();
@@ -202,8 +203,8 @@ OCIO::ConstProcessorRcPtr config_processor(const std::string& path, const std::s
   if (found == views.end()) {
     std::vector<std::string> names;
     for (const ConfigView& v : views) names.push_back(v.name());
-    throw Error("OCIO config '" + path + "' ($OCIO) has no view '" + name + "' (its views are " +
-                quoted_list(names) + ")");
+    throw SettingError("OCIO config '" + path + "' ($OCIO) has no view '" + name + "'" +
+                       did_you_mean(name, names) + " (its views are " + quoted_list(names) + ")");
   }
   return with_ocio_errors(path, [&] {
     auto transform = OCIO::DisplayViewTransform::Create();

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "dacrt/util/text.h"
 #include "studies.h"
 
 namespace py = pybind11;
@@ -106,29 +107,11 @@ const RenderOption* option_of(const std::string& key) {
   return nullptr;
 }
 
-// The number of single-character edits from a to b (Levenshtein).
-size_t edits(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
-// " (did you mean spp=?)" for a keyword within two edits of one render() takes, else "".
+// " (did you mean spp=?)" for a keyword near one render() takes, else "".
 std::string suggestion(const std::string& key) {
-  std::string best;
-  size_t fewest = 3;
-  for (const std::string& k : render_keywords())
-    if (const size_t n = edits(key, k); n < fewest) fewest = n, best = k;
-  return best.empty() ? "" : " (did you mean " + best + "=?)";
+  std::vector<std::string> known;
+  for (const std::string& k : render_keywords()) known.push_back(k + "=");
+  return did_you_mean(key + "=", known);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "dacrt/render/request.h"
 #include "dacrt/util/error.h"
+#include "dacrt/util/text.h"
 
 namespace dacrt {
 
@@ -179,14 +180,16 @@ void set_sample_environment(R& r, S& v, S& flag) {
   else if (v == "off")
     r.settings.sample_environment = Mode::off;
   else
-    throw UsageError(flag + " wants auto, on or off, not '" + v + "'");
+    throw UsageError(flag + " wants auto, on or off, not '" + v + "'" +
+                     did_you_mean(v, {"auto", "on", "off"}));
 }
 void set_seed(R& r, S& v, S& flag) { r.settings.seed = uint64_t(parse_int(flag, v, 0, LONG_MAX)); }
 void set_sampler(R& r, S& v, S&) {
   if (parse_sampler(v, r.settings.sampler)) return;
   std::string names;
   for (const std::string& n : sampler_names()) names += (names.empty() ? "" : ", ") + n;
-  throw UsageError("unknown sampler '" + v + "' (known: " + names + ")");
+  throw UsageError("unknown sampler '" + v + "'" + did_you_mean(v, sampler_names()) +
+                   " (known: " + names + ")");
 }
 void set_backend(R& r, S& v, S&) { r.backend = v; }
 void add_backend_option(R& r, S& v, S& flag) {
@@ -474,6 +477,25 @@ bool parse_display_option(const std::vector<std::string>& args, size_t& i,
   display = r.display;
   flag = a;
   return true;
+}
+
+void split_option_value(std::vector<std::string>& args, size_t i,
+                        const std::vector<std::string>& flags) {
+  const std::string a = args[i];
+  const size_t eq = a.find('=');
+  if (a.size() < 3 || a.compare(0, 2, "--") != 0 || eq == std::string::npos) return;
+  const std::string name = a.substr(0, eq);
+  if (std::find(flags.begin(), flags.end(), name) != flags.end())
+    throw UsageError(name + " takes no value");
+  args[i] = name;
+  args.insert(args.begin() + std::ptrdiff_t(i) + 1, a.substr(eq + 1));
+}
+
+std::string option_suggestion(std::string_view given, unsigned use) {
+  std::vector<std::string> names;
+  for (const RenderOption& o : table)
+    if (o.uses & use) names.emplace_back(o.name);
+  return did_you_mean(given.substr(0, given.find('=')), names);
 }
 
 bool parse_render_option(const std::vector<std::string>& args, size_t& i, RenderRequest& r,

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "dacrt/util/error.h"
+#include "dacrt/util/text.h"
 
 namespace fs = std::filesystem;
 
@@ -50,9 +51,14 @@ double parse_seconds(const std::string& flag, const std::string& text) {
   return *v;
 }
 
-RenderRequest parse_render(const std::vector<std::string>& args) {
+RenderRequest parse_render(const std::vector<std::string>& given) {
   RenderRequest r;
+  std::vector<std::string> args = given;
+  std::vector<std::string> flags;  // the options that take no value
+  for (const RenderOption& o : render_options())
+    if (o.value == OptionValue::none) flags.emplace_back(o.name);
   for (size_t i = 0; i < args.size(); ++i) {
+    split_option_value(args, i, flags);
     const std::string& a = args[i];
     if (a == "-h" || a == "--help") {
       r.help = true;
@@ -60,7 +66,7 @@ RenderRequest parse_render(const std::vector<std::string>& args) {
     } else if (parse_render_option(args, i, r))
       continue;
     else if (!a.empty() && a[0] == '-')
-      throw UsageError("unknown option " + a);
+      throw UsageError("unknown option " + a + option_suggestion(a));
     else if (r.scene.empty())
       r.scene = a;
     else
@@ -123,7 +129,7 @@ void check_backend(const std::string& name) {
   try {
     Backend::create(name, Geometry{});  // throws the registry's error naming the backends
   } catch (const Error& e) {
-    throw UsageError(e.what());
+    throw UsageError(e.what() + did_you_mean(name, known));
   }
 }
 
@@ -132,7 +138,8 @@ void check_integrator(const std::string& name) {
   if (std::find(integrators.begin(), integrators.end(), name) != integrators.end()) return;
   std::string names;
   for (const std::string& n : integrators) names += (names.empty() ? "" : ", ") + n;
-  throw UsageError("unknown integrator '" + name + "' (known: " + names + ")");
+  throw UsageError("unknown integrator '" + name + "'" + did_you_mean(name, integrators) +
+                   " (known: " + names + ")");
 }
 
 }  // namespace dacrt

@@ -107,6 +107,15 @@ std::string render_help();
 bool parse_render_option(const std::vector<std::string>& args, size_t& i, RenderRequest& r,
                          unsigned use = use_render);
 
+// An option given as one word, "--name=value" (args[i]), made two, "--name" and "value", as
+// the parsers take them; a flag among `flags` given a value is a UsageError ("--quiet takes no
+// value"). Only at an option's place: a value that begins with "--" is left as it is.
+void split_option_value(std::vector<std::string>& args, size_t i,
+                        const std::vector<std::string>& flags = {});
+
+// " (did you mean --samples?)" for the name of a render option of `use` near `given`, else "".
+std::string option_suggestion(std::string_view given, unsigned use = use_render);
+
 // --view NAME and --exposure STOPS (args[i] and its value, advancing i) into `display`, the flag
 // into `flag`; false, nothing changed, for another argument. UsageError for a bad value.
 bool parse_display_option(const std::vector<std::string>& args, size_t& i,

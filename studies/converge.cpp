@@ -29,6 +29,7 @@
 #include "studies/converge_report.h"
 #include "dacrt/render/header.h"
 #include "dacrt/render/request.h"
+#include "dacrt/util/text.h"
 #include "dacrt/util/paths.h"
 #include "bench/html_page.h"
 #include "dacrt/io/exr.h"
@@ -184,9 +185,19 @@ void check_backend_option(const std::string& where, const std::string& assignmen
                    "' is not a backend (known: " + names + ")");
 }
 
-ConvergeArgs parse_converge(const std::vector<std::string>& args) {
+// converge's own options (the render options of the table come beside them).
+const std::vector<std::string> converge_options = {
+    "--config", "--reference", "--reference-spp", "--no-reference", "--noise", "--metric",
+    "--time-budget", "--max-spp", "--repeats", "--target-error", "--output", "--no-plot"};
+
+ConvergeArgs parse_converge(const std::vector<std::string>& given) {
   ConvergeArgs c;
+  std::vector<std::string> args = given;
+  std::vector<std::string> flags = {"--no-reference", "--noise", "--no-plot"};
+  for (const RenderOption& o : render_options())
+    if (o.value == OptionValue::none) flags.emplace_back(o.name);
   for (size_t i = 0; i < args.size(); ++i) {
+    split_option_value(args, i, flags);
     const std::string& a = args[i];
     if (a == "--backend-option" && i + 1 < args.size()) check_backend_option("", args[i + 1]);
     auto value = [&]() -> const std::string& {
@@ -225,12 +236,14 @@ ConvergeArgs parse_converge(const std::vector<std::string>& args) {
     else if (a == "--no-plot")
       c.plot = false;
     else if (const RenderOption* o = find_render_option(a); o && !(o->uses & use_converge))
-      throw UsageError(a + " does not apply to dacrt converge (see dacrt converge --help)");
+      throw UsageError(a + " does not apply to dacrt converge");
     else if (parse_render_option(args, i, c.shared, use_converge))
       continue;
-    else if (!a.empty() && a[0] == '-')
-      throw UsageError("unknown option " + a);
-    else if (c.shared.scene.empty())
+    else if (!a.empty() && a[0] == '-') {
+      std::string hint = did_you_mean(a, converge_options);
+      if (hint.empty()) hint = option_suggestion(a, use_converge);
+      throw UsageError("unknown option " + a + hint);
+    } else if (c.shared.scene.empty())
       c.shared.scene = a;
     else
       throw UsageError("unexpected argument '" + a + "' (one scene at a time)");

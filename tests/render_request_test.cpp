@@ -102,7 +102,11 @@ TEST_CASE("render options: a value reaches the request, and a bad one is a usage
   CHECK(r.output == "s.exr");
   CHECK_THROWS_WITH_AS(parse_render({"s.gltf", "--spp", "0"}),
                        "--spp wants an integer in [1, 1048576], got '0'", UsageError);
-  CHECK_THROWS_WITH_AS(parse_render({"s.gltf", "--spp=4"}), "unknown option --spp=4", UsageError);
+  CHECK(parse_render({"s.gltf", "--spp=4", "--look-at=1,2,3"}).settings.spp == 4);
+  CHECK_THROWS_WITH_AS(parse_render({"s.gltf", "--resume=1"}), "--resume takes no value",
+                       UsageError);
+  CHECK_THROWS_WITH_AS(parse_render({"s.gltf", "--spp", "0"}),
+                       "--spp wants an integer in [1, 1048576], got '0'", UsageError);
   // The checks between options name them as the caller spells them.
   RenderRequest p;
   p.settings.spp = 4;

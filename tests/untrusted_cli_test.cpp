@@ -142,18 +142,19 @@ TEST_CASE("untrusted cli: a broken $OCIO is an error before the render, not afte
             .code == 0);
 }
 
-TEST_CASE("untrusted cli: an unknown view is an error before the render, naming the valid ones") {
+TEST_CASE("untrusted cli: an unknown view is a usage error before the render, naming the valid ones") {
   TempDir dir("view");
   const std::string scene = small_scene(dir);
   const std::string render =
       "render " + scene + " --spp 1000000 -o " + (dir / "o.exr") + " --preview " + (dir / "o.png");
-  check_refused(run(dir, render + " --view Nope", "env -u OCIO timeout 120"), 1,
+  // The caller's mistake, not the input's: exit 2, as every usage error.
+  check_refused(run(dir, render + " --view Nope", "env -u OCIO timeout 120"), 2,
                 {"'Nope'", "'sRGB'", "'ACES 1.0 SDR-video (sRGB)'"});
   // With $OCIO, the config's views are the valid ones, and the built-in names are not among them.
   TempDir config_dir("view-config");
   write_text(config_dir / "config.ocio", ocio_test_config);
   check_refused(
-      run(dir, render + " --view sRGB", "OCIO=" + (config_dir / "config.ocio") + " timeout 120"), 1,
+      run(dir, render + " --view sRGB", "OCIO=" + (config_dir / "config.ocio") + " timeout 120"), 2,
       {"'sRGB'", config_dir / "config.ocio", "'Test/Gamma2'", "'Other/Half'"});
   check_no_outputs(dir);
 }

@@ -2,10 +2,12 @@
 // for JSON, one bounded line for a message.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace dacrt {
 
@@ -93,6 +95,39 @@ template <class Json>
 std::string json_text(Json j, int indent = 2) {
   make_valid_utf8(j);
   return j.dump(indent);
+}
+
+// The number of single-character insertions, deletions and substitutions that make `a` into
+// `b` (Levenshtein).
+inline size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean NAME?)" for the name of `known` nearest to `given`, when it is within two
+// edits (one for names of three characters or fewer) and not `given` itself, or else the one
+// name that begins with `given`; "" when there is none.
+inline std::string did_you_mean(std::string_view given, const std::vector<std::string>& known) {
+  const size_t most = given.size() <= 3 ? 1 : 2;
+  std::string best;
+  size_t fewest = most + 1, starting = 0;
+  for (const std::string& k : known)
+    if (const size_t n = edit_distance(given, k); n > 0 && n < fewest) fewest = n, best = k;
+  if (best.empty() && given.size() >= 2)
+    for (const std::string& k : known)
+      if (k.size() > given.size() && k.compare(0, given.size(), given) == 0) ++starting, best = k;
+  if (starting > 1) best.clear();
+  return best.empty() ? "" : " (did you mean " + best + "?)";
 }
 
 }  // namespace dacrt
