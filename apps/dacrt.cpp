@@ -168,20 +168,22 @@ int run(std::vector<std::string> args) {
     std::printf("dacrt %s\n", version());
     return 0;
   }
-  const std::vector<std::string> commands = {"render", "info",     "views", "bench",
-                                             "converge", "diff", "merge"};
-  if (std::find(commands.begin(), commands.end(), command) == commands.end())
-    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, commands));
-  help_pointer = "dacrt " + command + " --help";
-  // Only render's ranks work together; under mpirun any other command runs in every rank alone.
-  ranks->collectives_over = command != "render";
-  if (command == "render") return render(args);
-  if (command == "info") return info_main(args);
-  if (command == "views") return views(args);
-  if (command == "bench") return bench_main(args);
-  if (command == "converge") return converge_main(args);
-  if (command == "diff") return diff_main(args);
-  return merge_main(args);
+  // Each command and what runs it.
+  const std::pair<const char*, int (*)(const std::vector<std::string>&)> commands[] = {
+      {"render", render},         {"info", info_main}, {"views", views},     {"bench", bench_main},
+      {"converge", converge_main}, {"diff", diff_main}, {"merge", merge_main}};
+  std::vector<std::string> names;
+  for (const auto& [name, main] : commands) {
+    if (command != name) {
+      names.push_back(name);
+      continue;
+    }
+    help_pointer = "dacrt " + command + " --help";
+    // Only render's ranks work together; under mpirun any other command runs in every rank alone.
+    ranks->collectives_over = command != "render";
+    return main(args);
+  }
+  throw UsageError("unknown command '" + command + "'" + did_you_mean(command, names));
 }
 
 // A message on stderr: one line of at most 1000 characters, whatever it quotes.

@@ -491,11 +491,18 @@ void split_option_value(std::vector<std::string>& args, size_t i,
   args.insert(args.begin() + std::ptrdiff_t(i) + 1, a.substr(eq + 1));
 }
 
+std::vector<std::string> render_flag_names() {
+  std::vector<std::string> flags;
+  for (const RenderOption& o : table)
+    if (o.value == OptionValue::none) flags.emplace_back(o.name);
+  return flags;
+}
+
 std::string option_suggestion(std::string_view given, unsigned use) {
   std::vector<std::string> names;
   for (const RenderOption& o : table)
     if (o.uses & use) names.emplace_back(o.name);
-  return did_you_mean(given.substr(0, given.find('=')), names);
+  return did_you_mean(given, names);
 }
 
 bool parse_render_option(const std::vector<std::string>& args, size_t& i, RenderRequest& r,

@@ -54,9 +54,7 @@ double parse_seconds(const std::string& flag, const std::string& text) {
 RenderRequest parse_render(const std::vector<std::string>& given) {
   RenderRequest r;
   std::vector<std::string> args = given;
-  std::vector<std::string> flags;  // the options that take no value
-  for (const RenderOption& o : render_options())
-    if (o.value == OptionValue::none) flags.emplace_back(o.name);
+  const std::vector<std::string> flags = render_flag_names();
   for (size_t i = 0; i < args.size(); ++i) {
     split_option_value(args, i, flags);
     const std::string& a = args[i];

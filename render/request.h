@@ -113,6 +113,9 @@ bool parse_render_option(const std::vector<std::string>& args, size_t& i, Render
 void split_option_value(std::vector<std::string>& args, size_t i,
                         const std::vector<std::string>& flags = {});
 
+// The render options that take no value (the flags), for split_option_value.
+std::vector<std::string> render_flag_names();
+
 // " (did you mean --samples?)" for the name of a render option of `use` near `given`, else "".
 std::string option_suggestion(std::string_view given, unsigned use = use_render);
 

@@ -52,13 +52,6 @@ void check_memory(const RenderRequest& r, const Shot& shot) {
               format_bytes(available) + " of memory available");
 }
 
-// The worker threads of --threads, for as long as it lives (all cores without it).
-std::unique_ptr<tbb::global_control> thread_limit(int threads) {
-  if (threads <= 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                               size_t(threads));
-}
-
 nlohmann::json to_json(const RayTypeStats& s) {
   return {{"rays", s.rays}, {"seconds", s.seconds}, {"rays_per_second", s.rays_per_second()}};
 }
@@ -186,6 +179,12 @@ void write_outputs(const RenderRequest& r, const Scene& scene, const Shot& shot,
 }
 
 }  // namespace
+
+std::unique_ptr<tbb::global_control> thread_limit(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               size_t(threads));
+}
 
 struct RenderSession::State {
   RenderRequest r;

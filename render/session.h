@@ -10,6 +10,8 @@
 // module's render().
 #pragma once
 
+#include <tbb/global_control.h>
+
 #include <functional>
 #include <memory>
 #include <string>
@@ -86,6 +88,9 @@ class RenderSession {
   struct State;
   std::unique_ptr<State> state_;
 };
+
+// At most `threads` worker threads for as long as the result lives (none, all cores, for 0).
+std::unique_ptr<tbb::global_control> thread_limit(int threads);
 
 // A render of a loaded scene into a film, as one backend of a session makes it, without files:
 // the thread limit, the memory check, the backend, the job and the sample range of `r` (whose

@@ -5,7 +5,6 @@
 // `--max-depth 8` means.
 #include "studies/converge.h"
 
-#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,6 +28,7 @@
 #include "studies/converge_report.h"
 #include "dacrt/render/header.h"
 #include "dacrt/render/request.h"
+#include "dacrt/render/session.h"
 #include "dacrt/util/text.h"
 #include "dacrt/util/paths.h"
 #include "bench/html_page.h"
@@ -193,9 +193,8 @@ const std::vector<std::string> converge_options = {
 ConvergeArgs parse_converge(const std::vector<std::string>& given) {
   ConvergeArgs c;
   std::vector<std::string> args = given;
-  std::vector<std::string> flags = {"--no-reference", "--noise", "--no-plot"};
-  for (const RenderOption& o : render_options())
-    if (o.value == OptionValue::none) flags.emplace_back(o.name);
+  std::vector<std::string> flags = render_flag_names();
+  flags.insert(flags.end(), {"--no-reference", "--noise", "--no-plot"});
   for (size_t i = 0; i < args.size(); ++i) {
     split_option_value(args, i, flags);
     const std::string& a = args[i];
@@ -568,10 +567,8 @@ void measure(const ConvergeArgs& a, const Config& c, int repeat, const Scene& sc
                                                  std::to_string(a.repeats) + ")"
                                            : std::string();
   const uint64_t seed = c.args.settings.seed + 2 * uint64_t(repeat);
-  std::unique_ptr<tbb::global_control> own_threads;
-  if (c.args.threads > 0 && c.args.threads != a.shared.threads)
-    own_threads = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism, size_t(c.args.threads));
+  const auto own_threads =
+      thread_limit(c.args.threads != a.shared.threads ? c.args.threads : 0);
   const auto t0 = Clock::now();
   Run run = start_run(scene, shot, c, seed);
   const double setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -667,10 +664,7 @@ int converge_main(const std::vector<std::string>& args) {
     reference.error = stored_reference_error(a.reference);
   }
 
-  std::unique_ptr<tbb::global_control> threads;
-  if (a.shared.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    size_t(a.shared.threads));
+  const auto threads = thread_limit(a.shared.threads);
   Scene scene = load_gltf(a.shared.scene, a.shared.gltf);
   for (const FileRead& file : scene.files) f.inputs.push_back({"the scene's external file", file.path});
   check_outputs(f.outputs, f.inputs);
