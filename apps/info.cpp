@@ -6,6 +6,7 @@
 #include <string>
 
 #include "dacrt/io/gltf.h"
+#include "dacrt/render/render_job.h"
 #include "dacrt/render/request.h"
 #include "dacrt/scene/camera.h"
 #include "dacrt/scene/scene.h"
@@ -128,6 +129,11 @@ void print_cameras(const Scene& scene, const Box& b) {
                 b.hi.z);
 }
 
+// The lighting a render uses unless --environment says otherwise (render/render_job.h).
+void print_lighting(const Scene& scene) {
+  std::printf("lighting   %s\n", default_lighting(scene, 0).what.c_str());
+}
+
 // The work a render of this scene skips.
 void print_skips(const Scene& scene, const MaterialCounts& counts) {
   std::string skips;
@@ -169,6 +175,7 @@ int info_main(const std::vector<std::string>& args) {
   print_inputs(scene);
   print_animations(file);
   print_cameras(scene, scene.bounds());
+  print_lighting(scene);
   print_skips(scene, counts);
   return 0;
 }

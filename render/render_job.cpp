@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 
 #include "dacrt/io/exr.h"
 #include "dacrt/util/error.h"
@@ -24,14 +26,86 @@ const char* version() {
 }
 
 namespace {
-// Whether anything emits light: emissive triangles, punctual lights.
-bool has_emitters(const Scene& scene, const std::vector<PunctualLight>& lights) {
-  if (!lights.empty()) return true;
-  for (uint32_t m : scene.geometry.material)
-    if (scene.materials[m].emitter()) return true;
-  return false;
+// What of the scene emits: emissive triangles, and the brightest emitter's radiance.
+struct Emitters {
+  size_t triangles = 0, bright = 0;  // bright: radiance above 1 in some channel
+  float most = 0.f;                  // the largest channel of any emitter's radiance
+};
+Emitters count_emitters(const Scene& scene) {
+  Emitters e;
+  for (uint32_t m : scene.geometry.material) {
+    const Material& material = scene.materials[m];
+    if (!material.emitter()) continue;
+    const float top = std::max({material.emission.x, material.emission.y, material.emission.z});
+    ++e.triangles;
+    if (top > 1.f) ++e.bright;
+    e.most = std::max(e.most, top);
+  }
+  return e;
+}
+
+std::string count_text(size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 }  // namespace
+
+DefaultLighting default_lighting(const Scene& scene, size_t added_lights) {
+  const Emitters e = count_emitters(scene);
+  char most[32];
+  std::snprintf(most, sizeof most, "%g", double(e.most));
+  const std::string punctual =
+      scene.lights.empty() ? ""
+                           : count_text(scene.lights.size(), "punctual light", "punctual lights");
+  DefaultLighting d;
+  if (added_lights > 0 || e.bright > 0) {
+    std::vector<std::string> parts;
+    if (added_lights > 0) parts.push_back(count_text(added_lights, "--point-light", "--point-lights"));
+    if (e.triangles > 0)
+      parts.push_back(count_text(e.triangles, "emissive triangle", "emissive triangles") +
+                      " (radiance up to " + most + ")");
+    if (!punctual.empty()) parts.push_back(punctual);
+    d.what = "its own: ";
+    for (size_t i = 0; i < parts.size(); ++i)
+      d.what += (i == 0 ? "" : i + 1 == parts.size() ? " and " : ", ") + parts[i];
+    d.what += "; --environment 1,1,1 adds a sky";
+    return d;
+  }
+  d.sky = true;
+  d.what = "a uniform sky of 1";
+  if (!punctual.empty()) d.what += ", beside " + punctual;
+  if (e.triangles > 0)
+    d.what += std::string(punctual.empty() ? ", beside " : " and ") +
+              count_text(e.triangles, "emissive triangle", "emissive triangles") +
+              " no brighter than it (radiance up to " + most +
+              ": they glow, they do not light the scene)";
+  d.what += punctual.empty() && e.triangles == 0 ? " (the scene has no emitters and no lights)"
+                                                 : "; --environment 0,0,0 takes the sky away";
+  return d;
+}
+
+std::string dark_image_note(const Image& image, const Shot& shot, double exposure,
+                            const std::string& output) {
+  const size_t pixels = size_t(image.width) * size_t(image.height);
+  if (pixels == 0) return {};
+  const double scale = std::exp2(exposure);
+  size_t dark = 0;
+  double sum = 0.0;
+  for (size_t p = 0; p < pixels; ++p) {
+    const float* c = &image.rgb[3 * p];
+    const double y = scale * (0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]);
+    if (!(y >= 0.002)) ++dark;  // NaN counts as dark
+    if (std::isfinite(y)) sum += y;
+  }
+  if (double(dark) < 0.97 * double(pixels)) return {};
+  const bool lit_by_sky = shot.environment_map || shot.environment != glm::vec3(0.f);
+  char line[96];
+  std::snprintf(line, sizeof line, ": the image is nearly black (%.1f %% of its pixels, mean %.2g)",
+                100.0 * double(dark) / double(pixels), sum / double(pixels));
+  return output + line +
+         (lit_by_sky ? ": --exposure STOPS brightens its preview"
+                     : ": only the scene's own lights light it; --environment 1,1,1 adds a sky, "
+                       "--exposure STOPS brightens its preview");
+}
 
 Shot make_shot(const Scene& scene, const RenderSettings& s) {
   if (s.camera < 0 || size_t(s.camera) >= scene.cameras.size())
@@ -57,11 +131,9 @@ Shot make_shot(const Scene& scene, const RenderSettings& s) {
         std::make_shared<const EnvironmentMap>(read_exr(s.environment_file), s.environment_file);
   } else if (s.environment) {
     shot.environment = *s.environment;
-  } else if (!has_emitters(scene, shot.lights)) {
+  } else if (const DefaultLighting lighting = default_lighting(scene, s.lights.size()); lighting.sky) {
     shot.environment = glm::vec3(1.f);
-    shot.notes.push_back(scene.path +
-                         ": the scene has no emitters and no lights: lighting it with a uniform "
-                         "environment of 1");
+    shot.notes.push_back(scene.path + ": lighting it with " + lighting.what);
   }
   if (scene.cameras_from_file == 0)
     shot.notes.push_back(scene.path + ": no camera in the file: framing the scene's bounds");

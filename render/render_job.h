@@ -37,6 +37,26 @@ namespace dacrt {
 // a degenerate camera override.
 Shot make_shot(const Scene& scene, const RenderSettings& settings);
 
+// The lighting of a render that states none (no --environment): a uniform sky of 1 besides the
+// scene's punctual lights and emitters, as glTF viewers light every model with an environment
+// (a helmet or a car under its few glowing parts, a model beside a sun, come out black without
+// one), unless the scene lights itself: it has an emitter brighter than the sky (a radiance above
+// 1 in some channel: glTF's emissiveFactor stops at 1, and only KHR_materials_emissive_strength
+// goes past it, as emissive meshes meant as lamps do: the Cornell box's), or the command line adds
+// lights (`added_lights`, --point-light). Emitters no brighter than the sky glow (a visor, a
+// screen, a label) beside it.
+struct DefaultLighting {
+  bool sky = false;      // a uniform environment of 1 is added
+  std::string what;      // the lighting, for notes and `dacrt info` ("a uniform sky of 1: …")
+};
+DefaultLighting default_lighting(const Scene& scene, size_t added_lights);
+
+// One line when an image is nearly black (at least 97 % of its pixels below 1/500 of white after
+// the exposure, which a preview shows as black): naming the output and the option that changes
+// it, which depends on how the shot is lit. Empty when the image is not dark.
+std::string dark_image_note(const Image& image, const Shot& shot, double exposure,
+                            const std::string& output);
+
 // A render's largest allocations, estimated before any is made: the film, its resolved channels
 // and the preview (image), the path state (paths).
 struct RenderMemory {

@@ -372,7 +372,8 @@ const RenderOption table[] = {
 )h",
      add_point_light},
     {"--environment", "Light transport", V::colour_or_file, use_render | use_converge | use_python, false,
-     R"h(  --environment R,G,B        uniform environment radiance (default 0, or 1 when the scene has no emitters)
+     R"h(  --environment R,G,B        uniform environment radiance (default: a sky of 1
+                             unless the scene's lamps light it; `dacrt info` says which)
   --environment FILE.exr     an equirectangular environment map (+Y up, image centre towards -Z),
                              importance-sampled
 )h",

@@ -352,6 +352,10 @@ bool RenderSession::State::render_backend(BackendRun& run, const Shot& shot, int
   // A render stopped before its first sample leaves the previous outputs as they were.
   if (film.max_count() == 0 && outcome.stopped) return false;
   write_outputs(r, scene, shot, run, film, outcome, keys);
+  if (!r.quiet)
+    if (const std::string dark = dark_image_note(film.resolve(), shot, r.display.exposure, run.output);
+        !dark.empty())
+      print_message(dark);
   if (hooks.rendered) hooks.rendered(run, film);
   if (!r.quiet) print_summary(run, shot, s);
   return !outcome.stopped;

@@ -659,3 +659,71 @@ TEST_CASE("render job: camera, size, lights and sky are the shot's, the scene st
   same.camera_override.from = same.camera_override.at = glm::vec3(1.f);
   CHECK_THROWS_AS(make_shot(scene, same), SettingError);
 }
+
+TEST_CASE("render job: the default sky stays beside glowing emitters and the file's lights, not beside lamps") {
+  Scene scene;
+  add_square(scene.geometry, glm::vec2(-1.f), glm::vec2(1.f));
+  Material glow = Material::lambert(glm::vec3(0.5f));
+  glow.emission = glm::vec3(1.f, 0.5f, 0.2f);  // an emissiveFactor: at most 1
+  scene.materials = {glow};
+  scene.cameras = {looking_at(glm::vec3(0.f, 0.f, 3.f), glm::vec3(0.f), 0.8f)};
+  scene.cameras_from_file = 1;
+  RenderSettings s;
+  s.longer_side = 8;
+
+  // A glowing surface (a visor, a screen) is no lighting: the sky stays, and the note says why.
+  const Shot glowing = make_shot(scene, s);
+  CHECK(glowing.environment == glm::vec3(1.f));
+  REQUIRE(glowing.notes.size() == 1);
+  CHECK(glowing.notes[0].find("2 emissive triangles no brighter than it") != std::string::npos);
+  CHECK(glowing.notes[0].find("--environment 0") != std::string::npos);
+  CHECK(default_lighting(scene, 0).sky);
+
+  // The file's punctual lights shine beside the sky, as glTF viewers light them.
+  scene.lights.push_back(PunctualLight{});
+  CHECK(make_shot(scene, s).environment == glm::vec3(1.f));
+  CHECK(default_lighting(scene, 0).what.find("beside 1 punctual light and 2 emissive") !=
+        std::string::npos);
+
+  // A lamp brighter than the sky (KHR_materials_emissive_strength) is the scene's own lighting.
+  scene.materials[0].emission = glm::vec3(0.2f, 0.4f, 1.f) * 1.5f;
+  const Shot lamp = make_shot(scene, s);
+  CHECK(lamp.environment == glm::vec3(0.f));
+  CHECK(lamp.notes.empty());
+  CHECK(default_lighting(scene, 0).what ==
+        "its own: 2 emissive triangles (radiance up to 1.5) and 1 punctual light; "
+        "--environment 1,1,1 adds a sky");
+
+  // Lights the command line adds are the user's lighting, with or without emitters.
+  scene.materials[0].emission = glm::vec3(0.f);
+  scene.lights.clear();
+  s.lights = {PunctualLight{}};
+  CHECK(make_shot(scene, s).environment == glm::vec3(0.f));
+  CHECK_FALSE(default_lighting(scene, 1).sky);
+  s.lights.clear();
+  CHECK(default_lighting(scene, 0).what.find("no emitters and no lights") != std::string::npos);
+
+  // --environment states the lighting: no rule applies.
+  scene.materials[0].emission = glm::vec3(4.f);
+  s.environment = glm::vec3(0.25f);
+  CHECK(make_shot(scene, s).environment == glm::vec3(0.25f));
+}
+
+TEST_CASE("render job: a nearly black image gets one line naming the option that changes it") {
+  Shot shot;
+  Image image(10, 10);  // black
+  const std::string own = dark_image_note(image, shot, 0.0, "out.exr");
+  CHECK(own.rfind("out.exr: the image is nearly black (100.0 % of its pixels", 0) == 0);
+  CHECK(own.find("--environment 1,1,1 adds a sky") != std::string::npos);
+  shot.environment = glm::vec3(1.f);
+  const std::string sky = dark_image_note(image, shot, 0.0, "out.exr");
+  CHECK(sky.find("--exposure STOPS") != std::string::npos);
+  CHECK(sky.find("--environment") == std::string::npos);
+
+  // Four pixels in a hundred at white: not dark. Three: dark (97 %). The exposure counts.
+  for (int x = 0; x < 4; ++x) image.pixel(x, 0)[0] = image.pixel(x, 0)[1] = image.pixel(x, 0)[2] = 1.f;
+  CHECK(dark_image_note(image, shot, 0.0, "o").empty());
+  CHECK_FALSE(dark_image_note(image, shot, -10.0, "o").empty());  // 2^-10 < 0.002
+  image.pixel(3, 0)[1] = std::nanf("");
+  CHECK_FALSE(dark_image_note(image, shot, 0.0, "o").empty());  // NaN is no light
+}
