@@ -44,9 +44,10 @@ stress: build
 	cd $(BUILD) && ./dacrt-tests -tc='stress:*' && ./dacrt-tests -ts=stress-sweep --no-skip
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build in its own directory. The three statistical
-# end-to-end renders of the convergence suite (3.5 minutes of CPU there) run in `make test` only:
-# the code they cover runs under the sanitizers in the shorter render tests.
-SANITIZE_SKIP ?= convergence suite: (many low-spp|the Lambert lanes render|embree agrees)
+# end-to-end renders of the convergence suite (3.5 minutes of CPU there) and the default lighting
+# of all 48 real scenes run in `make test` only: the code they cover runs under the sanitizers in
+# the shorter render tests (the loader over every real scene in gltf's and the Khronos tests).
+SANITIZE_SKIP ?= convergence suite: (many low-spp|the Lambert lanes render|embree agrees)|default lighting: every scene of ../shared
 test-sanitize: deps
 	@bash tools/install-deps.sh chromium tidy
 	cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDACRT_SANITIZE=ON
