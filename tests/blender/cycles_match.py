@@ -5,17 +5,18 @@ Run: blender -b --factory-startup -noaudio --python-exit-code 1 \
 
 Builds one scene (a glossy floor, a diffuse sphere and cube, a rectangular area light out of
 view, a point light, an image world: a small generated equirectangular EXR whose colour changes
-with the direction, a camera with depth of field focused on the sphere) and renders it through
+with the direction, a camera with depth of field focused 3 m ahead (an empty), the sphere and the background blurred) and renders it through
 the add-on and with Cycles at the same size and samples. Checks:
 - the per-channel means agree within 10 % (the area light's power, the world's bake, DoF);
 - the world's bake is oriented as Cycles sees the world: four views of the world alone (+Y, +X,
   -X, up), each view's per-channel means within 10 %;
-- a disk area light alone on a floor lights it as Cycles' (means within 10 %);
+- a disk area light alone on a floor lights it as Cycles' (means within 10 %), and so do a spot
+  light and a sun;
 - the passes (Depth, Normal, Position, Diffuse Color) hold what Cycles' hold: per-channel means
   over the pixels both hit, the background's depth;
 - the warnings of what is lost (the point light's radius, the aperture's blades, a warning line
   of dacrt's own) reach Blender's report;
-- the CLI got --aperture = lens / f-stop and --focus-distance = the sphere's distance along the
+- the CLI got --aperture = lens / f-stop and --focus-distance = the focus object's distance along the
   view axis (in the options the add-on keeps).
 Depth of field needs a dacrt with --aperture: without it (`dacrt render --help` does not list
 it) the test says so and renders without depth of field, in both renderers.
@@ -147,6 +148,15 @@ def means_agree(label, ours, theirs, tolerance=TOLERANCE):
     return a, b
 
 
+def sharpness(image):
+    """The mean gradient of the luminance's 2×2 box means: how sharp the picture is, with some
+    of the sampling noise averaged out."""
+    luminance = image @ np.array([0.2126, 0.7152, 0.0722])
+    h, w = (d // 2 * 2 for d in luminance.shape)
+    blocks = luminance[:h, :w].reshape(h // 2, 2, w // 2, 2).mean(axis=(1, 3))
+    return float(np.abs(np.diff(blocks, axis=0)).mean() + np.abs(np.diff(blocks, axis=1)).mean())
+
+
 def main(cli, work):
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
@@ -203,6 +213,32 @@ def main(cli, work):
                     read(os.path.join(work, f"world-{label}-cycles.exr"), ["R", "G", "B"]))
     check(os.path.exists(os.path.join(keep, "environment.exr")), "the world was baked to an EXR")
 
+    # Depth of field: a black bar 10 m ahead against the world, focused 1 m ahead through a
+    # 10 cm lens: the bar's edges are blurred over a disk 9 cm wide on the plane in focus, 19 %
+    # of the image's height, and the blur is as Cycles' (the mean gradient: twice the lens
+    # makes it 2/3).
+    if has_dof:
+        bar = add_mesh(bpy.ops.mesh.primitive_cube_add, principled("black", (0, 0, 0), 1.0),
+                       size=1.0, location=(0.0, 10.0, 0.0))
+        bar.scale = (0.3, 0.3, 30.0)
+        camera.data.lens = 50
+        camera.rotation_euler = (math.pi / 2, 0.0, 0.0)
+        dof = camera.data.dof
+        dof.use_dof, dof.focus_distance, dof.aperture_fstop = True, 1.0, 0.5
+        blurred = {}
+        for engine in ('DACRT', 'CYCLES'):
+            path = os.path.join(work, f"world-dof-{engine.lower()}.exr")
+            render(scene, engine, path)
+            blurred[engine] = read(path, ["R", "G", "B"])
+        means_agree("the world through the lens", blurred['DACRT'], blurred['CYCLES'])
+        a, b = sharpness(blurred['DACRT']), sharpness(blurred['CYCLES'])
+        check(abs(a / b - 1) < 0.15, f"depth of field blurs as Cycles': mean gradient {a:.4f}, "
+              f"Cycles {b:.4f}")
+        dof.use_dof = False
+        bpy.data.objects.remove(bar)
+    else:
+        print(f"NOTE: {cli} has no --aperture: depth of field is not checked", flush=True)
+
     # The scene.
     bpy.data.objects.remove(bpy.data.objects["Cube"])
     add_mesh(bpy.ops.mesh.primitive_plane_add, principled("floor", (0.6, 0.6, 0.6), 0.25),
@@ -227,11 +263,14 @@ def main(cli, work):
     camera.data.lens = 50
     camera.location = (0.0, -6.0, 1.6)
     camera.rotation_euler = (math.radians(78), 0.0, 0.0)
+    # Focused 3 m ahead, in front of everything, through a 20 cm lens: the sphere (6 m) is a
+    # disk 10 cm wide on the plane in focus, 5 % of the image's height.
+    focus_target = bpy.data.objects.new("Focus", None)
+    focus_target.location = (0.3, -3.0, 1.0)
+    scene.collection.objects.link(focus_target)
     dof = camera.data.dof
     dof.use_dof = has_dof
-    dof.focus_object, dof.aperture_fstop, dof.aperture_blades = sphere, 1.0, 6
-    if not has_dof:
-        print(f"NOTE: {cli} has no --aperture: depth of field is not checked", flush=True)
+    dof.focus_object, dof.aperture_fstop, dof.aperture_blades = focus_target, 0.25, 6
     view_layer = scene.view_layers[0]
     view_layer.use_pass_z = view_layer.use_pass_normal = True
     view_layer.use_pass_position = view_layer.use_pass_diffuse_color = True
@@ -260,19 +299,21 @@ def main(cli, work):
         aperture = float(options[options.index("--aperture") + 1])
         focus = float(options[options.index("--focus-distance") + 1])
         view = -(camera.matrix_world.to_3x3().col[2])
-        expected_focus = (sphere.location - camera.location).dot(view)
-        check(abs(aperture - 0.050 / 1.0) < 1e-9, f"--aperture {aperture} = 50 mm / f 1.0")
-        check(abs(focus - expected_focus) < 1e-5, f"--focus-distance {focus} = the sphere's "
-              f"distance along the view axis {expected_focus:.6f}")
+        expected_focus = (focus_target.location - camera.location).dot(view)
+        check(abs(aperture - 0.050 / 0.25) < 1e-9, f"--aperture {aperture} = 50 mm / f 0.25")
+        check(abs(focus - expected_focus) < 1e-5, f"--focus-distance {focus} = the focus "
+              f"object's distance along the view axis {expected_focus:.6f}")
     else:
         check("--aperture" not in options, "no --aperture without depth of field")
 
     # The passes, against Cycles' (depth and position: the pixels both hit).
     depth_ours, depth_theirs = channel(ours, "Depth", "Z"), channel(theirs, "Depth", "Z")
     hit = (depth_ours[..., 0] < 1e9) & (depth_theirs[..., 0] < 1e9)
-    check(0.3 < hit.mean() < 0.95 and abs((depth_ours[..., 0] < 1e9).mean() -
-                                          (depth_theirs[..., 0] < 1e9).mean()) < 0.02,
-          f"the background is 1e10 in both Depth passes ({hit.mean():.2f} hit)")
+    # (With depth of field, a pixel whose samples hit only in part has dacrt's mean depth of
+    # those that hit, and Cycles' first sample's: more pixels hit in dacrt's.)
+    hit_ours, hit_theirs = (depth_ours[..., 0] < 1e9).mean(), (depth_theirs[..., 0] < 1e9).mean()
+    check(0.3 < hit.mean() < 0.95 and abs(hit_ours - hit_theirs) < 0.05,
+          f"the background is 1e10 in both Depth passes (hit: {hit_ours:.3f}, {hit_theirs:.3f})")
     means_agree("Depth (along the view axis)", depth_ours[hit], depth_theirs[hit], 0.02)
     for name in ("Normal", "Position"):
         a, b = channel(ours, name, "XYZ")[hit], channel(theirs, name, "XYZ")[hit]
@@ -299,6 +340,28 @@ def main(cli, work):
     render(scene, 'CYCLES', os.path.join(work, "disk-cycles.exr"))
     means_agree("a disk area light alone", read(os.path.join(work, "disk-dacrt.exr"), "RGB"),
                 read(os.path.join(work, "disk-cycles.exr"), "RGB"))
+
+    # A spot light (no blend, no radius) and a sun (no angle) alone: through KHR_lights_punctual
+    # with the exporter's Blender units, the power Cycles gives them.
+    disk.hide_render = True
+    spot_data = bpy.data.lights.new("Spot", 'SPOT')
+    spot_data.energy, spot_data.shadow_soft_size = 300.0, 0.0
+    spot_data.spot_size, spot_data.spot_blend = math.radians(50), 0.0
+    spot = bpy.data.objects.new("Spot", spot_data)
+    spot.location, spot.rotation_euler = (-1.0, -1.0, 3.0), (0.3, -0.3, 0.0)
+    scene.collection.objects.link(spot)
+    sun_data = bpy.data.lights.new("Sun", 'SUN')
+    sun_data.energy, sun_data.angle, sun_data.color = 1.5, 0.0, (0.6, 0.7, 1.0)
+    sun = bpy.data.objects.new("Sun", sun_data)
+    sun.rotation_euler = (0.6, 0.4, 0.0)
+    scene.collection.objects.link(sun)
+    warnings.clear()
+    render(scene, 'DACRT', os.path.join(work, "punctual-dacrt.exr"))
+    render(scene, 'CYCLES', os.path.join(work, "punctual-cycles.exr"))
+    means_agree("a spot light and a sun", read(os.path.join(work, "punctual-dacrt.exr"), "RGB"),
+                read(os.path.join(work, "punctual-cycles.exr"), "RGB"))
+    check(not any(w.startswith(("light Spot", "light Sun")) for w in warnings),
+          f"nothing of them lost, nothing warned ({warnings})")
 
 
 if __name__ == "__main__":
