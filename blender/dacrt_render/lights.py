@@ -110,12 +110,31 @@ def _write_glb(path, gltf, binary):
         file.write(struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks)
 
 
+def _sharpen_spots(gltf):
+    """A spot of blend 0 is exported with innerConeAngle = outerConeAngle, which glTF (and
+    dacrt) refuse: the inner angle a hair below the outer one is the same hard edge. True when
+    a spot was changed."""
+    changed = False
+    for light in gltf.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights", []):
+        spot = light.get("spot")
+        if spot is None:
+            continue
+        outer = spot.get("outerConeAngle", math.pi / 4)
+        if spot.get("innerConeAngle", 0.0) >= outer:
+            spot["innerConeAngle"] = outer * (1 - 1e-6)
+            changed = True
+    return changed
+
+
 def add_area_lights(glb_path, emitters):
     """Adds each (name, light, matrix) of `emitters` to the .glb at glb_path as an emissive mesh
-    on a node of its own at the default scene's root."""
-    if not emitters:
-        return
+    on a node of its own at the default scene's root (and makes its spot lights valid glTF)."""
     gltf, binary = _read_glb(glb_path)
+    if not _sharpen_spots(gltf) and not emitters:
+        return
+    if not emitters:
+        _write_glb(glb_path, gltf, binary)
+        return
     if not gltf.get("buffers"):
         gltf["buffers"] = [{"byteLength": 0}]
     for key in ("bufferViews", "accessors", "meshes", "materials", "nodes"):
