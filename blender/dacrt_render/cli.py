@@ -64,9 +64,9 @@ class RenderJob:
         if self.environment is not None:
             args += ["--environment", self.environment]
         if self.time_limit > 0:
-            args += ["--time-limit", repr(float(self.time_limit))]
+            args += ["--time-limit", _setting(self.time_limit)]
         if self.adaptive > 0:
-            args += ["--adaptive", repr(float(self.adaptive))]
+            args += ["--adaptive", _setting(self.adaptive)]
             if self.adaptive_min > 0:
                 args += ["--adaptive-min", str(self.adaptive_min)]
         if self.aperture > 0:
@@ -75,6 +75,12 @@ class RenderJob:
         if self.aovs:
             args += ["--aov", ",".join(self.aovs)]
         return args
+
+
+def _setting(value):
+    """A setting of Blender's (a float32) as the decimal shown in its panel: 0.02, not
+    0.019999999552965164."""
+    return f"{value:.7g}"
 
 
 @dataclass

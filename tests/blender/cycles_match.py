@@ -19,7 +19,10 @@ samples. Checks:
   of dacrt's own, the glTF exporter's warning) reach Blender's report;
 - the CLI got --aperture = lens / f-stop and --focus-distance = the focus object's distance
   along the view axis (in the options the add-on keeps);
-- depth of field blurs a bar 10 m away as Cycles does (the mean gradient within 15 %).
+- depth of field blurs a bar 10 m away as Cycles does (the mean gradient within 15 %);
+- the .glb holds the area light's emitter with radiance colour × P / 4A, one-sided, and an
+  area light in view is warned about;
+- the panel's time limit and adaptive sampling reach the CLI.
 Depth of field needs a dacrt with --aperture: without it (`dacrt render --help` does not list
 it) the test says so and renders without depth of field, in both renderers.
 """
@@ -328,6 +331,24 @@ def main(cli, work):
     means_agree("Diffuse Color (dacrt's albedo)", channel(ours, "DiffCol", "RGB")[hit],
                 channel(theirs, "DiffCol", "RGB")[hit])
 
+    # The emitter in the file: radiance colour × P / (4 A); an area light moved into view warns.
+    from dacrt_render import engine as engine_module, export
+    glb = os.path.join(work, "in-view.glb")
+    area.location, area.rotation_euler = (0.0, -2.0, 1.6), (math.pi / 2, 0.0, 0.0)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    export.export_scene(glb, scene, view_layer, "COMPAT")
+    lost = engine_module._add_lights(depsgraph, camera, glb)
+    check(any(w.startswith("light Area: an area light in the camera's view") for w in lost),
+          f"an area light in view is warned about ({lost})")
+    material = next(m for m in export.read_glb_json(glb)["materials"]
+                    if m["name"] == "Area (area light)")
+    strength = material["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"]
+    radiance = [f * strength for f in material["emissiveFactor"]]
+    expected = [c * 400.0 / (4 * 1.2 * 0.6) for c in (1.0, 0.9, 0.8)]
+    check(np.allclose(radiance, expected, rtol=1e-6) and not material["doubleSided"],
+          f"the area light's emitter: one-sided, radiance {radiance} = colour × P / 4A")
+    area.location, area.rotation_euler = (-1.5, -1.0, 3.0), (0.3, -0.4, 0.0)
+
     # A disk area light alone, with nothing else lit: its power as Cycles'.
     for obj in (area, point):
         obj.hide_render = True
@@ -361,7 +382,14 @@ def main(cli, work):
     sun.rotation_euler = (0.6, 0.4, 0.0)
     scene.collection.objects.link(sun)
     warnings.clear()
+    # The panel's time limit (not reached) and adaptive sampling reach the CLI.
+    scene.dacrt.time_limit, scene.dacrt.use_adaptive = 300.0, True
+    scene.dacrt.adaptive_threshold, scene.dacrt.adaptive_min = 0.02, 16
     render(scene, 'DACRT', os.path.join(work, "punctual-dacrt.exr"))
+    with open(os.path.join(keep, "options.txt")) as file:
+        options = " ".join(file.read().split())
+    check("--time-limit 300 --adaptive 0.02 --adaptive-min 16" in options,
+          f"time limit and adaptive sampling passed on ({options})")
     render(scene, 'CYCLES', os.path.join(work, "punctual-cycles.exr"))
     means_agree("a spot light and a sun", read(os.path.join(work, "punctual-dacrt.exr"), "RGB"),
                 read(os.path.join(work, "punctual-cycles.exr"), "RGB"))
