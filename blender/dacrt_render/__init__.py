@@ -20,7 +20,8 @@ import bpy
 
 from . import engine, ui
 
-_CLASSES = (ui.DacrtSettings, ui.DacrtPreferences, ui.RENDER_PT_dacrt, engine.DacrtRenderEngine)
+_CLASSES = (ui.DacrtSettings, ui.DacrtPreferences, ui.RENDER_PT_dacrt, ui.VIEWLAYER_PT_dacrt_passes,
+            engine.DacrtRenderEngine)
 
 
 def register():

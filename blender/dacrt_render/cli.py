@@ -16,6 +16,8 @@ import subprocess
 import threading
 from dataclasses import dataclass
 
+import numpy as np
+
 from . import exr
 
 # The line util/progress.cpp prints when stderr is not a terminal (at each 10 % step):
@@ -45,7 +47,13 @@ class RenderJob:
     integrator: str = "path"
     max_depth: int = 64
     threads: int = 0  # 0: all cores
-    environment: tuple = None  # a uniform radiance (R, G, B), or None for dacrt's default
+    environment: str = None  # --environment's R,G,B or FILE.exr, or None for dacrt's default
+    time_limit: float = 0.0  # seconds; 0: none
+    adaptive: float = 0.0  # --adaptive's relative error; 0: off
+    adaptive_min: int = 0  # --adaptive-min; 0: dacrt's default
+    aperture: float = 0.0  # lens diameter in scene units; 0: a pinhole
+    focus_distance: float = 0.0  # with an aperture
+    aovs: tuple = ()  # --aov's names
 
     def arguments(self):
         args = ["--width", str(self.width), "--height", str(self.height), "--spp", str(self.spp),
@@ -54,21 +62,44 @@ class RenderJob:
         if self.threads > 0:
             args += ["--threads", str(self.threads)]
         if self.environment is not None:
-            args += ["--environment", _environment_argument(self.environment)]
+            args += ["--environment", self.environment]
+        if self.time_limit > 0:
+            args += ["--time-limit", _setting(self.time_limit)]
+        if self.adaptive > 0:
+            args += ["--adaptive", _setting(self.adaptive)]
+            if self.adaptive_min > 0:
+                args += ["--adaptive-min", str(self.adaptive_min)]
+        if self.aperture > 0:
+            args += ["--aperture", repr(float(self.aperture)),
+                     "--focus-distance", repr(float(self.focus_distance))]
+        if self.aovs:
+            args += ["--aov", ",".join(self.aovs)]
         return args
 
 
-def _environment_argument(rgb):
-    """R,G,B for --environment, each digit that tells the float apart (repr)."""
-    return ",".join(repr(float(c)) for c in rgb)
+def _setting(value):
+    """A setting of Blender's (a float32) as the decimal shown in its panel: 0.02, not
+    0.019999999552965164."""
+    return f"{value:.7g}"
 
 
 @dataclass
 class Frame:
     """A rendered image: float32 H×W×3, rows top-down, or None when a cancel came before any
-    sample; cancelled says it has fewer samples than asked for."""
+    sample; cancelled says it has fewer samples than asked for. aovs: each AOV asked for, by
+    name, H×W×channels (albedo, normal, position: 3; depth: 1), glTF's axes; warnings: dacrt's
+    warning lines."""
     pixels: object
     cancelled: bool
+    aovs: dict = None
+    warnings: list = None
+
+
+# The EXR channels of each AOV (docs/usage.md, "AOVs").
+AOV_CHANNELS = {"albedo": ("albedo.R", "albedo.G", "albedo.B"), "normal": ("N.X", "N.Y", "N.Z"),
+                "depth": ("Z",), "position": ("P.X", "P.Y", "P.Z")}
+# A warning line of dacrt's: "warning: ..." or "dacrt: warning: ...", perhaps indented.
+_WARNING = re.compile(r"^\s*(?:dacrt: )?warning: (.*)$")
 
 
 def find_executable(preference=""):
@@ -115,6 +146,7 @@ def render_glb(executable, glb_path, exr_path, job, on_progress, cancelled):
     reader.start()
     interrupted = False
     last_line = ""
+    warnings = []
     try:
         while True:
             try:
@@ -129,6 +161,9 @@ def render_glb(executable, glb_path, exr_path, job, on_progress, cancelled):
                     on_progress(*progress)
                 else:
                     last_line = line
+                    warning = _WARNING.match(line)
+                    if warning:
+                        warnings.append(warning.group(1))
             if not interrupted and cancelled():
                 process.send_signal(signal.SIGINT)
                 interrupted = True
@@ -141,8 +176,14 @@ def render_glb(executable, glb_path, exr_path, job, on_progress, cancelled):
         process.stderr.close()
     if code == 0 or (interrupted and code in _INTERRUPTED):
         # A render cut short keeps its exact sums, which Blender's EXR reader refuses: read here.
-        pixels = exr.read_rgb(exr_path) if os.path.exists(exr_path) else None
-        return Frame(pixels, cancelled=interrupted)
+        if not os.path.exists(exr_path):
+            return Frame(None, cancelled=interrupted, aovs={}, warnings=warnings)
+        names = [channel for aov in job.aovs for channel in AOV_CHANNELS[aov]]
+        planes = exr.read_channels(exr_path, ["R", "G", "B"] + names)
+        pixels = np.stack([planes[c] for c in "RGB"], axis=-1)
+        aovs = {aov: np.stack([planes[c] for c in AOV_CHANNELS[aov]], axis=-1)
+                for aov in job.aovs}
+        return Frame(pixels, cancelled=interrupted, aovs=aovs, warnings=warnings)
     match = _ERROR.match(last_line)
     reason = match.group(1) if match else last_line or f"exit code {code}"
     raise RenderError(f"dacrt: {reason}")

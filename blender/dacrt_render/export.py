@@ -2,12 +2,18 @@
 
 The exporter writes what glTF carries: meshes with modifiers applied, Principled BSDF materials
 and their image textures, cameras, and point, spot and sun lights. It drops area lights, the
-world, volumes and any shader node it cannot map to glTF's metallic-roughness material; the
-world's colour goes to dacrt's --environment instead (world_color).
+world, volumes and any shader node it cannot map to glTF's metallic-roughness material. Area
+lights are added to the file afterwards as emissive meshes (add_area_lights); the world goes to
+dacrt's --environment (world.py). Every function here returns the warnings of what it loses, for
+the engine to show in Blender's report.
 """
 
+import contextlib
+import io
 import json
+import re
 import struct
+import sys
 
 import bpy
 
@@ -21,9 +27,17 @@ LIGHT_UNITS = (
 )
 
 
+# The exporter's warnings: "HH:MM:SS | WARNING: text" on stdout (io_scene_gltf2's print_console).
+_EXPORTER_WARNING = re.compile(r"\|\s*WARNING:\s*(.*)$")
+
+
 def export_scene(path, scene, view_layer, light_units):
-    """Writes the evaluated scene (modifiers applied, current frame, Y up) to path as GLB."""
-    with bpy.context.temp_override(scene=scene, view_layer=view_layer):
+    """Writes the evaluated scene (modifiers applied, current frame, Y up) to path as GLB and
+    returns the exporter's warnings (also left on the console), but for area lights, which
+    add_area_lights turns into emitters."""
+    captured = io.StringIO()
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer), \
+            contextlib.redirect_stdout(captured):
         result = bpy.ops.export_scene.gltf(
             filepath=path, export_format='GLB', use_active_scene=True, use_renderable=True,
             export_cameras=True, export_lights=True, export_apply=True, export_yup=True,
@@ -31,30 +45,15 @@ def export_scene(path, scene, view_layer, light_units):
             # would evaluate at its own time 0.
             export_animations=False, export_current_frame=True, export_extras=False,
             convert_lighting_mode=light_units)
+    sys.stdout.write(captured.getvalue())
     if result != {'FINISHED'}:
         raise RuntimeError(f"the glTF exporter returned {sorted(result)}")
-
-
-def world_color(world):
-    """The world as one radiance, for dacrt's uniform environment, or None when it is not one
-    colour: the Background shader's colour × strength when no node feeds either, else the
-    world's viewport colour when it uses no nodes."""
-    if world is None:
-        return None
-    if not world.use_nodes:
-        return tuple(world.color)
-    output = next((node for node in world.node_tree.nodes
-                   if node.type == 'OUTPUT_WORLD' and node.is_active_output), None)
-    surface = output.inputs["Surface"] if output else None
-    if surface is None or not surface.is_linked:
-        return None
-    background = surface.links[0].from_node
-    if background.type != 'BACKGROUND':
-        return None
-    color, strength = background.inputs["Color"], background.inputs["Strength"]
-    if color.is_linked or strength.is_linked:  # a sky texture, an HDRI: not one colour
-        return None
-    return tuple(c * strength.default_value for c in color.default_value[:3])
+    warnings = []
+    for line in captured.getvalue().splitlines():
+        match = _EXPORTER_WARNING.search(line)
+        if match and match.group(1) != "Unsupported light source AREA":
+            warnings.append("glTF exporter: " + match.group(1))
+    return list(dict.fromkeys(warnings))  # once each, in order
 
 
 def read_glb_json(path):

@@ -70,6 +70,12 @@ def _unzip(block, expected):
 
 def read_rgb(path):
     """The image in path as float32 H×W×3, rows top-down (the file's order)."""
+    planes = read_channels(path, ["R", "G", "B"])
+    return np.stack([planes[c] for c in "RGB"], axis=-1)
+
+
+def read_channels(path, wanted):
+    """The channels named in wanted, each float32 H×W, rows top-down, by name."""
     with open(path, "rb") as file:
         data = file.read()
     attributes, at = _header(data, path)
@@ -80,13 +86,14 @@ def read_rgb(path):
     x0, y0, x1, y1 = struct.unpack("<iiii", attributes["dataWindow"][1])
     width, height = x1 - x0 + 1, y1 - y0 + 1
     names = [name for name, _ in channels]
-    if not {"R", "G", "B"} <= set(names):
-        raise ValueError(f"{path}: no R, G, B channels (it has {', '.join(names)})")
+    missing = [name for name in wanted if name not in names]
+    if missing:
+        raise ValueError(f"{path}: no channel {', '.join(missing)} (it has {', '.join(names)})")
     lines_per_block = _LINES_PER_BLOCK[compression]
     blocks = (height + lines_per_block - 1) // lines_per_block
     offsets = struct.unpack_from(f"<{blocks}Q", data, at)
     line_bytes = sum(dtype.itemsize for _, dtype in channels) * width
-    planes = {name: np.empty((height, width), dtype=np.float32) for name in "RGB"}
+    planes = {name: np.empty((height, width), dtype=np.float32) for name in wanted}
     for offset in offsets:
         y, size = struct.unpack_from("<ii", data, offset)
         lines = min(lines_per_block, y1 + 1 - y)
@@ -100,6 +107,6 @@ def read_rgb(path):
                 count = width * dtype.itemsize
                 if name in planes:
                     planes[name][line] = np.frombuffer(block, dtype=dtype, count=width,
-                                                       offset=at)
+                                                       offset=at).astype(np.float32)
                 at += count
-    return np.stack([planes[c] for c in "RGB"], axis=-1)
+    return planes
