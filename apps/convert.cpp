@@ -83,7 +83,7 @@ int convert_main(const std::vector<std::string>& args) {
   const ConvertArgs c = parse_convert(args);
   if (c.help) return std::fputs(convert_help, stdout), 0;
   check_input_file(c.input, "EXR image");
-  std::vector<NamedFile> inputs = {{"IN", c.input}};
+  std::vector<NamedFile> inputs = {{"the input", c.input}};
   if (holds_display_values(*image_format(c.output))) {
     set_color_warnings(!c.quiet);
     check_display_transform(c.display);

@@ -352,7 +352,7 @@ Image read_exr_layer(const std::string& path, const std::string& layer) {
       throw Error("cannot read EXR '" + path + "': " + std::to_string(width) + " x " +
                   std::to_string(height) + " pixels is empty or more than the 2^27 values "
                   "accepted");
-    Image image(int(width), int(height));
+    Image image{int(width), int(height)};
     const size_t x_stride = 3 * sizeof(float), y_stride = x_stride * size_t(width);
     Imf::FrameBuffer frame;
     for (size_t c = 0; c < names.size(); ++c)

@@ -102,7 +102,7 @@ bool encode_jpeg(JpegWrite& w, const uint8_t* rgb, int width, int height) {
 
 void write_jpeg_file(const std::string& path, const Image& image, const DisplayOptions& display) {
   const std::vector<uint8_t> rgb = display_bytes(image, display);
-  JpegWrite w;
+  JpegWrite w{};
   const bool ok = encode_jpeg(w, rgb.data(), image.width, image.height);
   std::vector<unsigned char> bytes;
   if (ok) bytes.assign(w.out, w.out + w.size);

@@ -25,10 +25,13 @@ void write_image_array(const py::object& path_object, const py::array& array,
     throw py::type_error("write_image: image wants a float array (scene-linear values), not " +
                          std::string(py::str(array.dtype())));
   if (array.ndim() != 3 || (array.shape(2) != 3 && array.shape(2) != 4) || array.shape(0) < 1 ||
-      array.shape(1) < 1)
+      array.shape(1) < 1) {
+    std::string shape;
+    for (py::ssize_t d = 0; d < array.ndim(); ++d)
+      shape += (d ? ", " : "") + std::to_string(array.shape(d));
     throw py::value_error("write_image: image wants shape (height, width, 3) or (height, width, "
-                          "4), not " + std::string(py::str(py::tuple(py::cast(std::vector<py::ssize_t>(
-                              array.shape(), array.shape() + array.ndim()))))));
+                          "4), not (" + shape + ")");
+  }
   if (!std::isfinite(exposure))
     throw py::value_error("write_image: exposure= wants a finite number of stops");
   const ImageFormat format = output_format("path", path);
@@ -48,18 +51,19 @@ void write_image_array(const py::object& path_object, const py::array& array,
     for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = data[channels * p + c];
     if (channels == 4) alpha[p] = data[4 * p + 3];
   }
-  if (channels == 4 && (format == ImageFormat::jpeg || format == ImageFormat::hdr))
-    PyErr_WarnEx(PyExc_UserWarning,
-                 ("write_image: " + path + " is " + format_name(format) +
-                  ", which holds no alpha: the fourth channel is not written").c_str(),
-                 1);
+  if (channels == 4 && (format == ImageFormat::jpeg || format == ImageFormat::hdr) &&
+      PyErr_WarnEx(PyExc_UserWarning,
+                   ("write_image: " + path + " is " + format_name(format) +
+                    ", which holds no alpha: the fourth channel is not written").c_str(),
+                   1) < 0)
+    throw py::error_already_set();  // warnings made errors
   DisplayOptions display;
   display.view = view.value_or("");
   display.exposure = exposure;
   const bool keep_alpha = format == ImageFormat::exr || format == ImageFormat::png;
   py::gil_scoped_release unlocked;
-  write_image(path, image, display, {}, keep_alpha ? std::span<const float>(alpha) : std::span<const float>(),
-              "path");
+  write_image(path, image, display, {},
+              keep_alpha ? std::span<const float>(alpha) : std::span<const float>(), "path");
 }
 
 }  // namespace

@@ -7,10 +7,13 @@
 #include <doctest/doctest.h>
 #include <stb_image.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli.h"
 #include "cli_scene.h"
@@ -52,6 +55,14 @@ size_t count(const std::string& text, const std::string& word) {
 }
 
 bool have_mpirun() { return std::system("command -v mpirun >/dev/null 2>&1") == 0; }
+
+// check_refused for words in a vector.
+void refused(const Run& r, int code, const std::vector<std::string>& words) {
+  INFO(r.err);
+  CHECK(r.code == code);
+  CHECK(lines(r.err) == 1);
+  for (const std::string& w : words) CHECK_MESSAGE(r.err.find(w) != std::string::npos, w);
+}
 
 }  // namespace
 
@@ -118,7 +129,7 @@ TEST_CASE("image outputs: an unknown extension and what only an EXR holds are us
   for (const Case& c : cases) {
     CAPTURE(c.args);
     const Run r = run(dir, "render " + missing + c.args);
-    check_refused(r, 2, c.words);
+    refused(r, 2, c.words);
     CHECK(r.err.find("see dacrt render --help") != std::string::npos);
   }
   CHECK(fs::is_empty(dir.path()));
@@ -251,7 +262,7 @@ TEST_CASE("convert: its help, and one line for every refusal") {
   };
   for (const Case& c : cases) {
     CAPTURE(c.args);
-    check_refused(run(dir, "convert " + c.args), c.code, c.words);
+    refused(run(dir, "convert " + c.args), c.code, c.words);
     CHECK_FALSE(fs::exists(dir / "o.png"));
   }
   CHECK(slurp(in).substr(0, 4) == exr_magic);  // IN as it was
