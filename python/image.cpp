@@ -2,6 +2,7 @@
 #include "image.h"
 
 #include <pybind11/numpy.h>
+#include <pybind11/stl.h>
 
 #include <cmath>
 #include <optional>
