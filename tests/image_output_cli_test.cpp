@@ -268,3 +268,25 @@ TEST_CASE("convert: its help, and one line for every refusal") {
   }
   CHECK(slurp(in).substr(0, 4) == exr_magic);  // IN as it was
 }
+
+TEST_CASE("image outputs: merge writes an EXR, and its preview by the preview's name") {
+  TempDir dir("out-merge");
+  REQUIRE(run(dir, "render " + cornell + small + aces + " --samples 0:2 -o " + (dir / "part.exr") +
+                       " --preview " + (dir / "part.png"))
+              .code == 0);
+  refused(run(dir, "merge --quiet " + (dir / "part.exr") + " -o " + (dir / "m.png")), 2,
+          {"-o", "m.png", "EXR", "see dacrt merge --help"});
+  refused(run(dir, "merge --quiet " + (dir / "part.exr") + " -o " + (dir / "m.exr") +
+                       " --preview " + (dir / "m.hdr") + " --view sRGB"),
+          2, {"--view", "PNG or JPEG"});
+  CHECK_FALSE(fs::exists(dir / "m.exr"));
+  const Run r = run(dir, "merge --quiet " + (dir / "part.exr") + " -o " + (dir / "m.exr") +
+                             " --preview " + (dir / "m.png") + aces);
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  CHECK(magic(dir / "m.exr") == exr_magic);
+  CHECK(slurp(dir / "m.png") == slurp(dir / "part.png"));  // the whole render: the same image
+  REQUIRE(run(dir, "merge --quiet " + (dir / "part.exr") + " -o " + (dir / "n.exr") +
+                       " --preview " + (dir / "n.jpg"))
+              .code == 0);
+  CHECK(magic(dir / "n.jpg").substr(0, 3) == jpeg_magic);
+}
