@@ -69,7 +69,8 @@ ConvertArgs parse_convert(const std::vector<std::string>& given) {
       throw UsageError("unexpected argument '" + a + "' (one IN.exr and one OUT)");
     }
   }
-  if (c.output.empty()) throw UsageError("convert needs IN.exr and OUT: dacrt convert IN.exr OUT.png");
+  if (c.output.empty())
+    throw UsageError("convert needs IN.exr and OUT: dacrt convert IN.exr OUT.png");
   const ImageFormat format = output_format("OUT", c.output);
   if (!c.display_flag.empty() && !holds_display_values(format))
     throw UsageError(c.display_flag + " changes only display values (PNG, JPEG), and OUT " +

@@ -3,16 +3,18 @@
 // io/exr.cpp.
 #include "dacrt/io/image_file.h"
 
+// clang-format off
+#include <cstdio>  // before jpeglib.h, which uses size_t and FILE without including them
+#include <jpeglib.h>
+// clang-format on
 #include <stb_image_write.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <csetjmp>
-#include <cstdio>  // before jpeglib.h, which uses size_t and FILE without including them
 #include <cstdlib>
 #include <filesystem>
-#include <jpeglib.h>
 
 #include "dacrt/util/atomic_file.h"
 #include "dacrt/util/error.h"
@@ -24,7 +26,8 @@ namespace {
 // RGBE holds exponents up to 2^127; anything this bright is far beyond any use of the file.
 constexpr float kMaxHdrValue = 1e30f;
 
-void write_bytes(const std::string& path, const char* what, const std::vector<unsigned char>& bytes) {
+void write_bytes(const std::string& path, const char* what,
+                 const std::vector<unsigned char>& bytes) {
   write_atomically(path, what, [&](std::ostream& out) {
     out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
   });
@@ -115,9 +118,8 @@ void write_jpeg_file(const std::string& path, const Image& image, const DisplayO
 void write_hdr_file(const std::string& path, const Image& image) {
   // RGBE has no sign and no NaN: such values are 0, as in the preview.
   std::vector<float> rgb(image.rgb.size());
-  std::transform(image.rgb.begin(), image.rgb.end(), rgb.begin(), [](float v) {
-    return v > 0.f ? std::min(v, kMaxHdrValue) : 0.f;
-  });
+  std::transform(image.rgb.begin(), image.rgb.end(), rgb.begin(),
+                 [](float v) { return v > 0.f ? std::min(v, kMaxHdrValue) : 0.f; });
   std::vector<unsigned char> bytes;
   if (!stbi_write_hdr_to_func(append_bytes, &bytes, image.width, image.height, 3, rgb.data()))
     throw Error("cannot write HDR '" + path + "': encoding failed");
@@ -150,14 +152,20 @@ std::optional<ImageFormat> image_format(const std::string& path) {
   return std::nullopt;
 }
 
-const char* image_extensions() { return ".exr, .png, .jpg, .jpeg or .hdr"; }
+const char* image_extensions() {
+  return ".exr, .png, .jpg, .jpeg or .hdr";
+}
 
 const char* format_name(ImageFormat format) {
   switch (format) {
-    case ImageFormat::exr: return "EXR";
-    case ImageFormat::png: return "PNG";
-    case ImageFormat::jpeg: return "JPEG";
-    case ImageFormat::hdr: return "HDR";
+    case ImageFormat::exr:
+      return "EXR";
+    case ImageFormat::png:
+      return "PNG";
+    case ImageFormat::jpeg:
+      return "JPEG";
+    case ImageFormat::hdr:
+      return "HDR";
   }
   return "?";
 }
@@ -193,14 +201,18 @@ void write_image(const std::string& path, const Image& image, const DisplayOptio
     throw Error(std::string("cannot write ") + name + " '" + path +
                 "': the image is empty or its size is wrong");
   if (!alpha.empty() && alpha.size() != size_t(image.width) * size_t(image.height))
-    throw Error(std::string("cannot write ") + name + " '" + path + "': " +
-                std::to_string(alpha.size()) + " alpha values for " +
+    throw Error(std::string("cannot write ") + name + " '" + path +
+                "': " + std::to_string(alpha.size()) + " alpha values for " +
                 std::to_string(image.width) + "x" + std::to_string(image.height) + " pixels");
   switch (format) {
-    case ImageFormat::exr: return write_exr_file(path, image, metadata, alpha);
-    case ImageFormat::png: return write_png_file(path, image, display, alpha);
-    case ImageFormat::jpeg: return write_jpeg_file(path, image, display);
-    case ImageFormat::hdr: return write_hdr_file(path, image);
+    case ImageFormat::exr:
+      return write_exr_file(path, image, metadata, alpha);
+    case ImageFormat::png:
+      return write_png_file(path, image, display, alpha);
+    case ImageFormat::jpeg:
+      return write_jpeg_file(path, image, display);
+    case ImageFormat::hdr:
+      return write_hdr_file(path, image);
   }
 }
 

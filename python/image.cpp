@@ -30,8 +30,8 @@ void write_image_array(const py::object& path_object, const py::array& array,
     std::string shape;
     for (py::ssize_t d = 0; d < array.ndim(); ++d)
       shape += (d ? ", " : "") + std::to_string(array.shape(d));
-    throw py::value_error("write_image: image wants shape (height, width, 3) or (height, width, "
-                          "4), not (" + shape + ")");
+    const std::string wanted = "(height, width, 3) or (height, width, 4)";
+    throw py::value_error("write_image: image wants shape " + wanted + ", not (" + shape + ")");
   }
   if (!std::isfinite(exposure))
     throw py::value_error("write_image: exposure= wants a finite number of stops");
@@ -40,11 +40,11 @@ void write_image_array(const py::object& path_object, const py::array& array,
     throw py::value_error("write_image: " + std::string(view ? "view=" : "exposure=") +
                           " changes only display values (PNG, JPEG), and " + path + " is " +
                           format_name(format) + " (scene-linear)");
+  if (array.shape(0) > (1 << 15) || array.shape(1) > (1 << 15))
+    throw py::value_error("write_image: an image side is at most 32768 pixels");
   const auto pixels = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(array);
   const int height = int(array.shape(0)), width = int(array.shape(1)),
             channels = int(array.shape(2));
-  if (array.shape(0) > (1 << 15) || array.shape(1) > (1 << 15))
-    throw py::value_error("write_image: an image side is at most 32768 pixels");
   Image image(width, height);
   std::vector<float> alpha(channels == 4 ? size_t(width) * size_t(height) : 0);
   const float* data = pixels.data();
@@ -52,16 +52,16 @@ void write_image_array(const py::object& path_object, const py::array& array,
     for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = data[channels * p + c];
     if (channels == 4) alpha[p] = data[4 * p + 3];
   }
-  if (channels == 4 && (format == ImageFormat::jpeg || format == ImageFormat::hdr) &&
-      PyErr_WarnEx(PyExc_UserWarning,
-                   ("write_image: " + path + " is " + format_name(format) +
-                    ", which holds no alpha: the fourth channel is not written").c_str(),
-                   1) < 0)
-    throw py::error_already_set();  // warnings made errors
+  const bool keep_alpha = format == ImageFormat::exr || format == ImageFormat::png;
+  if (channels == 4 && !keep_alpha) {
+    const std::string warning = "write_image: " + path + " is " + format_name(format) +
+                                ", which holds no alpha: the fourth channel is not written";
+    if (PyErr_WarnEx(PyExc_UserWarning, warning.c_str(), 1) < 0)
+      throw py::error_already_set();  // warnings made errors
+  }
   DisplayOptions display;
   display.view = view.value_or("");
   display.exposure = exposure;
-  const bool keep_alpha = format == ImageFormat::exr || format == ImageFormat::png;
   py::gil_scoped_release unlocked;
   write_image(path, image, display, {},
               keep_alpha ? std::span<const float>(alpha) : std::span<const float>(), "path");

@@ -43,10 +43,12 @@ std::pair<int, int> decoded_size(const std::string& path) {
   return p ? std::pair{w, h} : std::pair{0, 0};
 }
 
-std::string magic(const std::string& path) { return slurp(path).substr(0, 4); }
+std::string magic(const std::string& path) {
+  return slurp(path).substr(0, 4);
+}
 
-const std::string png_magic = "\x89PNG", jpeg_magic = "\xff\xd8\xff", exr_magic = "\x76\x2f\x31\x01",
-                  hdr_magic = "#?RA";
+const std::string png_magic = "\x89PNG", jpeg_magic = "\xff\xd8\xff",
+                  exr_magic = "\x76\x2f\x31\x01", hdr_magic = "#?RA";
 
 size_t count(const std::string& text, const std::string& word) {
   size_t n = 0;
@@ -54,7 +56,9 @@ size_t count(const std::string& text, const std::string& word) {
   return n;
 }
 
-bool have_mpirun() { return std::system("command -v mpirun >/dev/null 2>&1") == 0; }
+bool have_mpirun() {
+  return std::system("command -v mpirun >/dev/null 2>&1") == 0;
+}
 
 // check_refused for words in a vector.
 void refused(const Run& r, int code, const std::vector<std::string>& words) {
@@ -134,8 +138,8 @@ TEST_CASE("image outputs: an unknown extension and what only an EXR holds are us
   }
   CHECK(fs::is_empty(dir.path()));
   // The same outputs under two names are refused before the render, as for EXR.
-  const Run same = run(dir, "render " + cornell + small + " -o " + (dir / "a.png") +
-                                " --preview " + dir.path().string() + "/./a.png");
+  const Run same = run(dir, "render " + cornell + small + " -o " + (dir / "a.png") + " --preview " +
+                                dir.path().string() + "/./a.png");
   check_refused(same, 1, {"a.png"});
   CHECK(fs::is_empty(dir.path()));
 }
@@ -149,8 +153,8 @@ TEST_CASE("image outputs: frames, backends and --stats with a PNG -o, and with -
   CHECK(magic(dir / "f.0001.png") == png_magic);
   CHECK_FALSE(fs::exists(dir / "f.png"));
   CHECK(fs::file_size(dir / "f.json") > 0);
-  const Run backends = run(dir, "render " + cornell + small + " --backend dacrt,brute -o " +
-                                    (dir / "b.jpg") + aces);
+  const Run backends =
+      run(dir, "render " + cornell + small + " --backend dacrt,brute -o " + (dir / "b.jpg") + aces);
   REQUIRE_MESSAGE(backends.code == 0, backends.err);
   CHECK(magic(dir / "b.dacrt.jpg").substr(0, 3) == jpeg_magic);
   CHECK(slurp(dir / "b.dacrt.jpg") == slurp(dir / "b.brute.jpg"));  // exact backends: one image
@@ -161,7 +165,8 @@ TEST_CASE("image outputs: a render cut short into a PNG says once what the file 
   TempDir dir("out-cut");
   const Run r = run(dir, "render " + cornell +
                              " --width 64 --height 64 --spp 100000 --threads 2 --quiet "
-                             "--time-limit 2 --pass-spp 1 --checkpoint 0.2 -o " + (dir / "cut.png"));
+                             "--time-limit 2 --pass-spp 1 --checkpoint 0.2 -o " +
+                             (dir / "cut.png"));
   REQUIRE_MESSAGE(r.code == 0, r.err);
   CHECK(magic(dir / "cut.png") == png_magic);
   CHECK(count(r.err, "warning:") == 1);
