@@ -23,7 +23,8 @@ the format OUT's name says: .png (8-bit) or .jpg/.jpeg (quality 95) through a di
 render's --preview makes them (a render's EXR converted with the same --view and --exposure gives
 the bytes its --preview gave); .hdr (Radiance RGBE) or .exr (float RGB), scene-linear. The
 extension's case does not matter. A file of several layers converts its image (R, G, B), or the
-layer --layer names.
+layer --layer names. An A channel goes into a PNG or EXR (a JPEG or HDR holds none: a warning
+says so).
 
 Options
   --view NAME                the display view of a PNG or JPEG (default sRGB, or $OCIO's default
@@ -93,8 +94,15 @@ int convert_main(const std::vector<std::string>& args) {
   }
   check_writable(c.output);
   check_outputs({{"OUT", c.output}}, inputs);
-  const Image image = read_exr_layer(c.input, c.layer);
-  write_image(c.output, image, c.display, {}, {}, "OUT");
+  std::vector<float> alpha;
+  const Image image = read_exr_layer(c.input, c.layer, &alpha);
+  const ImageFormat format = *image_format(c.output);
+  if (!alpha.empty() && format != ImageFormat::png && format != ImageFormat::exr) {
+    print_message("warning: " + c.output + " is " + format_name(format) + ", which holds no " +
+                  "alpha: the A channel of " + c.input + " is not written");
+    alpha.clear();
+  }
+  write_image(c.output, image, c.display, {}, alpha, "OUT");
   if (!c.quiet)
     print_message(c.output + ": " + std::to_string(image.width) + " x " +
                   std::to_string(image.height) + " " + format_name(*image_format(c.output)) +

@@ -340,7 +340,8 @@ std::vector<std::string> layer_channels(const std::string& path, const Imf::Chan
 
 }  // namespace
 
-Image read_exr_layer(const std::string& path, const std::string& layer) {
+Image read_exr_layer(const std::string& path, const std::string& layer,
+                     std::vector<float>* alpha) {
   return with_exr(path, [&](Imf::InputFile& file) {
     const Imf::Header& header = file.header();
     const std::vector<std::string> names = layer_channels(path, header.channels(), layer);
@@ -358,6 +359,12 @@ Image read_exr_layer(const std::string& path, const std::string& layer) {
     for (size_t c = 0; c < names.size(); ++c)
       frame.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.rgb.data() + c, window, x_stride,
                                               y_stride));
+    if (alpha) alpha->clear();
+    if (alpha && layer.empty() && header.channels().findChannel("A")) {
+      alpha->resize(size_t(width * height));
+      frame.insert("A", Imf::Slice::Make(Imf::FLOAT, alpha->data(), window, sizeof(float),
+                                         sizeof(float) * size_t(width)));
+    }
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
     if (names.size() == 1)

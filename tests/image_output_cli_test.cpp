@@ -295,3 +295,22 @@ TEST_CASE("image outputs: merge writes an EXR, and its preview by the preview's 
               .code == 0);
   CHECK(magic(dir / "n.jpg").substr(0, 3) == jpeg_magic);
 }
+
+TEST_CASE("convert: an RGBA EXR keeps its alpha in a PNG, and a JPEG says it has none") {
+  TempDir dir("convert-alpha");
+  Image image(4, 2);
+  for (size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] = 0.1f * float(i % 7);
+  const std::vector<float> alpha = {0.f, 0.25f, 0.5f, 1.f, 1.f, 0.5f, 0.25f, 0.f};
+  write_image(dir / "in.exr", image, {}, {}, alpha);
+  const Run png = run(dir, "convert --quiet " + (dir / "in.exr") + " " + (dir / "out.png"));
+  REQUIRE_MESSAGE(png.code == 0, png.err);
+  write_image(dir / "direct.png", image, {}, {}, alpha);
+  CHECK(slurp(dir / "out.png") == slurp(dir / "direct.png"));
+  CHECK(slurp(dir / "out.png")[25] == 6);  // colour type RGBA
+  const Run jpg = run(dir, "convert --quiet " + (dir / "in.exr") + " " + (dir / "out.jpg"));
+  REQUIRE(jpg.code == 0);
+  CHECK(lines(jpg.err) == 1);
+  CHECK(jpg.err.find("warning: " + (dir / "out.jpg") + " is JPEG, which holds no alpha") == 0);
+  write_image(dir / "direct.jpg", image);
+  CHECK(slurp(dir / "out.jpg") == slurp(dir / "direct.jpg"));
+}
