@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "studies/converge.h"
+#include "apps/convert.h"
 #include "apps/diff.h"
 #include "apps/info.h"
 #include "apps/merge.h"
@@ -65,7 +66,8 @@ std::string help_pointer = "dacrt --help";
 constexpr const char* main_help = R"(dacrt: a path tracer on divide-and-conquer ray tracing
 
 Usage:
-  dacrt render SCENE [options]   render a glTF 2.0 scene (.gltf or .glb) to OpenEXR
+  dacrt render SCENE [options]   render a glTF 2.0 scene (.gltf or .glb) to OpenEXR (or PNG,
+                                 JPEG, HDR: -o follows its extension)
   dacrt info SCENE [--scene N] [--animation NAME|INDEX|all]
                                  triangles, meshes, materials, variants, lights, animations,
                                  cameras, bounds
@@ -82,6 +84,8 @@ Usage:
                                  false-colour PNG (`dacrt diff --help`)
   dacrt merge PART.exr... -o OUT  add the parts of one render (`render --samples FIRST:LAST`)
                                  into its image, exactly (`dacrt merge --help`)
+  dacrt convert IN.exr OUT       an EXR as PNG, JPEG, HDR or EXR, by OUT's extension, through
+                                 the preview's display view (`dacrt convert --help`)
   dacrt --help                   this text; `dacrt render --help` lists the render options
   dacrt --version                the version
 )";
@@ -171,7 +175,8 @@ int run(std::vector<std::string> args) {
   // Each command and what runs it.
   const std::pair<const char*, int (*)(const std::vector<std::string>&)> commands[] = {
       {"render", render},         {"info", info_main}, {"views", views},     {"bench", bench_main},
-      {"converge", converge_main}, {"diff", diff_main}, {"merge", merge_main}};
+      {"converge", converge_main}, {"diff", diff_main}, {"merge", merge_main},
+      {"convert", convert_main}};
   std::vector<std::string> names;
   for (const auto& [name, main] : commands) {
     if (command != name) {

@@ -13,6 +13,7 @@
 #include "dacrt/io/color.h"
 #include "dacrt/io/exr.h"
 #include "dacrt/io/film_exr.h"
+#include "dacrt/io/image_file.h"
 #include "dacrt/render/header.h"
 #include "dacrt/render/part_plan.h"
 #include "dacrt/render/render_job.h"
@@ -42,7 +43,8 @@ Options
                              samplesMissing say which; the image has the samples there are
   --keep-sums                keep the exact sums in OUT even when it holds the whole render (it
                              keeps them anyway when it is one range of it: OUT is then a part too)
-  --preview FILE.png         an 8-bit preview, as render's (--view NAME, --exposure STOPS)
+  --preview FILE             the image alone, as render's --preview: .png or .jpg through the
+                             display view (--view NAME, --exposure STOPS), .hdr or .exr linear
   --quiet                    no progress or summary on stderr
   -h, --help                 this text
 )help";
@@ -89,8 +91,13 @@ MergeArgs parse_merge(const std::vector<std::string>& given) {
   }
   if (m.parts.empty()) throw UsageError("merge needs the parts: dacrt merge PART.exr... -o OUT.exr");
   if (m.output.empty()) throw UsageError("merge needs -o OUT.exr");
-  if (!m.display_flag.empty() && m.preview.empty())
-    throw UsageError(m.display_flag + " needs --preview (it changes only the PNG preview)");
+  if (output_format("-o", m.output) != ImageFormat::exr)
+    throw UsageError("-o " + m.output + ": the merged image keeps what its parts held, in an "
+                     "EXR (-o OUT.exr); --preview, or dacrt convert, makes a PNG or JPEG of it");
+  const bool display = !m.preview.empty() && holds_display_values(output_format("--preview", m.preview));
+  if (!m.display_flag.empty() && !display)
+    throw UsageError(m.display_flag +
+                     " needs a PNG or JPEG --preview: it changes only display values");
   return m;
 }
 
@@ -175,7 +182,8 @@ int merge_main(const std::vector<std::string>& args) {
                   std::to_string(plan.spp) + "-spp render are in no part: " + m.output +
                   " has " + std::to_string(least) + " spp");
   write_film_exr(m.output, film, header.meta, header.exact);
-  if (!m.preview.empty()) write_preview_png(m.preview, film.resolve(), m.display);
+  if (!m.preview.empty())
+    write_image(m.preview, film.resolve(), m.display, header.meta, {}, "--preview");
   if (!m.quiet) {
     char line[200];
     std::snprintf(line, sizeof line, ": %zu parts, %u of %u spp, merged in %.2f s", parts.size(),

@@ -23,6 +23,7 @@
 #include <mutex>
 #include <system_error>
 
+#include "dacrt/io/image_file.h"
 #include "dacrt/util/atomic_file.h"
 #include "dacrt/util/error.h"
 #include "dacrt/util/text.h"
@@ -370,12 +371,7 @@ void check_display_transform(const DisplayOptions& options) {
 void write_preview_png(const std::string& path, const Image& image, const DisplayOptions& options) {
   if (image.width <= 0 || image.height <= 0)
     throw Error("cannot write PNG '" + path + "': the image is empty");
-  const std::vector<float> display = to_display(image, options);
-  std::vector<uint8_t> pixels(display.size());
-  // Round to nearest: values are already clamped to [0, 1].
-  std::transform(display.begin(), display.end(), pixels.begin(),
-                 [](float v) { return uint8_t(std::lround(v * 255.f)); });
-  write_png(path, image.width, image.height, pixels);
+  write_png(path, image.width, image.height, display_bytes(image, options));
 }
 
 void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {

@@ -28,6 +28,7 @@
 #include <fstream>
 #include <istream>
 #include <map>
+#include <set>
 #include <mutex>
 #include <system_error>
 #include <thread>
@@ -295,6 +296,81 @@ ExrFile read_exr_file(const std::string& path) {
     file.readPixels(window.min.y, window.max.y);
     out.attributes = attributes_of(header);
     return out;
+  });
+}
+
+namespace {
+
+// The channels of `layer` (read_exr_layer): three, or one read as grey.
+std::vector<std::string> layer_channels(const std::string& path, const Imf::ChannelList& list,
+                                        const std::string& layer) {
+  const std::string name = layer == "normal" ? "N" : layer == "depth" ? "Z"
+                           : layer == "position" ? "P" : layer;
+  const std::string prefix = name.empty() ? "" : name + ".";
+  static const char* const sets[2][3] = {{"R", "G", "B"}, {"X", "Y", "Z"}};
+  for (const auto& set : sets) {
+    std::vector<std::string> found;
+    for (const char* c : set)
+      if (list.findChannel(prefix + c)) found.push_back(prefix + c);
+    if (found.size() == 3) return found;
+    if (name.empty()) break;  // the image is R, G, B (or Y), never X, Y, Z
+  }
+  if (name.empty()) {
+    if (list.findChannel("Y")) return {"Y"};
+    throw Error("cannot read EXR '" + path + "': it has no R, G and B channels");
+  }
+  if (list.findChannel(name)) return {name};
+  std::vector<std::string> in_layer;
+  std::set<std::string> layers;
+  for (auto it = list.begin(); it != list.end(); ++it) {
+    const std::string channel = it.name();
+    if (channel.starts_with(prefix)) in_layer.push_back(channel);
+    const size_t dot = channel.rfind('.');
+    layers.insert(dot == std::string::npos ? channel : channel.substr(0, dot));
+  }
+  if (in_layer.size() == 1) return in_layer;
+  std::string names;
+  for (const std::string& l : layers)
+    if (l != "R" && l != "G" && l != "B" && !l.starts_with("exact"))
+      names += (names.empty() ? "'" : ", '") + l + "'";
+  throw SettingError(path + " has no layer '" + layer + "'" +
+                     (names.empty() ? std::string(" (it has none but the image)")
+                                    : " (its layers: " + names + ")"));
+}
+
+}  // namespace
+
+Image read_exr_layer(const std::string& path, const std::string& layer,
+                     std::vector<float>* alpha) {
+  return with_exr(path, [&](Imf::InputFile& file) {
+    const Imf::Header& header = file.header();
+    const std::vector<std::string> names = layer_channels(path, header.channels(), layer);
+    const Imath::Box2i window = header.dataWindow();
+    const int64_t width = int64_t(window.max.x) - window.min.x + 1,
+                  height = int64_t(window.max.y) - window.min.y + 1;
+    if (width < 1 || height < 1 || width > kMaxExrPixels || height > kMaxExrPixels ||
+        width * height > kMaxExrPixels / 3)
+      throw Error("cannot read EXR '" + path + "': " + std::to_string(width) + " x " +
+                  std::to_string(height) + " pixels is empty or more than the 2^27 values "
+                  "accepted");
+    Image image{int(width), int(height)};
+    const size_t x_stride = 3 * sizeof(float), y_stride = x_stride * size_t(width);
+    Imf::FrameBuffer frame;
+    for (size_t c = 0; c < names.size(); ++c)
+      frame.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.rgb.data() + c, window, x_stride,
+                                              y_stride));
+    if (alpha) alpha->clear();
+    if (alpha && layer.empty() && header.channels().findChannel("A")) {
+      alpha->resize(size_t(width * height));
+      frame.insert("A", Imf::Slice::Make(Imf::FLOAT, alpha->data(), window, sizeof(float),
+                                         sizeof(float) * size_t(width)));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    if (names.size() == 1)
+      for (size_t p = 0; p < image.rgb.size(); p += 3)
+        image.rgb[p + 1] = image.rgb[p + 2] = image.rgb[p];
+    return image;
   });
 }
 

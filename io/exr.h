@@ -43,6 +43,16 @@ Image read_exr(const std::string& path);
 // The same from a stream (bytes in memory, for the fuzzer); `name` is the file in messages.
 Image read_exr(std::istream& in, const std::string& name);
 
+// One layer of a file as an RGB image, reading no other channel (`dacrt convert`): with `layer`
+// empty the image (R, G, B; or Y alone as grey), else the layer's channels NAME.R/G/B or
+// NAME.X/Y/Z, a channel named NAME, or a layer's only channel as grey (Z, samples.X); the AOV
+// names normal, depth and position stand for N, Z and P. The header is checked as read_exr's.
+// Error for a file without R, G and B; SettingError naming the layers there for a `layer` that
+// is not one of them. With `alpha`, the image's A channel into it when the file has one (else it
+// is left empty).
+Image read_exr_layer(const std::string& path, const std::string& layer = "",
+                     std::vector<float>* alpha = nullptr);
+
 // Everything in a file, for tests and comparisons: every channel as float, and the header's
 // string, int and double attributes as text.
 struct ExrFile {

@@ -25,6 +25,7 @@
 #include "dacrt/render/session.h"
 #include "dacrt/tracer/backend.h"
 #include "dacrt/util/error.h"
+#include "image.h"
 #include "interruptible.h"
 #include "keywords.h"
 #include "studies.h"
@@ -388,4 +389,5 @@ PYBIND11_MODULE(dacrt, m) {
         "The keywords render() takes (the render option table's Python column, and progress).");
 
   add_studies(m);
+  add_image(m);
 }

@@ -210,22 +210,27 @@ void set_help(R& r, S&, S&) { r.help = true; }
 // indented to the text's column; sections are printed in the order they first appear.
 const RenderOption table[] = {
     {"--output", "Output", V::path, use_render, false,
-     R"h(  -o, --output OUT.exr       the image: float RGB, scene-linear Rec.709 (default: SCENE's name .exr)
+     R"h(  -o, --output OUT.exr       the image, in the format its extension says (any case): .exr float
+                             RGB, scene-linear Rec.709, with the AOVs and exact sums (default:
+                             SCENE's name .exr); .hdr Radiance RGBE, scene-linear; .png 8-bit or
+                             .jpg/.jpeg through the display view, as --preview. Only an EXR holds
+                             --aov, --samples, --keep-sums and --resume
 )h",
      set_output, "-o"},
     {"--preview", "Output", V::path, use_render, false,
-     R"h(  --preview OUT.png          also an 8-bit display preview through OpenColorIO ($OCIO if set)
+     R"h(  --preview OUT.png          also the image alone: .png or .jpg/.jpeg, 8-bit through an
+                             OpenColorIO display view ($OCIO if set); .hdr or .exr scene-linear
 )h",
      set_preview},
     {"--view", "Output", V::text, use_render, false,
      R"h(  --view NAME                the preview's display view (default sRGB, or $OCIO's default view);
                              `dacrt views` lists them, e.g. "ACES 1.0 SDR-video (sRGB)" (tone
-                             mapped), or with $OCIO "DISPLAY/VIEW". Needs --preview
+                             mapped), or with $OCIO "DISPLAY/VIEW". Needs a PNG or JPEG output
 )h",
      set_view},
     {"--exposure", "Output", V::number, use_render, false,
-     R"h(  --exposure STOPS           scales the preview's scene-linear values by 2^STOPS before the view
-                             (default 0; the EXR is not changed). Needs --preview
+     R"h(  --exposure STOPS           scales the scene-linear values by 2^STOPS before the view (default
+                             0; an EXR or HDR is not changed). Needs a PNG or JPEG output
 )h",
      set_exposure},
     {"--stats", "Output", V::path, use_render, false,

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "dacrt/io/image_file.h"
 #include "dacrt/util/error.h"
 #include "dacrt/util/text.h"
 
@@ -76,11 +77,43 @@ RenderRequest parse_render(const std::vector<std::string>& given) {
   return r;
 }
 
+namespace {
+
+// The outputs' formats by their names (io/image_file.h), and what an image file other than EXR
+// cannot hold: the AOV layers and exact sums (refused here, before any work); --view and
+// --exposure change only display values (PNG, JPEG).
+void check_output_formats(const RenderRequest& r, OptionNamer name) {
+  std::optional<ImageFormat> output, preview;
+  if (!r.output.empty()) output = output_format(name("-o"), r.output);
+  if (!r.preview.empty()) preview = output_format(name("--preview"), r.preview);
+  if (output && *output != ImageFormat::exr) {
+    const std::string holds = name("-o") + " " + r.output + " is " + format_name(*output) +
+                              ", which holds only the image: ";
+    if (!r.settings.aovs.empty())
+      throw UsageError(holds + name("--aov") +
+                       " needs an EXR output (its layers are channels of the EXR)");
+    if (r.samples)
+      throw UsageError(holds + name("--samples") +
+                       " writes a part for dacrt merge, which needs an EXR output (its exact sums)");
+    if (r.keep_sums)
+      throw UsageError(holds + name("--keep-sums") + " needs an EXR output");
+    if (r.resume)
+      throw UsageError(holds + name("--resume") +
+                       " continues from the exact sums of an EXR output");
+  }
+  const bool display = (output && holds_display_values(*output)) ||
+                       (preview && holds_display_values(*preview)) || !r.report.empty();
+  if (!r.display_flag.empty() && !display)
+    throw UsageError(name(r.display_flag) + " needs a PNG or JPEG output (" + name("--preview") +
+                     " OUT.png, or " + name("-o") +
+                     " OUT.png or OUT.jpg): it changes only display values");
+}
+
+}  // namespace
+
 void check_request(RenderRequest& r, OptionNamer name) {
   if (!name) name = same_name;
-  if (!r.display_flag.empty() && r.preview.empty())
-    throw UsageError(name(r.display_flag) + " needs " + name("--preview") +
-                     " (it changes only the PNG preview)");
+  check_output_formats(r, name);
   if (r.fps_given && !r.frames) throw UsageError(name("--fps") + " needs " + name("--frames"));
   if (r.samples && r.samples->second > uint32_t(r.settings.spp))
     throw UsageError(name("--samples") + " " + std::to_string(r.samples->first) + ":" +

@@ -16,6 +16,7 @@
 #include "dacrt/io/color.h"
 #include "dacrt/io/film_exr.h"
 #include "dacrt/io/gltf.h"
+#include "dacrt/io/image_file.h"
 #include "dacrt/render/header.h"
 #include "dacrt/tracer/backend.h"
 #include "dacrt/tracer/stats_json.h"
@@ -42,7 +43,9 @@ double seconds_since(Clock::time_point t0) {
 // (and its preview), the path state. Throws Error naming the file and what is too big when they
 // exceed the memory this process may still take.
 void check_memory(const RenderRequest& r, const Shot& shot) {
-  const RenderMemory need = render_memory(shot, r.settings, !r.preview.empty());
+  const std::optional<ImageFormat> output = image_format(r.output);
+  const bool resolved = !r.preview.empty() || (output && *output != ImageFormat::exr);
+  const RenderMemory need = render_memory(shot, r.settings, resolved);
   const uint64_t film = need.image, paths = need.paths;
   const uint64_t available = available_memory();
   if (film + paths <= available) return;
@@ -168,14 +171,31 @@ std::optional<Film> film_to_resume(const std::string& file, const RenderJob& job
   return film;
 }
 
-// The EXR (every channel asked, and the per-pixel counts when they differ: a pass cut short, or
-// samples dropped as NaN) and the preview of a film, with the header saying what it holds.
+// The output and the preview of a film, each in the format its name says. An EXR output holds
+// every channel asked, and the per-pixel counts when they differ (a pass cut short, or samples
+// dropped as NaN), with the header saying what it holds; any other file holds the image alone
+// (check_request refused what only an EXR can hold), and a render cut short, whose EXR would
+// keep the exact sums to resume or merge it, says once (`warned`) that this one does not.
 void write_outputs(const RenderRequest& r, const Scene& scene, const Shot& shot,
                    const BackendRun& run, const Film& film, const RenderOutcome& outcome,
-                   const MatchKeys& keys) {
-  write_film_exr(run.output, film, render_header(r, scene, shot, run, film, outcome, keys),
-                 keeps_exact_sums(r, outcome));
-  if (!run.preview.empty()) write_preview_png(run.preview, film.resolve(), r.display);
+                   const MatchKeys& keys, bool& warned) {
+  const ExrMetadata header = render_header(r, scene, shot, run, film, outcome, keys);
+  const ImageFormat format = output_format("-o", run.output);
+  std::optional<Image> image;
+  if (format == ImageFormat::exr) {
+    write_film_exr(run.output, film, header, keeps_exact_sums(r, outcome));
+  } else {
+    image = film.resolve();
+    write_image(run.output, *image, r.display, header, {}, "-o");
+    if (keeps_exact_sums(r, outcome) && !warned) {
+      print_message("warning: " + run.output + " holds only the image of a render cut short: " +
+                    "its exact sums and sample counts, to --resume or merge it, need an EXR -o");
+      warned = true;
+    }
+  }
+  if (run.preview.empty()) return;
+  if (!image) image = film.resolve();
+  write_image(run.preview, *image, r.display, header, {}, "--preview");
 }
 
 }  // namespace
@@ -334,8 +354,9 @@ bool RenderSession::State::render_backend(BackendRun& run, const Shot& shot, int
   const auto [from, to] = spread ? hooks.ranks->share(first, last) : std::pair(first, last);
   Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
                     shot.pixels() * uint64_t(to - from) - taken, !r.quiet);
+  bool warned = false;
   const auto checkpoint = [&](const Film& so_far, const RenderOutcome& o) {
-    write_outputs(r, scene, shot, run, so_far, o, keys);
+    write_outputs(r, scene, shot, run, so_far, o, keys, warned);
   };
   RenderOutcome outcome = resuming
                               ? job.resume(film, first, last, progress, r.passes, checkpoint)
@@ -351,7 +372,7 @@ bool RenderSession::State::render_backend(BackendRun& run, const Shot& shot, int
   if (outcome.timed_out) run.stopped = "the time limit";
   // A render stopped before its first sample leaves the previous outputs as they were.
   if (film.max_count() == 0 && outcome.stopped) return false;
-  write_outputs(r, scene, shot, run, film, outcome, keys);
+  write_outputs(r, scene, shot, run, film, outcome, keys, warned);
   if (!r.quiet)
     if (const std::string dark = dark_image_note(film.resolve(), shot, r.display.exposure, run.output);
         !dark.empty())

@@ -233,7 +233,7 @@ std::vector<Help> helps() {
   TempDir dir("docs-help");
   std::vector<Help> out;
   for (const std::string command :
-       {"", "render", "bench", "converge", "diff", "merge", "info", "views"}) {
+       {"", "render", "bench", "converge", "diff", "merge", "convert", "info", "views"}) {
     const Run r = run(dir, command.empty() ? "--help" : command + " --help");
     INFO("dacrt " << command << " --help");
     REQUIRE(r.code == 0);

@@ -37,11 +37,15 @@ TEST_CASE("untrusted cli: outputs that name the same file, or an input, are refu
                 {"link.exr", "same file"});
   fs::remove(dir.path() / "link.exr");
   // An output that is an input: the scene (by another path), the environment map.
-  check_refused(run(dir, render + "-o " + scene), 1, {"-o", "would overwrite the scene"});
+  check_refused(run(dir, render + "-o " + scene), 2, {"-o", "'.gltf'"});  // (not an image's name)
+  fs::create_symlink("s.gltf", dir.path() / "scene.exr");
+  check_refused(run(dir, render + "-o " + (dir / "scene.exr")), 1,
+                {"-o", "would overwrite the scene"});
+  fs::remove(dir.path() / "scene.exr");
   check_refused(run(dir, render + "--stats " + (dir / "sub/../s.gltf")), 1, {"--stats", "scene"});
-  fs::create_hard_link(scene, dir.path() / "hard.gltf");
-  check_refused(run(dir, render + "--preview " + (dir / "hard.gltf")), 1, {"hard.gltf", "scene"});
-  fs::remove(dir.path() / "hard.gltf");
+  fs::create_hard_link(scene, dir.path() / "hard.png");
+  check_refused(run(dir, render + "--preview " + (dir / "hard.png")), 1, {"hard.png", "scene"});
+  fs::remove(dir.path() / "hard.png");
   check_refused(run(dir, "bench " + scene + " --count 16 --repeat 1 --quiet --json " + scene), 1,
                 {"--json", "would overwrite the scene"});
   // Several backends: each image gets its name, so one named twice would collide.
@@ -62,8 +66,10 @@ TEST_CASE("untrusted cli: no output may replace a file the scene reads") {
   w.write_gltf(scene, false);  // the buffer in ext.bin beside it
   const std::string bytes = slurp(buffer);
   const std::string render = "render " + scene + " --spp 1 --quiet --width 4 --height 4 ";
-  check_refused(run(dir, render + "-o " + buffer), 1,
-                {"-o", "ext.bin", "the scene's external file"});
+  fs::create_hard_link(buffer, dir.path() / "ext.exr");
+  check_refused(run(dir, render + "-o " + (dir / "ext.exr")), 1,
+                {"-o", "ext.exr", "the scene's external file"});
+  fs::remove(dir.path() / "ext.exr");
   check_refused(run(dir, render + "-o " + (dir / "o.exr") + " --stats " + (dir / "./ext.bin")), 1,
                 {"--stats", "external file"});
   CHECK(slurp(buffer) == bytes);
@@ -114,8 +120,10 @@ TEST_CASE("untrusted cli: inputs and outputs that are not regular files") {
                 {"fifo.exr", "FIFO"});
   check_refused(run(dir, "render " + scene + " --spp 1 --quiet --stats " + fifo), 1, {"FIFO"});
   CHECK(fs::is_fifo(fifo));
-  check_refused(run(dir, "render " + scene + " --spp 1 --quiet -o /dev/null"), 1,
+  fs::create_symlink("/dev/null", dir.path() / "null.exr");
+  check_refused(run(dir, "render " + scene + " --spp 1 --quiet -o " + (dir / "null.exr")), 1,
                 {"/dev/null", "character device"});
+  fs::remove(dir.path() / "null.exr");
   CHECK(fs::is_character_file("/dev/null"));
   fs::remove(fifo);
   fs::remove(dir.path() / "d.exr");
