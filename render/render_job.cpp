@@ -181,13 +181,17 @@ RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress
   auto last_checkpoint = start;
   const uint32_t pass = pass_size(options);
   const uint64_t wavefront = resolve_wavefront(settings_, UINT64_MAX);
+  // A time limit without --pass-spp sizes the passes so that the render can end near it: the
+  // first of one sample per pixel, each next of what the rate so far fits in half the time left
+  // (at least one sample, at most `pass`): the passes shrink as the limit nears, so that one
+  // slower than the rate measured (a busy machine) still ends close to it. The render ends after
+  // the pass that crosses the limit.
+  const bool sized_by_time = options.time_limit > 0 && options.spp_per_pass == 0;
+  uint64_t samples_taken = 0;  // over every pixel, by this call
   RenderOutcome out;
   out.first = out.complete = out.most = first;
   if (adaptive_ && first == 0) adaptive_->reset();
   while (out.complete < last) {
-    const uint32_t end = adaptive_
-                             ? adaptive_->pass_end(out.complete, last, pass, wavefront)
-                             : uint32_t(std::min<uint64_t>(uint64_t(out.complete) + pass, last));
     // Adaptive sampling lists the pixels still sampling; before the minimum, all of them.
     std::span<const uint32_t> only;
     if (adaptive_ && out.complete >= adaptive_->min_spp()) {
@@ -195,8 +199,21 @@ RenderOutcome RenderJob::run(Film& film, uint32_t first, uint32_t last, Progress
       if (only.empty()) break;  // every pixel converged
     }
     const uint64_t pixels = only.empty() ? shot_.pixels() : only.size();
+    uint32_t this_pass = pass;
+    if (sized_by_time) {
+      const double rate = samples_taken > 0 && out.seconds > 0
+                              ? double(samples_taken) / out.seconds
+                              : 0.0;  // nothing measured yet: one sample per pixel
+      const double fits = rate * (options.time_limit - out.seconds) / 2 / double(pixels);
+      this_pass = uint32_t(std::clamp<double>(std::floor(fits), 1.0, double(pass)));
+    }
+    uint32_t end = adaptive_
+                       ? adaptive_->pass_end(out.complete, last, this_pass, wavefront)
+                       : uint32_t(std::min<uint64_t>(uint64_t(out.complete) + this_pass, last));
+    if (sized_by_time) end = uint32_t(std::min<uint64_t>(end, uint64_t(out.complete) + this_pass));
     const uint64_t taken =
         integrator_->render(film, out.complete, end, only, options.stop, progress);
+    samples_taken += taken;
     const auto [fewest, most] = integrator_->sample_order(out.complete, end, pixels).counts(taken);
     out.most = out.complete + most;
     out.complete += fewest;

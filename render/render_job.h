@@ -4,7 +4,8 @@
 // integrator, and adds a range of samples [first, last) of every pixel to a Film, in passes:
 // whole passes give every pixel the same count; a stop token ends the render at the next
 // wavefront (the samples begun still finish and reach the film, so nothing rendered is lost); a
-// time limit ends it after the pass that crosses it; a checkpoint callback sees the film after
+// time limit ends it after the pass that crosses it (the passes sized from the rate measured and
+// the time left, unless spp_per_pass sets them); a checkpoint callback sees the film after
 // passes, at most once per checkpoint interval. Films of [0, a) and [a, b) merge into [0, b).
 // With adaptive sampling (settings.adaptive, render/adaptive.h) the passes after the minimum give
 // samples only to the pixels that have not converged; the job remembers which pixels stopped, so
@@ -66,7 +67,9 @@ RenderMemory render_memory(const Shot& shot, const RenderSettings& settings, boo
 
 struct PassOptions {
   uint32_t spp_per_pass = 0;  // 0: enough samples for 8 wavefronts a pass, at least 1 per pixel
-  double time_limit = 0.0;    // seconds; 0: none. The render stops after the pass that crosses it
+  // Seconds; 0: none. The render stops after the pass that crosses it. Without spp_per_pass the
+  // passes are then sized by the time left (RenderJob::run), so that it ends within a pass of it.
+  double time_limit = 0.0;
   double checkpoint = 0.0;    // seconds between checkpoint calls (at pass ends); 0: none
   const std::atomic<bool>* stop = nullptr;  // true: stop at the next wavefront
 };

@@ -255,7 +255,8 @@ const RenderOption table[] = {
 )h",
      set_pass_spp},
     {"--time-limit", "Progress", V::number, use_render | use_python, false,
-     R"h(  --time-limit SECONDS       stop after the pass that crosses it (the header says the spp done)
+     R"h(  --time-limit SECONDS       stop each render (frame, backend) after the pass that crosses it,
+                             the passes sized to end near it (the header says the spp done)
 )h",
      set_time_limit},
     {"--checkpoint", "Progress", V::number, use_render, false,

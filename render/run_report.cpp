@@ -24,12 +24,17 @@ void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings
                   run.least_spp, run.most_spp, run.mean_spp);
   else
     std::snprintf(spp, sizeof spp, "%u spp", run.spp);
+  std::string stopped;
+  if (!run.stopped.empty())
+    stopped = " of " + std::to_string(s.spp) + ", stopped by " + run.stopped;
+  if (run.stopped == "the time limit") {  // what the limit allowed
+    char limit[96];
+    std::snprintf(limit, sizeof limit, " of %g s after %u pass%s", run.time_limit, run.passes,
+                  run.passes == 1 ? "" : "es");
+    stopped += limit;
+  }
   std::snprintf(figures, sizeof figures, ": %d×%d, %s%s, %s/%s, %.2f s", shot.width, shot.height,
-                spp,
-                run.stopped.empty()
-                    ? ""
-                    : (" of " + std::to_string(s.spp) + ", stopped by " + run.stopped).c_str(),
-                run.backend.c_str(), s.integrator.c_str(), stats.seconds);
+                spp, stopped.c_str(), run.backend.c_str(), s.integrator.c_str(), stats.seconds);
   print_message(run.output + figures);
   for (int t = 0; t < ray_type_count; ++t) {
     const RayTypeStats& rt = stats.by_type[t];

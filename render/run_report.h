@@ -24,6 +24,8 @@ struct BackendRun {
   uint32_t least_spp = 0, most_spp = 0;
   double mean_spp = 0.0;
   std::string stopped;  // why the render stopped early ("SIGINT", "the time limit"), or empty
+  uint32_t passes = 0;      // the whole passes rendered
+  double time_limit = 0.0;  // --time-limit (seconds; 0: none)
 };
 
 // The smallest, median and largest of a render's bounce batches.

@@ -26,6 +26,7 @@
 #include "dacrt/util/interrupt.h"
 #include "dacrt/util/memory.h"
 #include "dacrt/util/progress.h"
+#include "dacrt/util/progress_format.h"
 #include "dacrt/util/text.h"
 
 namespace fs = std::filesystem;
@@ -37,6 +38,11 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+std::string seconds_text(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f s", seconds);
+  return text;
 }
 
 // The render's largest allocations, estimated before any is made: the film, the resolved image
@@ -224,6 +230,9 @@ struct RenderSession::State {
   std::string inputs_hash;  // match.inputs
   double load_seconds = 0.0;
 
+  // When the first frame began (ProgressOutput's clock): the total ETA of frames × backends.
+  double whole_start = -1.0;
+
   nlohmann::json frame_stats = nlohmann::json::array();
   std::vector<BackendRun> last_runs;
   std::string title;
@@ -242,8 +251,11 @@ struct RenderSession::State {
   void load();
   // Renders one frame with every backend; false when a stop ended it.
   bool render_frame(int frame, StopOnSignals& signals);
-  // Renders with one backend; false when a stop ended it before its first sample.
-  bool render_backend(BackendRun& run, const Shot& shot, int frame, StopOnSignals& signals);
+  // Renders with one backend (the index-th); false when a stop ended it before its first sample.
+  bool render_backend(BackendRun& run, size_t index, const Shot& shot, int frame,
+                      StopOnSignals& signals);
+  // The part of the whole one render is (frame × backend), for its progress lines.
+  ProgressPart progress_part(size_t backend, int frame) const;
   void write_stats(int frame, const Shot& shot, const std::vector<BackendRun>& done,
                    double geometry_seconds);
 };
@@ -315,12 +327,26 @@ void RenderSession::State::check_files() {
 void RenderSession::State::load() {
   if (r.frames) r.gltf.time = frame_time(frames.front());
   const auto t_load = Clock::now();
+  // A load that takes long says so (in a log, every few seconds), then what took the time.
+  std::error_code size_error;
+  const uint64_t bytes = fs::file_size(r.scene, size_error);
+  const std::string name =
+      r.scene + (size_error ? std::string() : " (" + format_bytes(bytes) + ")");
+  Activity loading("loading " + name, !r.quiet);
   file.emplace(r.scene, r.gltf, frames.size() > 1);  // one frame is never posed
+  const double read_seconds = seconds_since(t_load);
   scene = file->load();
   animation = file->animation_choice();
   // One frame is never posed again: the file's buffers (as large as the scene's) go now.
   if (frames.size() == 1) file.reset();
   load_seconds = seconds_since(t_load);
+  char took[256];
+  std::snprintf(took, sizeof took,
+                " in %.1f s: reading the file %.1f s, making the scene (%zu triangles, %zu "
+                "textures) %.1f s",
+                load_seconds, read_seconds, scene.geometry.size(), scene.textures.size(),
+                load_seconds - read_seconds);
+  loading.done("loaded " + name + took);
   for (const FileRead& read : scene.files)
     inputs.push_back({"the scene's external file", read.path});
   check_outputs(outputs, inputs);
@@ -332,14 +358,39 @@ void RenderSession::State::load() {
   inputs_hash = hash_text(hash_files(input_files));
 }
 
-bool RenderSession::State::render_backend(BackendRun& run, const Shot& shot, int frame,
-                                          StopOnSignals& signals) {
+ProgressPart RenderSession::State::progress_part(size_t backend, int frame) const {
+  ProgressPart part;
+  const size_t n = frames.size() * runs.size();
+  const size_t k = size_t(std::find(frames.begin(), frames.end(), frame) - frames.begin());
+  if (r.frames)
+    part.position = "frame " + std::to_string(frame) + " (" + std::to_string(k + 1) + " of " +
+                    std::to_string(frames.size()) + ")";
+  if (n > 1) {
+    part.before = double(k * runs.size() + backend) / double(n);
+    part.share = 1.0 / double(n);
+    part.whole_start = whole_start;
+  }
+  return part;
+}
+
+bool RenderSession::State::render_backend(BackendRun& run, size_t index, const Shot& shot,
+                                          int frame, StopOnSignals& signals) {
   const RenderSettings& s = r.settings;
   const uint32_t first = r.first_sample(), last = r.last_sample();
   const auto t0 = Clock::now();
+  const std::string which =
+      runs.size() > 1 ? " " + run.backend + " (" + std::to_string(index + 1) + " of " +
+                            std::to_string(runs.size()) + ")"
+                      : std::string();
+  Activity building("building the " + run.backend + " backend for " +
+                        std::to_string(scene.geometry.size()) + " triangles",
+                    !r.quiet);
   auto backend =
       Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
   run.build_seconds = seconds_since(t0);
+  building.done("built the " + run.backend + " backend in " + seconds_text(run.build_seconds));
+  // The integrator's set-up (textures, lights) and the film: long for a large scene or image.
+  Activity preparing("preparing the render" + which, !r.quiet);
   RenderJob job(scene, *backend, s, shot);
   if (r.frames) r.gltf.time = frame_time(frame);  // each frame's own time (match.time)
   const MatchKeys keys = match_keys(r, shot, animation, inputs_hash, run.backend);
@@ -350,10 +401,12 @@ bool RenderSession::State::render_backend(BackendRun& run, const Shot& shot, int
   Film film = resuming ? std::move(*earlier) : job.film();
   uint64_t taken = 0;
   for (size_t p = 0; p < film.pixels(); ++p) taken += film.taken(p);
+  preparing.done("prepared the render" + which + " in " + seconds_text(preparing.seconds()));
   // This process's samples: all of them, or its rank's share.
   const auto [from, to] = spread ? hooks.ranks->share(first, last) : std::pair(first, last);
-  Progress progress(backends.size() > 1 ? "render " + run.backend : "render",
-                    shot.pixels() * uint64_t(to - from) - taken, !r.quiet);
+  Progress progress("render" + which, shot.pixels() * uint64_t(to - from) - taken, !r.quiet,
+                    progress_part(index, frame), shot.pixels());
+  progress.limit_time(r.passes.time_limit);
   bool warned = false;
   const auto checkpoint = [&](const Film& so_far, const RenderOutcome& o) {
     write_outputs(r, scene, shot, run, so_far, o, keys, warned);
@@ -366,6 +419,8 @@ bool RenderSession::State::render_backend(BackendRun& run, const Shot& shot, int
   run.backend_stats = backend->stats();
   run.seconds = seconds_since(t0);
   run.spp = outcome.spp();
+  run.passes = outcome.passes;
+  run.time_limit = r.passes.time_limit;
   run.least_spp = film.min_count(), run.most_spp = film.max_count();
   run.mean_spp = double(film.total_count()) / double(std::max<size_t>(film.pixels(), 1));
   if (outcome.stopped) run.stopped = signals.signal() == SIGTERM ? "SIGTERM" : "SIGINT";
@@ -405,6 +460,8 @@ void RenderSession::State::write_stats(int frame, const Shot& shot,
                         {"threads", tbb::this_task_arena::max_concurrency()},
                         {"load_seconds", load_seconds}};
     if (!run.stopped.empty()) j["stopped_by"] = run.stopped;
+    j["passes"] = run.passes;
+    if (run.time_limit > 0) j["time_limit"] = run.time_limit;
     if (s.adaptive > 0)
       j["adaptive"] = {{"target", s.adaptive},
                        {"min_spp", adaptive_min_spp(s)},
@@ -456,8 +513,7 @@ bool RenderSession::State::render_frame(int frame, StopOnSignals& signals) {
   size_t rendered = 0;  // the runs begun: a stop skips the backends after it
   bool go_on = true;
   for (BackendRun& run : runs_now) {
-    ++rendered;
-    const bool finished = render_backend(run, shot, frame, signals);
+    const bool finished = render_backend(run, rendered++, shot, frame, signals);
     if (spread && !hooks.ranks->root()) return false;  // rank 0 writes; this rank is done
     if (!finished) {
       go_on = false;
@@ -467,14 +523,20 @@ bool RenderSession::State::render_frame(int frame, StopOnSignals& signals) {
   runs_now.resize(rendered);
   if (r.frames && !r.quiet) {
     char line[160];
-    std::snprintf(line, sizeof line, "frame %d (t = %g s): geometry %.3f ms%s", frame,
-                  frame_time(frame), 1e3 * geometry_seconds,
+    const size_t k = size_t(std::find(frames.begin(), frames.end(), frame) - frames.begin());
+    std::snprintf(line, sizeof line, "frame %d (%zu of %zu, t = %g s): geometry %.3f ms%s", frame,
+                  k + 1, frames.size(), frame_time(frame), 1e3 * geometry_seconds,
                   frame == frames.front() ? " (the load)" : "");
     std::string text = line;
     for (const BackendRun& run : runs_now) {
       std::snprintf(line, sizeof line, ", %s build %.3f ms", run.backend.c_str(),
                     1e3 * run.build_seconds);
       text += line;
+    }
+    if (k + 1 < frames.size() && go_on) {  // the frames left, at the pace of those done
+      const double so_far = ProgressOutput::standard_error().now() - whole_start;
+      text += "; total ETA " +
+              format_duration(so_far * double(frames.size() - k - 1) / double(k + 1));
     }
     print_message(text);
   }
@@ -501,6 +563,7 @@ int RenderSession::run() {
   StopOnSignals signals;
   st.r.passes.stop = &signals.token();
   st.r.backend_options.threads = st.r.threads;
+  st.whole_start = ProgressOutput::standard_error().now();
   for (int frame : st.frames)
     if (!st.render_frame(frame, signals)) break;
   if (signals.signal()) return 128 + signals.signal();
@@ -516,11 +579,16 @@ FilmRender render_to_film(const RenderRequest& r, const Scene& scene) {
   check_memory(r, shot);
   Options options = r.backend_options;
   options.threads = r.threads;
+  Activity building("building the " + r.backend + " backend for " +
+                        std::to_string(scene.geometry.size()) + " triangles",
+                    !r.quiet);
   auto backend = Backend::create(r.backend, scene.geometry, options.for_plugin(r.backend));
+  building.done("built the " + r.backend + " backend in " + seconds_text(building.seconds()));
   RenderJob job(scene, *backend, r.settings, shot);
   Film film = job.film();
   const uint32_t first = r.first_sample(), last = r.last_sample();
-  Progress bar("render", shot.pixels() * uint64_t(last - first), !r.quiet);
+  Progress bar("render", shot.pixels() * uint64_t(last - first), !r.quiet, {}, shot.pixels());
+  bar.limit_time(r.passes.time_limit);
   const RenderOutcome outcome = job.run(film, first, last, bar, r.passes);
   return {std::move(film), outcome};
 }

@@ -43,6 +43,7 @@
 #include "dacrt/util/memory.h"
 #include "dacrt/util/paths.h"
 #include "dacrt/util/progress.h"
+#include "dacrt/util/progress_format.h"
 
 namespace dacrt {
 
@@ -438,10 +439,15 @@ Run start_run(const Scene& scene, const Shot& shot, const Config& c, uint64_t se
   return run;
 }
 
-// Adds samples up to `spp` to the run's film; false when a signal stopped it.
-bool render_to(Run& run, uint32_t from, uint32_t spp, const std::string& label, bool bar,
-               const std::atomic<bool>* stop, double* seconds) {
-  Progress progress(label, run.job->shot().pixels() * spp, bar);
+// Adds samples up to `spp` to the run's film, its progress on stderr unless `quiet` (`part`: of
+// what); false when a signal stopped it.
+bool render_to(Run& run, uint32_t from, uint32_t spp, const std::string& label, bool quiet,
+               const ProgressPart& part, const std::atomic<bool>* stop, double* seconds) {
+  const uint64_t pixels = run.job->shot().pixels();
+  ProgressTimes times;
+  times.tenths = false;  // a log hears of the renders that take a while, and each point's line
+  Progress progress(label, pixels * spp, !quiet, part, pixels, ProgressOutput::standard_error(),
+                    times);
   PassOptions passes;
   passes.stop = stop;
   const RenderOutcome outcome = run.job->run(*run.film, from, spp, progress, passes);
@@ -502,7 +508,7 @@ struct Reference {
 };
 
 bool render_reference(const ConvergeArgs& a, const ConvergeFiles& f, const Scene& scene,
-                      const Shot& shot, bool bar, const std::atomic<bool>* stop, Reference& out) {
+                      const Shot& shot, const std::atomic<bool>* stop, Reference& out) {
   const RenderSettings& base = a.shared.settings;
   const bool verbose = !a.shared.quiet;
   Config shared{"reference", a.shared};
@@ -521,11 +527,15 @@ bool render_reference(const ConvergeArgs& a, const ConvergeFiles& f, const Scene
                  (unsigned long long)seed, (unsigned long long)seed + 1);
   std::vector<Image> images;
   double seconds = 0;
+  ProgressPart part;  // the halves' lines give the whole reference's ETA
+  part.whole_start = ProgressOutput::standard_error().now();
   for (int h = 0; h < 2; ++h) {
     Run run = start_run(scene, shot, shared, seed + h);
     double step = 0;
-    if (!render_to(run, 0, halves[h], h ? "reference, second half" : "reference, first half", bar,
-                   stop, &step))
+    part.position = "(half " + std::to_string(h + 1) + " of 2)";
+    part.before = h ? double(halves[0]) / a.reference_spp : 0.0;
+    part.share = double(halves[h]) / a.reference_spp;
+    if (!render_to(run, 0, halves[h], "converge: reference", !verbose, part, stop, &step))
       return false;
     seconds += step;
     images.push_back(run.film->resolve());
@@ -560,7 +570,7 @@ bool render_reference(const ConvergeArgs& a, const ConvergeFiles& f, const Scene
 // or --max-spp (the first repeat's doubling sets the points, the others render the same ones),
 // each measured against the reference and/or the noise between two seeds, into `curve`.
 void measure(const ConvergeArgs& a, const Config& c, int repeat, const Scene& scene,
-             const Shot& shot, const Reference& reference, bool bar,
+             const Shot& shot, const Reference& reference, const std::string& position,
              const std::atomic<bool>* stop, Curve& curve) {
   const Metric metric = *a.metric;
   const std::string suffix = a.repeats > 1 ? " (repeat " + std::to_string(repeat + 1) + "/" +
@@ -579,9 +589,12 @@ void measure(const ConvergeArgs& a, const Config& c, int repeat, const Scene& sc
   for (uint32_t next = 1, index = 0;; next *= 2, ++index) {
     if (repeat > 0 && index >= curve.points.size()) break;
     const std::string label = "converge " + c.label + suffix + ": " + std::to_string(next) + " spp";
+    ProgressPart part;
+    part.position = position;
     double step = 0;
-    if (!render_to(run, spp, next, label, bar, stop, &step)) break;
-    if (second && !render_to(*second, spp, next, label + " (seed S + 1)", bar, stop, nullptr))
+    if (!render_to(run, spp, next, label, a.shared.quiet, part, stop, &step)) break;
+    if (second && !render_to(*second, spp, next, label + " (seed S + 1)", a.shared.quiet, part,
+                             stop, nullptr))
       break;
     spp = next;
     rendered += step;
@@ -647,7 +660,6 @@ int converge_main(const std::vector<std::string>& args) {
   if (a.help) return std::fputs(help_text().c_str(), stdout), 0;
   std::vector<Config> configs = parse_configs(a);
   const bool verbose = !a.shared.quiet;
-  const bool bar = verbose && isatty(STDERR_FILENO);
   ConvergeFiles f = check_files(a);
   std::optional<std::string> gnuplot;
   if (a.plot) {
@@ -665,7 +677,9 @@ int converge_main(const std::vector<std::string>& args) {
   }
 
   const auto threads = thread_limit(a.shared.threads);
+  Activity loading("converge: loading " + a.shared.scene, verbose);
   Scene scene = load_gltf(a.shared.scene, a.shared.gltf);
+  loading.done("converge: loaded " + a.shared.scene + " in " + format_duration(loading.seconds()));
   for (const FileRead& file : scene.files) f.inputs.push_back({"the scene's external file", file.path});
   check_outputs(f.outputs, f.inputs);
   // Every configuration renders the same shot (the options that change it are the shared ones).
@@ -683,7 +697,7 @@ int converge_main(const std::vector<std::string>& args) {
 
   StopOnSignals signals;
   const std::atomic<bool>* stop = &signals.token();
-  if (f.render_reference && !render_reference(a, f, scene, shot, bar, stop, reference))
+  if (f.render_reference && !render_reference(a, f, scene, shot, stop, reference))
     return 128 + signals.signal();
 
   const Metric metric = *a.metric;
@@ -722,7 +736,16 @@ int converge_main(const std::vector<std::string>& args) {
   for (int repeat = 0; repeat < a.repeats && !signals.signal(); ++repeat)
     for (size_t k = 0; k < configs.size() && !signals.signal(); ++k) {
       try {
-        measure(a, configs[k], repeat, scene, shot, reference, bar, stop, curves[k]);
+        const std::string position = "(configuration " + std::to_string(k + 1) + " of " +
+                                     std::to_string(configs.size()) + ")";
+        if (verbose)
+          std::fprintf(stderr, "converge: configuration %zu of %zu: %s%s\n", k + 1, configs.size(),
+                       configs[k].label.c_str(),
+                       a.repeats > 1 ? (", repeat " + std::to_string(repeat + 1) + " of " +
+                                        std::to_string(a.repeats))
+                                           .c_str()
+                                     : "");
+        measure(a, configs[k], repeat, scene, shot, reference, position, stop, curves[k]);
       } catch (const Error& e) {
         const bool kept = keep_so_far();
         throw Error("--config \"" + shortened(configs[k].label) + "\": " + e.what() +

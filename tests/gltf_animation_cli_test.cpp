@@ -83,8 +83,8 @@ TEST_CASE("cli: --time poses the scene, --frames renders numbered frames with th
       CHECK(lit_x(exr) == doctest::Approx(-0.5 + f / 4.0).scale(1).epsilon(0.05));
     }
     const char* times[] = {"", "0.25", "0.5", "0.75"};
-    CHECK(frames.err.find("frame " + std::to_string(f) + " (t = " + times[f] + " s): geometry") !=
-          std::string::npos);
+    CHECK(frames.err.find("frame " + std::to_string(f) + " (" + std::to_string(f) + " of 3, t = " +
+                          times[f] + " s): geometry") != std::string::npos);
   }
   CHECK(!fs::exists(dir / "f.0000.dacrt.exr"));
   CHECK(!fs::exists(dir / "f.0004.dacrt.exr"));

@@ -5,12 +5,15 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "tests/captured_stderr.h"
@@ -99,27 +102,213 @@ TEST_CASE("a disabled Progress prints nothing") {
   CHECK(captured.text().empty());
 }
 
-TEST_CASE("Progress in a log prints one line per 10 % step") {
-  CapturedStderr captured;
+// A clock the test moves and a sink that keeps what is written, for Progress and Activity.
+struct FakeOutput {
+  double time = 100.0;
+  std::string text;
+  dacrt::ProgressTimes times = manual();
+  // The default times, without the watching thread (the test moves the clock).
+  static dacrt::ProgressTimes manual() {
+    dacrt::ProgressTimes t;
+    t.watch = false;
+    return t;
+  }
+  dacrt::ProgressOutput output(bool terminal) {
+    dacrt::ProgressOutput out;
+    out.write = [this](const std::string& t) { text += t; };
+    out.now = [this] { return time; };
+    out.terminal = terminal;
+    return out;
+  }
+};
+
+TEST_CASE("Progress in a log prints at 1 s, every 5 s, every 30 s after 5 min, and at the end") {
+  FakeOutput fake;
   {
-    dacrt::Progress progress("render", 1000, true);
-    for (uint64_t i = 0; i <= 1000; ++i) progress.update(i, i * 1000);
+    // 1600 samples of 8 pixels over 400 s (1 % of the 160000 asked, as with a time limit), an
+    // update every 0.25 s, 1 Mrays/s.
+    dacrt::Progress progress("render", 160000, true, {}, 8, fake.output(false), fake.times);
+    for (int step = 0; step <= 1600; ++step) {
+      fake.time = 100.0 + step * 0.25;
+      progress.update(uint64_t(step), uint64_t(step) * 250000);
+    }
+    progress.finish();
+  }
+  const std::vector<std::string> lines = lines_of(fake.text);
+  CHECK(fake.text.find('\r') == std::string::npos);
+  // At 1 s, then every 5 s to 296 s (60 lines), every 30 s after 300 s (326, 356, 386), the end.
+  REQUIRE(lines.size() == 60 + 3 + 1);
+  CHECK(lines[0] == "render: 0%, 0.5/20000 spp, 1.00 Mrays/s, ETA 11:06:39");
+  CHECK(lines[1] == "render: 0%, 3/20000 spp, 1.00 Mrays/s, ETA 11:06:34");      // at 6 s
+  CHECK(lines[59] == "render: 0%, 148/20000 spp, 1.00 Mrays/s, ETA 11:01:44");   // at 296 s
+  CHECK(lines[60].rfind("render: 0%, 163/20000 spp", 0) == 0);                   // at 326 s
+  CHECK(lines.back() == "render: 1%, 200/20000 spp, 1.00 Mrays/s, took 6:40");
+}
+
+TEST_CASE("Progress in a log prints one line per 10 % step, the last with the time it took") {
+  FakeOutput fake;
+  {
+    dacrt::Progress progress("render", 1000, true, {}, 0, fake.output(false), fake.times);
+    for (uint64_t i = 0; i <= 1000; ++i) {
+      fake.time += 0.0001;
+      progress.update(i, i * 1000);
+    }
     progress.update(1000, 1000 * 1000);  // repeated updates at 100 % add nothing
     progress.finish();
   }
-  const std::string text = captured.text();
-  CHECK(text.find('\r') == std::string::npos);
-  const std::vector<std::string> lines = lines_of(text);
+  const std::vector<std::string> lines = lines_of(fake.text);
   REQUIRE(lines.size() == 10);
   for (int step = 1; step <= 10; ++step) {
     INFO(lines[step - 1]);
-    char percent[8];
-    std::snprintf(percent, sizeof percent, "%3d%%", 10 * step);
-    CHECK(lines[step - 1].rfind("render [", 0) == 0);
-    CHECK(lines[step - 1].find(percent) != std::string::npos);
+    CHECK(lines[step - 1].rfind("render: " + std::to_string(10 * step) + "%, ", 0) == 0);
     CHECK(lines[step - 1].find("rays/s") != std::string::npos);
   }
   CHECK(lines.back().find("took") != std::string::npos);
+}
+
+TEST_CASE("Progress in a log without tenths says nothing of work shorter than a second") {
+  FakeOutput fake;
+  dacrt::ProgressTimes times = FakeOutput::manual();
+  times.tenths = false;
+  {
+    dacrt::Progress progress("converge", 100, true, {}, 0, fake.output(false), times);
+    for (int i = 0; i <= 100; ++i) {
+      fake.time = 100.0 + i * 0.009;
+      progress.update(uint64_t(i), 0);
+    }
+  }
+  CHECK(fake.text.empty());  // the line that follows says it
+}
+
+TEST_CASE("Progress of one part of a whole names it and gives the total ETA") {
+  FakeOutput fake;
+  dacrt::ProgressPart part;
+  part.position = "frame 12 (3 of 5)";
+  part.before = 0.4, part.share = 0.2, part.whole_start = 80.0;  // two frames took 20 s
+  SUBCASE("in a log") {
+    {
+      dacrt::Progress progress("render", 100, true, part, 0, fake.output(false), fake.times);
+      fake.time = 102.0;
+      progress.update(50, 0);  // half of frame 3 in 2 s: 50 % of the whole in 22 s
+      fake.time = 104.0;
+      progress.update(100, 0);
+      progress.finish();
+    }
+    const std::vector<std::string> lines = lines_of(fake.text);
+    REQUIRE(lines.size() == 2);
+    CHECK(lines[0] == "render frame 12 (3 of 5): 50%, ETA 0:02, total ETA 0:22");
+    CHECK(lines[1] == "render frame 12 (3 of 5): 100%, took 0:04, total ETA 0:16");
+  }
+  SUBCASE("on a terminal") {
+    {
+      dacrt::Progress progress("render", 100, true, part, 0, fake.output(true), fake.times);
+      fake.time = 102.0;
+      progress.update(50, 0);
+    }
+    CHECK(fake.text ==
+          "\rrender frame 12 (3 of 5) [##########----------]  50%  ETA 0:02  total ETA "
+          "0:22\033[K\n");
+  }
+}
+
+TEST_CASE("a disabled Progress writes nothing to its output") {
+  FakeOutput fake;
+  {
+    dacrt::Progress progress("render", 100, false, {}, 1, fake.output(false), fake.times);
+    for (int i = 0; i <= 100; ++i) {
+      fake.time += 1;
+      progress.update(uint64_t(i), 5);
+    }
+  }
+  CHECK(fake.text.empty());
+}
+
+TEST_CASE("an Activity says nothing when quick, and what it does every few seconds when long") {
+  FakeOutput fake;
+  {
+    dacrt::Activity quick("loading a.glb", true, fake.output(false), fake.times);
+    fake.time += 0.5;
+    quick.tick();
+    quick.done("loaded a.glb in 0.5 s");
+  }
+  CHECK(fake.text.empty());
+  {
+    dacrt::Activity slow("loading b.glb (12 MB)", true, fake.output(false), fake.times);
+    for (int tenth = 1; tenth <= 120; ++tenth) {
+      fake.time += 0.1;
+      slow.tick();
+    }
+    slow.done("loaded b.glb in 12.0 s: reading the file 2.0 s");
+  }
+  CHECK(fake.text ==
+        "loading b.glb (12 MB)\n"
+        "loading b.glb (12 MB): 0:06 so far\n"
+        "loading b.glb (12 MB): 0:11 so far\n"
+        "loaded b.glb in 12.0 s: reading the file 2.0 s\n");
+  fake.text.clear();
+  {
+    dacrt::Activity quiet("loading c.glb", false, fake.output(false), fake.times);
+    fake.time += 60;
+    quiet.tick();
+    quiet.done("loaded");
+  }
+  CHECK(fake.text.empty());
+}
+
+TEST_CASE("an Activity's thread speaks while the step blocks") {
+  FakeOutput fake;
+  std::mutex mutex;  // the thread writes while this one waits
+  dacrt::ProgressOutput out;
+  std::string text;
+  out.write = [&](const std::string& t) {
+    std::lock_guard lock(mutex);
+    text += t;
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  out.now = [t0] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  dacrt::ProgressTimes times;
+  times.first = 0.05;
+  {
+    dacrt::Activity step("building", true, out, times);
+    for (int i = 0; i < 100; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      std::lock_guard lock(mutex);
+      if (!text.empty()) break;
+    }
+    step.done("built");
+  }
+  CHECK(text == "building\nbuilt\n");
+}
+
+TEST_CASE("a Progress's thread prints on time while no update comes") {
+  std::mutex mutex;  // the thread writes while this one waits
+  std::string text;
+  dacrt::ProgressOutput out;
+  out.write = [&](const std::string& t) {
+    std::lock_guard lock(mutex);
+    text += t;
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  out.now = [t0] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  dacrt::ProgressTimes times;
+  times.first = 0.05;  // a first wavefront slower than that gives no update
+  {
+    dacrt::Progress progress("render", 100, true, {}, 0, out, times);
+    for (int i = 0; i < 100; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      std::lock_guard lock(mutex);
+      if (!text.empty()) break;
+    }
+    progress.update(100, 0);
+  }
+  const std::vector<std::string> lines = lines_of(text);
+  REQUIRE(lines.size() == 2);
+  CHECK(lines[0] == "render: 0%, ETA --:--");
+  CHECK(lines[1].rfind("render: 100%, took ", 0) == 0);
 }
 
 TEST_CASE("Progress with nothing to do prints 100 % once, from finish or the destructor") {
@@ -142,14 +331,19 @@ TEST_CASE("Progress with nothing to do prints 100 % once, from finish or the des
   }
 }
 
-TEST_CASE("Progress abandoned half-way prints only the steps reached") {
-  CapturedStderr captured;
+TEST_CASE("Progress stopped half-way ends its log with where it stopped") {
+  FakeOutput fake;
   {
-    dacrt::Progress progress("render", 10, true);
-    for (uint64_t i = 0; i <= 4; ++i) progress.update(i, 0);
+    dacrt::Progress progress("render", 10, true, {}, 0, fake.output(false), fake.times);
+    for (uint64_t i = 0; i <= 4; ++i) {
+      fake.time += 0.5;
+      progress.update(i, 0);
+    }
   }
-  const std::vector<std::string> lines = lines_of(captured.text());
-  REQUIRE(lines.size() == 4);
-  CHECK(lines.back().find(" 40%") != std::string::npos);
+  const std::vector<std::string> lines = lines_of(fake.text);
+  REQUIRE(lines.size() == 5);
+  CHECK(lines[0] == "render: 10%, ETA 0:09");  // at 1 s, the 10 % step
+  CHECK(lines[3] == "render: 40%, ETA 0:04");
+  CHECK(lines[4] == "render: 40%, took 0:03");
   CHECK(lines.back().find("rays/s") == std::string::npos);  // no rays counted: no rate
 }

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -268,6 +269,112 @@ TEST_CASE("render cli: --time-limit stops after the pass that crosses it, with w
   CHECK(image->find(Film::samples_channel) == nullptr);
   check_counts(*image);
   CHECK(temporaries(dir).empty());
+}
+
+TEST_CASE("render cli: in a log, a long render prints progress in its first seconds") {
+  TempDir dir("render-cli-progress");
+  // Not --quiet, stderr a file: a CI log. 10 % of each frame would take many minutes.
+  Child child(dir, {"render", cornell, "--width", "64", "--height", "64", "--spp", "100000",
+                    "--frames", "0:1", "-o", dir / "out.exr"});
+  const std::string first = "render frame 0 (1 of 2): 0%, ";
+  const auto start = Clock::now();
+  const bool seen =
+      poll(20, [&] { return child.err().find(first) != std::string::npos || child.ended(); });
+  const double seconds = seconds_since(start);
+  if (!child.ended()) child.signal(SIGINT);
+  const int status = child.wait(30);
+  const std::string err = child.err();
+  INFO(err);
+  CHECK(WIFEXITED(status));
+  REQUIRE(seen);
+  CHECK(seconds < 15);  // 1 s after the render began, on an idle machine
+  const size_t line = err.find(first);
+  REQUIRE(line != std::string::npos);
+  CHECK(err.find('\r') == std::string::npos);
+  // "0%, DONE/100000 spp, RATE, ETA h:mm:ss, total ETA h:mm:ss" (or "ETA --:--" before the
+  // first wavefront ends).
+  const std::string text = err.substr(line, err.find('\n', line) - line);
+  CHECK(text.find("/100000 spp, ") != std::string::npos);
+  CHECK(text.find("ETA ") != std::string::npos);
+}
+
+TEST_CASE("render cli: in a log, --frames says frame k of n and the total ETA") {
+  TempDir dir("render-cli-frames-log");
+  const Run r = run(dir, "render " + cornell + " --width 64 --height 64 --spp 100000 --frames " +
+                             "0:1 --time-limit 1.5 -o " + (dir / "out.exr"));
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* text :
+       {"render frame 0 (1 of 2): ", "render frame 1 (2 of 2): ", ", total ETA ",
+        "frame 0 (1 of 2, t = 0 s): ", "; total ETA ", "frame 1 (2 of 2, t = "}) {
+    INFO(text);
+    CHECK(r.err.find(text) != std::string::npos);
+  }
+  // Each frame's last line: 100 % when the limit ended it.
+  CHECK(r.err.find("render frame 1 (2 of 2): 100%, ") != std::string::npos);
+}
+
+namespace {
+
+// The statistics of a render with `flags` stopped by --time-limit `limit`: every render's (each
+// backend's, each frame's) seconds end within a pass of the limit.
+void check_time_limit(const std::string& name, double limit, const std::string& flags,
+                      size_t renders) {
+  TempDir dir(name);
+  const std::string stats = dir / "stats.json";
+  char limit_text[32];
+  std::snprintf(limit_text, sizeof limit_text, "%g", limit);
+  const auto start = Clock::now();
+  const Run r = run(dir, "render " + cornell + " --width 96 --height 96 --spp 100000 --quiet" +
+                             " --time-limit " + limit_text + " -o " + (dir / "out.exr") +
+                             " --stats " + stats + " " + flags);
+  const double wall = seconds_since(start);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const nlohmann::json j = nlohmann::json::parse(slurp(stats));
+  std::vector<nlohmann::json> done;
+  auto add = [&](const nlohmann::json& frame) {
+    if (frame.contains("backends"))
+      for (const auto& b : frame["backends"]) done.push_back(b);
+    else
+      done.push_back(frame);
+  };
+  if (j.contains("frames"))
+    for (const auto& frame : j["frames"]) add(frame);
+  else
+    add(j);
+  REQUIRE(done.size() == renders);
+  for (const nlohmann::json& d : done) {
+    INFO(d.dump());
+    const double seconds = d["render_seconds"].get<double>();
+    const uint32_t spp = d["spp"].get<uint32_t>(), passes = d["passes"].get<uint32_t>();
+    CHECK(d["stopped_by"] == "the time limit");
+    CHECK(d["time_limit"].get<double>() == limit);
+    REQUIRE(spp >= 1);
+    // Each render had the whole limit (per backend, per frame) and crossed it...
+    CHECK(seconds >= limit);
+    // ... by one pass: the first of 1 spp, later ones sized by the time left, so the last
+    // costs about a sample per pixel (the bound leaves room for a busy 2-core machine).
+    CHECK(passes >= 2);
+    CHECK(seconds < limit + 1.0 + 4.0 * seconds / spp);
+  }
+  CHECK(wall < 60);
+}
+
+}  // namespace
+
+TEST_CASE("render cli: --time-limit ends within a pass of it") {
+  check_time_limit("render-cli-limit", 2, "", 1);
+}
+
+TEST_CASE("render cli: --time-limit holds for each backend, each frame and adaptive sampling") {
+  SUBCASE("each backend") {
+    check_time_limit("render-cli-limit-b", 1, "--backend dacrt,brute", 2);
+  }
+  SUBCASE("each frame") { check_time_limit("render-cli-limit-f", 1, "--frames 0:1", 2); }
+  SUBCASE("adaptive") {
+    check_time_limit("render-cli-limit-a", 1, "--adaptive 0.001 --adaptive-min 4", 1);
+  }
 }
 
 TEST_CASE("render cli: --checkpoint writes a whole image while the render goes on") {

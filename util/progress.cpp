@@ -1,10 +1,13 @@
 // Progress: a status line on stderr. On a terminal it is redrawn in place (at most ten times a
-// second); in a log (stderr not a TTY) a full line is printed at each 10 % step only.
+// second); in a log (stderr not a TTY) a full line at each 10 % step, after the first second,
+// then every few seconds, and a last one when the work ends. Activity: a thread that speaks for
+// a long step.
 #include "dacrt/util/progress.h"
 
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -77,60 +80,241 @@ std::string format_progress_line(const std::string& label, double fraction, doub
   return line;
 }
 
-Progress::Progress(std::string label, uint64_t total, bool enabled)
+std::string format_spp(double spp) {
+  char text[32];
+  if (!std::isfinite(spp) || spp < 0) return "?";
+  if (spp == std::floor(spp) && spp < 1e15)
+    std::snprintf(text, sizeof text, "%.0f", spp);
+  else
+    std::snprintf(text, sizeof text, "%.1f", spp);
+  return text;
+}
+
+namespace {
+double clamped_fraction(double fraction) {
+  return std::isnan(fraction) ? 0.0 : std::clamp(fraction, 0.0, 1.0);
+}
+std::string heading(const ProgressState& s) {
+  return s.position.empty() ? s.label : s.label + " " + s.position;
+}
+}  // namespace
+
+std::string format_log_line(const ProgressState& s) {
+  const double fraction = clamped_fraction(s.fraction);
+  const int percent = fraction >= 1.0 ? 100 : std::min(99, int(fraction * 100));
+  std::string line = heading(s) + ": " + std::to_string(percent) + "%";
+  if (s.spp_done >= 0 && s.spp_total >= 0)
+    line += ", " + format_spp(s.spp_done) + "/" + format_spp(s.spp_total) + " spp";
+  if (s.rays_per_second >= 0) line += ", " + format_rate(s.rays_per_second);
+  if (s.ended)
+    line += ", took " + format_duration(s.elapsed);
+  else if (fraction > 0)
+    line += ", ETA " + format_duration(s.elapsed * (1 - fraction) / fraction);
+  else
+    line += ", ETA --:--";
+  if (s.total_eta >= 0) line += ", total ETA " + format_duration(s.total_eta);
+  return line;
+}
+
+std::string format_terminal_line(const ProgressState& s) {
+  std::string line =
+      format_progress_line(heading(s), s.ended ? std::max(s.fraction, 1.0) : s.fraction,
+                           s.rays_per_second, s.elapsed);
+  if (s.total_eta >= 0) line += "  total ETA " + format_duration(s.total_eta);
+  return line;
+}
+
+ProgressOutput ProgressOutput::standard_error() {
+  ProgressOutput out;
+  out.write = [](const std::string& text) {
+    std::fputs(text.c_str(), stderr);
+    std::fflush(stderr);
+  };
+  out.now = [] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  };
+  out.terminal = isatty(STDERR_FILENO);
+  return out;
+}
+
+struct Progress::Watch {
+  std::mutex mutex;
+  std::condition_variable wake;
+  bool over = false;
+  std::thread thread;
+};
+
+Progress::Progress(std::string label, uint64_t total, bool enabled, ProgressPart part,
+                   uint64_t pixels, ProgressOutput output, ProgressTimes times)
     : label_(std::move(label)),
       total_(total),
       enabled_(enabled),
-      tty_(enabled && isatty(STDERR_FILENO)),
-      start_(std::chrono::steady_clock::now()),
-      last_print_(start_) {}
+      part_(std::move(part)),
+      pixels_(pixels),
+      out_(std::move(output)),
+      times_(times),
+      start_(enabled ? out_.now() : 0.0),
+      last_print_(start_) {
+  if (!enabled_ || !times_.watch) return;
+  watch_ = std::make_unique<Watch>();
+  watch_->thread = std::thread([this] {
+    std::unique_lock lock(watch_->mutex);
+    while (!watch_->over) {
+      watch_->wake.wait_for(lock, std::chrono::milliseconds(100));
+      if (!watch_->over) tick();
+    }
+  });
+}
 
 Progress::~Progress() {
   if (!finished_) finish();
 }
 
+void Progress::tick() {
+  if (finished_) return;
+  const double now = out_.now(), elapsed = now - start_;
+  const bool due = out_.terminal ? now - last_print_ >= 1.0
+                   : drawn_      ? now - last_print_ >= times_.gap(elapsed)
+                                 : elapsed >= times_.first;
+  if (due) print(false);
+}
+
+double Progress::fraction(double elapsed) const {
+  if (done_ >= total_) return 1.0;
+  double f = double((long double)done_ / total_);
+  if (time_limit_ > 0) f = std::max(f, elapsed / time_limit_);
+  return std::min(f, std::nextafter(1.0, 0.0));
+}
+
+void Progress::print(bool final_line) {
+  const double now = out_.now();
+  const double elapsed = now - start_;
+  ProgressState s;
+  s.label = label_;
+  s.position = part_.position;
+  s.fraction = fraction(elapsed);
+  if (final_line && time_limit_ > 0 && elapsed >= time_limit_) s.fraction = 1.0;  // its end
+  s.rays_per_second = (rays_ > 0 && elapsed > 0) ? double(rays_) / elapsed : -1.0;
+  s.elapsed = elapsed;
+  s.ended = final_line;
+  if (pixels_ > 0)
+    s.spp_done = double(done_) / double(pixels_), s.spp_total = double(total_) / double(pixels_);
+  if (part_.whole_start >= 0) {
+    const double whole = part_.before + part_.share * s.fraction;
+    if (whole > 0) s.total_eta = (now - part_.whole_start) * (1 - std::min(whole, 1.0)) / whole;
+  }
+  std::string line = out_.terminal ? "\r" : "";
+  line += out_.terminal ? format_terminal_line(s) : format_log_line(s);
+  line += out_.terminal ? "\033[K" : "\n";  // \033[K clears what a longer line left
+  out_.write(line);
+  drawn_ = true;
+  last_print_ = now;
+}
+
 void Progress::update(uint64_t done, uint64_t rays) {
   if (!enabled_ || finished_) return;
-  const auto now = std::chrono::steady_clock::now();
+  std::unique_lock<std::mutex> lock;
+  if (watch_) lock = std::unique_lock(watch_->mutex);
+  done_ = done, rays_ = rays;
+  const double now = out_.now();
   // Integer percentage so that 100 % means done, however large total is.
   const bool complete = done >= total_;
-  const int percent = complete ? 100 : std::min(99, int((long double)done * 100 / total_));
+  const int percent = complete ? 100 : std::min(99, int(fraction(now - start_) * 100));
   bool draw;
-  if (tty_) {
-    draw = last_percent_ < 0 || (percent == 100 && last_percent_ != 100) ||
-           now - last_print_ >= std::chrono::milliseconds(100);
+  if (out_.terminal) {
+    draw = !drawn_ || (percent == 100 && last_percent_ != 100) || now - last_print_ >= 0.1;
+  } else if (complete) {
+    draw = false;  // finish() says it
   } else {
-    draw = percent >= 10 && percent / 10 > std::max(last_percent_, 0) / 10;
+    const double elapsed = now - start_;
+    draw = drawn_ ? now - last_print_ >= times_.gap(elapsed) : elapsed >= times_.first;
+    if (times_.tenths && percent >= 10 && percent / 10 > std::max(last_step_, 0) / 10) {
+      draw = true;
+      last_step_ = percent;
+    }
   }
   if (!draw) return;
-
-  const double elapsed = std::chrono::duration<double>(now - start_).count();
-  const double rate = (rays > 0 && elapsed > 0) ? double(rays) / elapsed : -1.0;
-  double fraction = complete ? 1.0 : double((long double)done / total_);
-  if (!complete) fraction = std::min(fraction, std::nextafter(1.0, 0.0));
-  const std::string line = format_progress_line(label_, fraction, rate, elapsed);
-  if (tty_)
-    std::fprintf(stderr, "\r%s\033[K", line.c_str());  // \033[K clears what a longer line left
-  else
-    std::fprintf(stderr, "%s\n", line.c_str());
-  std::fflush(stderr);
-  last_print_ = now;
+  print(false);
   last_percent_ = percent;
 }
 
 void Progress::finish() {
   if (finished_) return;
+  if (watch_) {
+    {
+      std::lock_guard lock(watch_->mutex);
+      watch_->over = true;
+    }
+    watch_->wake.notify_all();
+    watch_->thread.join();
+  }
   finished_ = true;
   if (!enabled_) return;
   if (total_ == 0 && last_percent_ != 100) {  // nothing to do: report it as done
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const std::string line = format_progress_line(label_, 1.0, -1.0, elapsed);
-    std::fprintf(stderr, tty_ ? "\r%s\033[K\n" : "%s\n", line.c_str());
-  } else if (tty_ && last_percent_ >= 0) {
-    std::fputc('\n', stderr);
+    print(true);
+    if (out_.terminal) out_.write("\n");
+  } else if (out_.terminal) {
+    if (drawn_) out_.write("\n");
+  } else if (drawn_ || times_.tenths) {
+    print(true);  // how the work ended
   }
-  std::fflush(stderr);
+}
+
+Activity::Activity(std::string what, bool enabled, ProgressOutput output, ProgressTimes times)
+    : what_(std::move(what)),
+      enabled_(enabled),
+      out_(std::move(output)),
+      times_(times),
+      start_(enabled ? out_.now() : 0.0),
+      next_(start_ + times.first) {
+  if (enabled_ && times_.watch)
+    watcher_ = std::thread([this] {
+      std::unique_lock lock(mutex_);
+      while (!over_) {
+        wake_.wait_for(lock, std::chrono::milliseconds(100));
+        if (!over_) {
+          lock.unlock();
+          tick();
+          lock.lock();
+        }
+      }
+    });
+}
+
+Activity::~Activity() {
+  stop();  // an error ended the step: its message says what happened
+}
+
+bool Activity::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    if (over_) return false;
+    over_ = true;
+  }
+  wake_.notify_all();
+  if (watcher_.joinable()) watcher_.join();
+  return true;
+}
+
+double Activity::seconds() const {
+  return enabled_ ? out_.now() - start_ : 0.0;
+}
+
+void Activity::tick() {
+  std::lock_guard lock(mutex_);
+  if (!enabled_ || over_) return;
+  const double now = out_.now();
+  if (now < next_) return;
+  out_.write(printed_ ? what_ + ": " + format_duration(now - start_) + " so far\n" : what_ + "\n");
+  printed_ = true;
+  next_ = now + times_.gap(now - start_);
+}
+
+void Activity::done(const std::string& summary) {
+  if (!stop() || !enabled_ || !printed_) return;
+  out_.write((summary.empty() ? what_ + ": done in " + format_duration(seconds()) : summary) +
+             "\n");
 }
 
 }  // namespace dacrt

@@ -20,4 +20,25 @@ std::string format_bar(double fraction, int width = 20);
 std::string format_progress_line(const std::string& label, double fraction, double rays_per_second,
                                  double elapsed_seconds);
 
+// What one line of a Progress says.
+struct ProgressState {
+  std::string label;     // "render", "render embree"
+  std::string position;  // "frame 12, 3 of 5"; empty: none
+  double fraction = 0;   // of this part's work
+  double rays_per_second = -1;  // < 0: left out
+  double elapsed = 0;           // seconds of this part
+  double spp_done = -1, spp_total = -1;  // samples per pixel; < 0: left out
+  double total_eta = -1;  // seconds left of the whole; < 0: left out
+  bool ended = false;     // the last line: "took m:ss" in place of the ETA
+};
+// A line for a log, one event: "render frame 12, 3 of 5: 42%, 27/64 spp, 12.3 Mrays/s, ETA 0:13,
+// total ETA 1:05"; the last line has "took 0:31" for the ETA (whatever the percentage: a render
+// stopped, or sampled adaptively, ends short of 100 %).
+std::string format_log_line(const ProgressState& state);
+// The terminal's bar: format_progress_line's, the label followed by the position, and
+// "  total ETA m:ss" when there is one.
+std::string format_terminal_line(const ProgressState& state);
+// "64", "12.5": a sample count per pixel, whole numbers without decimals.
+std::string format_spp(double spp);
+
 }  // namespace dacrt

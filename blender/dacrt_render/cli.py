@@ -20,9 +20,9 @@ import numpy as np
 
 from . import exr
 
-# The line util/progress.cpp prints when stderr is not a terminal (at each 10 % step):
-# "render [########------------]  40%  1.20 Mrays/s  ETA 0:03".
-_PROGRESS = re.compile(r"^(\S+) \[[#-]*\]\s+(\d+)%\s*(.*)$")
+# The line util/progress.cpp prints when stderr is not a terminal (at each 10 % step, every few
+# seconds and at the end): "render: 40%, 25/64 spp, 1.20 Mrays/s, ETA 0:03".
+_PROGRESS = re.compile(r"^(render[^:]*): (\d+)%(?:, )?(.*)$")
 # What a failing CLI prints last (apps/dacrt.cpp): "dacrt: error: <one line>".
 _ERROR = re.compile(r"^dacrt: (?:error: )?(.*)$")
 # After SIGINT: 130 once the render has started (it wrote what it had); killed by the signal
