@@ -380,6 +380,9 @@ void RenderSession::State::write_stats(int frame, const Shot& shot,
                         {"threads", tbb::this_task_arena::max_concurrency()},
                         {"load_seconds", load_seconds}};
     if (!run.stopped.empty()) j["stopped_by"] = run.stopped;
+    if (shot.camera.aperture > 0.f)  // a thin lens (a pinhole's statistics say nothing)
+      j["lens"] = {{"aperture", shot.camera.aperture},
+                   {"focus_distance", shot.camera.focus_distance}};
     if (s.adaptive > 0)
       j["adaptive"] = {{"target", s.adaptive},
                        {"min_spp", adaptive_min_spp(s)},
