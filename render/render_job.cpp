@@ -70,13 +70,12 @@ float default_focus(const Scene& scene, const RenderSettings& s, const Camera& c
     const glm::vec3 centre = b.empty() ? glm::vec3(0.f) : b.center();
     depth = depth_of(centre);
     why = "the scene's centre";
-    if (!(depth > 0.f && std::isfinite(depth))) depth = 1.f, why = "a default, nothing ahead";
+    if (!(depth > 0.f && std::isfinite(depth))) depth = 1.f, why = "a default: nothing is ahead";
   }
-  char text[200];
-  std::snprintf(text, sizeof text,
-                "%s: focus at depth %g, %s (--focus-distance or --focus-on to choose)",
-                scene.path.c_str(), double(depth), why.c_str());
-  notes.push_back(text);
+  char number[32];
+  std::snprintf(number, sizeof number, "%g", double(depth));
+  notes.push_back(scene.path + ": focus at depth " + number + ", " + why +
+                  " (--focus-distance or --focus-on to choose)");
   return depth;
 }
 }  // namespace

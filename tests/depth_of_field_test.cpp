@@ -79,12 +79,17 @@ Moment second_moment(const Film& film, int width, int height, glm::dvec2 centre)
 // variances) plus 1 % for the discretisation at the disk's rim. A lens of twice the radius would
 // be 4× the moment; a focus off by 10 % moves R by 10 % or more in each case below.
 TEST_CASE("depth of field: a point's circle of confusion is the thin lens's, in pixels") {
-  const float yfov = glm::radians(40.f), side = 0.02f, aperture = 0.3f;
+  const float yfov = glm::radians(40.f);
   const int size = 96;
   struct Case {
-    float depth, focus;
+    float depth, focus, aperture;
   };
-  for (const Case c : {Case{2.f, 1.f}, Case{1.f, 2.f}, Case{1.5f, 1.5f}, Case{3.f, 1.2f}}) {
+  for (const Case c : {Case{2.f, 1.f, 0.3f}, Case{1.f, 2.f, 0.2f}, Case{1.5f, 1.5f, 0.3f},
+                       Case{3.f, 1.2f, 0.45f}}) {
+    // About 4 pixels wide at any depth (in focus: 1.75), small against the circles (6 to 15
+    // pixels in radius), big enough that many lens samples see it.
+    const float side = c.depth == c.focus ? 0.02f : 0.03f * c.depth;
+    const float aperture = c.aperture;
     const Scene scene = point_like_emitter(c.depth, side, yfov);
     RenderSettings s;
     s.width = s.height = size;
@@ -102,7 +107,10 @@ TEST_CASE("depth of field: a point's circle of confusion is the thin lens's, in 
     INFO("depth " << c.depth << ", focus " << c.focus << ": moment " << m.value << " ± "
                   << m.error << " px², predicted " << predicted << " (radius " << radius
                   << " px, measured " << measured_radius << ")");
-    CHECK(std::abs(m.value - predicted) < 4.0 * m.error + 0.01 * predicted);
+    if (c.depth == c.focus)  // sharp: the square, 1.8 px wide, in the 2 × 2 pixels at the centre
+      CHECK(m.value <= 0.5 + 1e-6);
+    else
+      CHECK(std::abs(m.value - predicted) < 4.0 * m.error + 0.01 * predicted);
   }
 }
 
