@@ -156,7 +156,7 @@ TEST_CASE("camera override: a new view from the framed camera is upright (its up
 // sphere around the lens), and the lens points fill a disk of the aperture's diameter uniformly.
 TEST_CASE("thin lens: the rays through a pixel meet on the focus plane, from a disk of the aperture") {
   for (bool orthographic : {false, true}) {
-    INFO((orthographic ? "orthographic" : "perspective"));
+    INFO(std::string(orthographic ? "orthographic" : "perspective"));
     Camera cam = base_camera();
     cam.to_world = glm::inverse(glm::lookAt(glm::vec3(1, 2, 3), glm::vec3(-2, 1, -4),
                                             glm::vec3(0, 1, 0)));

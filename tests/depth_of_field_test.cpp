@@ -186,7 +186,7 @@ TEST_CASE("depth of field: the CLI's usage errors, the header and merge, the sta
         // The Cornell box's camera is at z = -0.8 looking down +Z.
         "--aperture 0.1 --focus-on 0.278,0.273,-2", "--fstop 2 --focus-on 0.278,0.273,-0.8"}) {
     const Run r = run(dir, common + "-o " + (dir / "x.exr") + " " + flags);
-    INFO(flags << " → " << r.err);
+    INFO(std::string(flags) << " → " << r.err);
     CHECK(r.code == 2);
     CHECK(lines(r.err) == 1);
     CHECK(r.err.find("dacrt render --help") != std::string::npos);
@@ -214,7 +214,7 @@ TEST_CASE("depth of field: the CLI's usage errors, the header and merge, the sta
   for (const char* other : {"pinhole.exr", "f2.exr"}) {
     const Run merge = run(dir, "merge --quiet " + (dir / "a.exr") + " " + (dir / other) +
                                    " -o " + (dir / "m.exr"));
-    INFO(other << ": " << merge.err);
+    INFO(std::string(other) << ": " << merge.err);
     CHECK(merge.code != 0);
     CHECK(merge.err.find("match.camera") != std::string::npos);
   }
