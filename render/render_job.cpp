@@ -63,7 +63,10 @@ float default_focus(const Scene& scene, const RenderSettings& s, const Camera& c
                              scene.geometry.vertex(tri, 2), tmin, t, h))
         t = h.t;
     }
-    if (t < INFINITY) depth = t * glm::dot(d, forward), why = "the first surface at the image's centre";
+    if (t < INFINITY) {
+      depth = t * glm::dot(d, forward);
+      why = "the first surface at the image's centre";
+    }
   }
   if (!(depth > 0.f && std::isfinite(depth))) {
     const Box b = scene.framing_bounds();

@@ -154,7 +154,7 @@ TEST_CASE("camera override: a new view from the framed camera is upright (its up
 // The thin lens: every ray through one image point, from anywhere on the lens, meets the pinhole
 // ray's point on the plane in focus (a plane at the focus distance along the view axis, not a
 // sphere around the lens), and the lens points fill a disk of the aperture's diameter uniformly.
-TEST_CASE("thin lens: the rays through a pixel meet on the focus plane, from a disk of the aperture") {
+TEST_CASE("thin lens: rays through a pixel meet on the focus plane, from a disk of the aperture") {
   for (bool orthographic : {false, true}) {
     INFO(std::string(orthographic ? "orthographic" : "perspective"));
     Camera cam = base_camera();
@@ -178,7 +178,8 @@ TEST_CASE("thin lens: the rays through a pixel meet on the focus plane, from a d
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
         glm::vec3 o, d;
-        const float tmin = camera_ray(cam, width, height, x, y, (i + 0.5f) / n, (j + 0.5f) / n, o, d);
+        const float tmin =
+            camera_ray(cam, width, height, x, y, (i + 0.5f) / n, (j + 0.5f) / n, o, d);
         CHECK(tmin == 0.f);  // znear 0
         CHECK(std::abs(glm::length(d) - 1.f) < 1e-6f);
         // The lens point is on the lens's plane (depth 0), at most the radius off the axis point.

@@ -98,15 +98,16 @@ TEST_CASE("depth of field: a point's circle of confusion is the thin lens's, in 
     s.lens.focus_distance = c.focus;
     const Film film = render(scene, s);
     const double tan_half = std::tan(0.5 * yfov);
-    const double radius = aperture * std::abs(c.depth - c.focus) / c.depth /
-                          (2.0 * c.focus * tan_half) * size / 2.0;
+    const double radius =
+        aperture * std::abs(c.depth - c.focus) / c.depth / (2.0 * c.focus * tan_half) * size / 2.0;
     const double square = side / (2.0 * c.depth * tan_half) * size;
     const double predicted = radius * radius / 2.0 + square * square / 6.0 + 1.0 / 6.0;
     const Moment m = second_moment(film, size, size, glm::dvec2(0.5 * size));
-    const double measured_radius = std::sqrt(2.0 * std::max(0.0, m.value - square * square / 6.0 - 1.0 / 6.0));
-    INFO("depth " << c.depth << ", focus " << c.focus << ": moment " << m.value << " ± "
-                  << m.error << " px², predicted " << predicted << " (radius " << radius
-                  << " px, measured " << measured_radius << ")");
+    const double measured_radius =
+        std::sqrt(2.0 * std::max(0.0, m.value - square * square / 6.0 - 1.0 / 6.0));
+    INFO("depth " << c.depth << ", focus " << c.focus << ": moment " << m.value << " ± " << m.error
+                  << " px², predicted " << predicted << " (radius " << radius << " px, measured "
+                  << measured_radius << ")");
     if (c.depth == c.focus)  // sharp: the square, 1.8 px wide, in the 2 × 2 pixels at the centre
       CHECK(m.value <= 0.5 + 1e-6);
     else
@@ -149,7 +150,8 @@ TEST_CASE("depth of field: aperture 0 renders the pinhole bit for bit") {
   CHECK_FALSE(bits(channels(lens), pinhole));
 }
 
-TEST_CASE("depth of field: the default focus is the look-at point, the surface ahead, or the centre") {
+TEST_CASE(
+    "depth of field: the default focus is the look-at point, the surface ahead, or the centre") {
   Scene scene = point_like_emitter(2.5f, 1.f, 0.7f);
   RenderSettings s;
   s.width = s.height = 8;
@@ -180,8 +182,8 @@ TEST_CASE("depth of field: the CLI's usage errors, the header and merge, the sta
   for (const char* flags :
        {"--aperture -1", "--aperture nan", "--aperture inf", "--aperture 1e39", "--aperture x",
         "--fstop 0", "--fstop -2", "--focus-distance 0", "--focus-distance -1",
-        "--focus-distance inf", "--focus-on 1,2", "--focus-on 1,2,nan",
-        "--aperture 0.1 --fstop 2", "--fstop 2 --aperture 0", "--focus-distance 1 --focus-on 0,0,0",
+        "--focus-distance inf", "--focus-on 1,2", "--focus-on 1,2,nan", "--aperture 0.1 --fstop 2",
+        "--fstop 2 --aperture 0", "--focus-distance 1 --focus-on 0,0,0",
         "--focus-on 0,0,0 --focus-distance 1",
         // The Cornell box's camera is at z = -0.8 looking down +Z.
         "--aperture 0.1 --focus-on 0.278,0.273,-2", "--fstop 2 --focus-on 0.278,0.273,-0.8"}) {
@@ -205,25 +207,25 @@ TEST_CASE("depth of field: the CLI's usage errors, the header and merge, the sta
   CHECK(stats.at("lens").at("focus_distance").get<double>() == doctest::Approx(1.25));
   // Parts of renders with other lenses (or none) are not one render: merge refuses them.
   REQUIRE(run(dir, common + "--samples 2:4 -o " + (dir / "pinhole.exr")).code == 0);
-  REQUIRE(run(dir, common + "--fstop 2 --focus-distance 1.25 --samples 2:4 -o " +
-                       (dir / "f2.exr"))
+  REQUIRE(run(dir, common + "--fstop 2 --focus-distance 1.25 --samples 2:4 -o " + (dir / "f2.exr"))
               .code == 0);
-  REQUIRE(run(dir, common + "--aperture 0.05 --focus-distance 1.25 --samples 2:4 -o " +
-                       (dir / "b.exr"))
-              .code == 0);
+  REQUIRE(
+      run(dir, common + "--aperture 0.05 --focus-distance 1.25 --samples 2:4 -o " + (dir / "b.exr"))
+          .code == 0);
   for (const char* other : {"pinhole.exr", "f2.exr"}) {
-    const Run merge = run(dir, "merge --quiet " + (dir / "a.exr") + " " + (dir / other) +
-                                   " -o " + (dir / "m.exr"));
+    const Run merge = run(
+        dir, "merge --quiet " + (dir / "a.exr") + " " + (dir / other) + " -o " + (dir / "m.exr"));
     INFO(std::string(other) << ": " << merge.err);
     CHECK(merge.code != 0);
     CHECK(merge.err.find("match.camera") != std::string::npos);
   }
-  CHECK(run(dir, "merge --quiet " + (dir / "a.exr") + " " + (dir / "b.exr") + " -o " +
-                     (dir / "m.exr"))
+  CHECK(run(dir,
+            "merge --quiet " + (dir / "a.exr") + " " + (dir / "b.exr") + " -o " + (dir / "m.exr"))
             .code == 0);
   // A focus without an aperture renders the pinhole and says so.
-  const Run note = run(dir, "render " + cornell + " --width 8 --height 8 --spp 1 --focus-distance 2 -o " +
-                                (dir / "n.exr"));
+  const Run note =
+      run(dir, "render " + cornell + " --width 8 --height 8 --spp 1 --focus-distance 2 -o " +
+                   (dir / "n.exr"));
   CHECK(note.code == 0);
   CHECK(note.err.find("--focus-distance has no effect without --aperture") != std::string::npos);
 }
