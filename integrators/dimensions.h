@@ -13,7 +13,7 @@ namespace dacrt {
 enum Dimension : uint32_t {
   pixel_x,  // pair: camera (the point in the pixel)
   pixel_y,
-  lens_u,  // pair: lens (reserved: no camera has an aperture yet)
+  lens_u,  // pair: the point on a thin lens (drawn only with an aperture)
   lens_v,
   light_pick,  // single: which light
   light_u,     // pair: the point on that light

@@ -36,6 +36,7 @@ struct RenderSettings {
   // The view.
   int camera = 0;                  // the scene's camera
   CameraOverride camera_override;  // --look-from, --look-at, --up, --fov
+  LensRequest lens;                // --aperture or --fstop, --focus-distance or --focus-on
   int width = 0, height = 0;       // 0: from the camera's aspect ratio (scene/camera.h image_size)
   int longer_side = 512;           // with neither given
   // The lighting.

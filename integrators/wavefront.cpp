@@ -154,7 +154,11 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
   camera_.type = RayType::primary;
   camera_.resize(n);
   const size_t base = free_.size() - n;
-  constexpr Dimension jitter[] = {pixel_x};
+  // The point in the pixel, and with a thin lens the point on the lens: a pinhole draws only
+  // the first, so its rays (and images) are those of a camera without lens dimensions.
+  constexpr Dimension jitter[] = {pixel_x}, jitter_lens[] = {pixel_x, lens_u};
+  const std::span<const Dimension> dims =
+      camera.thin_lens() ? std::span<const Dimension>(jitter_lens) : jitter;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](auto range) {
     uint32_t pixel[sampler_lanes], sample[sampler_lanes], depth[sampler_lanes] = {};
     VertexNumbers numbers[sampler_lanes];
@@ -165,7 +169,7 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
         const auto [index, s] = *at;
         pixel[k] = call_pixels_.empty() ? uint32_t(index) : call_pixels_[index], sample[k] = s;
       }
-      sampler_.numbers(pixel, sample, depth, lanes, jitter, numbers);
+      sampler_.numbers(pixel, sample, depth, lanes, dims, numbers);
       for (size_t k = 0; k < lanes; ++k) {
         const size_t j = first + k;
         const uint32_t slot = free_[free_.size() - 1 - j];
@@ -178,7 +182,9 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
         const float x = float(pixel[k] % width) + numbers[k][pixel_x];
         const float y = float(pixel[k] / width) + numbers[k][pixel_y];
         glm::vec3 o, d;
-        const float tmin = camera.ray(x, y, o, d);
+        const float tmin = camera.thin_lens()
+                               ? camera.ray(x, y, numbers[k][lens_u], numbers[k][lens_v], o, d)
+                               : camera.ray(x, y, o, d);
         camera_.set(j, o, d, tmin, INFINITY, slot);
       }
     }

@@ -32,7 +32,10 @@ std::string view_text(const Camera& camera) {
   for (int c = 0; c < 4; ++c)
     for (int k = 0; k < 4; ++k) view += format_hex(camera.to_world[c][k]) + " ";
   return view + format_hex(camera.yfov) + " " + format_hex(camera.ymag) + " " +
-         format_hex(camera.znear) + (camera.orthographic ? " orthographic" : " perspective");
+         format_hex(camera.znear) + (camera.orthographic ? " orthographic" : " perspective") +
+         (camera.aperture > 0.f ? " lens " + format_hex(camera.aperture) + " " +
+                                      format_hex(camera.focus_distance)
+                                : "");
 }
 
 std::string range_text(uint32_t first, uint32_t last) {

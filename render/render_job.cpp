@@ -6,6 +6,8 @@
 #include <cstdio>
 
 #include "dacrt/io/exr.h"
+#include "dacrt/tracer/ray.h"
+#include "dacrt/tracer/triangle.h"
 #include "dacrt/util/error.h"
 
 #ifndef DACRT_VERSION
@@ -46,6 +48,52 @@ Emitters count_emitters(const Scene& scene) {
 
 std::string count_text(size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+// The depth of the plane in focus when a lens is asked for without a focus: the point looked at
+// (--look-at), else the first surface at the image's centre (every triangle, alpha masks taken
+// as opaque), else the scene's centre (the framing target). `notes` says which, and the value.
+float default_focus(const Scene& scene, const RenderSettings& s, const Camera& cam, int width,
+                    int height, std::vector<std::string>& notes) {
+  const glm::vec3 forward = -glm::vec3(cam.to_world[2]);
+  auto depth_of = [&](const glm::vec3& p) {
+    return float(glm::dot(glm::dvec3(p) - glm::dvec3(cam.position()), glm::dvec3(forward)));
+  };
+  float depth = 0.f;
+  std::string why;
+  if (s.camera_override.at) {
+    depth = depth_of(*s.camera_override.at);
+    why = "the --look-at point";
+  }
+  if (!(depth > 0.f)) {
+    glm::vec3 o, d;
+    const float tmin =
+        CameraProjection(cam, width, height).ray(0.5f * width, 0.5f * height, o, d);
+    const Ray ray = Ray::shear(o, d);
+    float t = INFINITY;
+    for (size_t tri = 0; tri < scene.geometry.size(); ++tri) {
+      TriangleHit h;
+      if (intersect_triangle(ray, scene.geometry.vertex(tri, 0), scene.geometry.vertex(tri, 1),
+                             scene.geometry.vertex(tri, 2), tmin, t, h))
+        t = h.t;
+    }
+    if (t < INFINITY) {
+      depth = t * glm::dot(d, forward);
+      why = "the first surface at the image's centre";
+    }
+  }
+  if (!(depth > 0.f && std::isfinite(depth))) {
+    const Box b = scene.framing_bounds();
+    const glm::vec3 centre = b.empty() ? glm::vec3(0.f) : b.center();
+    depth = depth_of(centre);
+    why = "the scene's centre";
+    if (!(depth > 0.f && std::isfinite(depth))) depth = 1.f, why = "a default: nothing is ahead";
+  }
+  char number[32];
+  std::snprintf(number, sizeof number, "%g", double(depth));
+  notes.push_back(scene.path + ": focus at depth " + number + ", " + why +
+                  " (--focus-distance or --focus-on to choose)");
+  return depth;
 }
 }  // namespace
 
@@ -122,6 +170,16 @@ Shot make_shot(const Scene& scene, const RenderSettings& s) {
   const glm::ivec2 size = image_size(shot.camera.aspect, s.width, s.height, s.longer_side,
                                      scene.path + ": camera " + std::to_string(s.camera));
   shot.width = size.x, shot.height = size.y;
+  if (s.lens.any()) {
+    const LensRequest& lens = s.lens;
+    const bool focus_needed = (lens.fstop || lens.aperture.value_or(0.f) > 0.f) &&
+                              !lens.focus_distance && !lens.focus_on;
+    const float focus = focus_needed ? default_focus(scene, s, shot.camera, shot.width,
+                                                     shot.height, shot.notes)
+                                     : 1.f;
+    shot.camera = lens_camera(shot.camera, lens, float(shot.width) / float(shot.height), focus,
+                              shot.notes);
+  }
   shot.lights = scene.lights;
   shot.lights.insert(shot.lights.end(), s.lights.begin(), s.lights.end());
   if (s.environment_map) {

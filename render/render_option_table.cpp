@@ -121,6 +121,47 @@ void set_fov(R& r, S& v, S& flag) {
     throw UsageError(flag + " wants degrees in (0, 180), got '" + v + "'");
   r.settings.camera_override.fov_degrees = degrees;
 }
+// `other` ("--fstop") as `flag` spells options: "--fstop" on the command line, "fstop=" for
+// Python's keywords and converge's configurations.
+std::string spelt_like(S& flag, const std::string& other) {
+  if (flag.compare(0, 2, "--") == 0) return other;
+  std::string key = other.substr(2);
+  std::replace(key.begin(), key.end(), '-', '_');
+  return key + "=";
+}
+// A length for a lens option: a finite number (as a float) in [0, inf), > 0 unless zero_ok.
+float parse_length(S& flag, S& v, bool zero_ok, const char* what) {
+  const std::optional<double> x = parse_real(v);
+  if (!x || !std::isfinite(float(*x)) || !(zero_ok ? *x >= 0.0 : *x > 0.0))
+    throw UsageError(flag + " wants " + what + ", got '" + v + "'");
+  return float(*x);
+}
+void set_aperture(R& r, S& v, S& flag) {
+  if (r.settings.lens.fstop)
+    throw UsageError(flag + " and " + spelt_like(flag, "--fstop") +
+                     " both give the aperture: use one");
+  r.settings.lens.aperture =
+      parse_length(flag, v, true, "the lens's diameter, a finite number >= 0 (0: a pinhole)");
+}
+void set_fstop(R& r, S& v, S& flag) {
+  if (r.settings.lens.aperture)
+    throw UsageError(flag + " and " + spelt_like(flag, "--aperture") +
+                     " both give the aperture: use one");
+  r.settings.lens.fstop = parse_length(flag, v, false, "an f-number, a finite number > 0");
+}
+void set_focus_distance(R& r, S& v, S& flag) {
+  if (r.settings.lens.focus_on)
+    throw UsageError(flag + " and " + spelt_like(flag, "--focus-on") +
+                     " both give the focus: use one");
+  r.settings.lens.focus_distance =
+      parse_length(flag, v, false, "a distance, a finite number > 0");
+}
+void set_focus_on(R& r, S& v, S& flag) {
+  if (r.settings.lens.focus_distance)
+    throw UsageError(flag + " and " + spelt_like(flag, "--focus-distance") +
+                     " both give the focus: use one");
+  r.settings.lens.focus_on = parse_point(flag, v);
+}
 void set_scene(R& r, S& v, S& flag) { r.gltf.scene = int(parse_int(flag, v, 0, 1 << 20)); }
 void set_variant(R& r, S& v, S& flag) {
   r.gltf.variant = v;
@@ -328,6 +369,28 @@ const RenderOption table[] = {
      R"h(  --fov DEGREES              its vertical field of view (default: the chosen camera's)
 )h",
      set_fov},
+    {"--aperture", "Image", V::number, use_render | use_converge | use_python, false,
+     R"h(  --aperture D               depth of field: a thin lens of diameter D in scene units (glTF:
+                             metres) in place of the pinhole (default 0: a pinhole, all sharp);
+                             orthographic cameras too
+)h",
+     set_aperture},
+    {"--fstop", "Image", V::number, use_render | use_converge | use_python, false,
+     R"h(  --fstop N                  or the aperture as an f-number: diameter = focal length / N, the
+                             focal length a 36×24 mm sensor (its long side along the image's
+                             longer side) needs for the vertical field of view, in metres
+)h",
+     set_fstop},
+    {"--focus-distance", "Image", V::number, use_render | use_converge | use_python, false,
+     R"h(  --focus-distance D         the depth in focus, along the view axis (default: the --look-at
+                             point, else the first surface at the image's centre, else the
+                             scene's centre; the render says which)
+)h",
+     set_focus_distance},
+    {"--focus-on", "Image", V::point, use_render | use_converge | use_python, false,
+     R"h(  --focus-on X,Y,Z           or focus on a point: the plane through it across the view is sharp
+)h",
+     set_focus_on},
     {"--scene", "Image", V::integer, use_render | use_converge, false,
      R"h(  --scene INDEX              which of the file's scenes (default: the file's default scene)
 )h",

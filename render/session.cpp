@@ -462,6 +462,9 @@ void RenderSession::State::write_stats(int frame, const Shot& shot,
     if (!run.stopped.empty()) j["stopped_by"] = run.stopped;
     j["passes"] = run.passes;
     if (run.time_limit > 0) j["time_limit"] = run.time_limit;
+    if (shot.camera.aperture > 0.f)  // a thin lens (a pinhole's statistics say nothing)
+      j["lens"] = {{"aperture", shot.camera.aperture},
+                   {"focus_distance", shot.camera.focus_distance}};
     if (s.adaptive > 0)
       j["adaptive"] = {{"target", s.adaptive},
                        {"min_spp", adaptive_min_spp(s)},

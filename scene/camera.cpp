@@ -71,11 +71,102 @@ CameraProjection::CameraProjection(const Camera& camera, int w, int h)
       tan_half(std::tan(0.5f * camera.yfov)),
       ymag(camera.ymag),
       znear(camera.znear),
-      orthographic(camera.orthographic) {}
+      orthographic(camera.orthographic),
+      lens_radius(camera.aperture > 0.f ? 0.5f * camera.aperture : 0.f),
+      focus_distance(camera.focus_distance) {}
+
+float CameraProjection::ray(float x, float y, float lens_u, float lens_v, glm::vec3& origin,
+                            glm::vec3& direction) const {
+  if (!thin_lens()) return ray(x, y, origin, direction);
+  const float sx = 2.f * x / width - 1.f, sy = 1.f - 2.f * y / height;
+  // In the camera's frame: the point in focus, and where the ray leaves the lens (its plane is
+  // z = 0, through the position, or the orthographic view's plane).
+  glm::vec3 focus, start(lens_radius * sample_disk(lens_u, lens_v), 0.f);
+  if (orthographic) {
+    const glm::vec3 on_plane(sx * ymag * aspect, sy * ymag, 0.f);
+    focus = on_plane + glm::vec3(0.f, 0.f, -focus_distance);
+    start += on_plane;
+  } else {
+    // The pinhole ray's point at depth 1, scaled to the focus plane's depth (not its distance
+    // along the ray: the plane in focus is flat).
+    focus = glm::vec3(sx * tan_half * aspect, sy * tan_half, -1.f) * focus_distance;
+  }
+  const glm::vec3 local = focus - start;
+  origin = glm::vec3(to_world * glm::vec4(start, 1.f));
+  direction = glm::normalize(glm::vec3(to_world * glm::vec4(local, 0.f)));
+  // The near plane at depth znear: the ray goes |local| for a depth of focus_distance.
+  return znear * glm::length(local) / focus_distance;
+}
+
+glm::vec2 sample_disk(float u1, float u2) {
+  const float a = 2.f * u1 - 1.f, b = 2.f * u2 - 1.f;
+  if (a == 0.f && b == 0.f) return glm::vec2(0.f);
+  const float quarter = 0.25f * float(M_PI);
+  if (std::abs(a) > std::abs(b)) {
+    const float phi = quarter * (b / a);
+    return a * glm::vec2(std::cos(phi), std::sin(phi));
+  }
+  const float phi = 2.f * quarter - quarter * (a / b);
+  return b * glm::vec2(std::cos(phi), std::sin(phi));
+}
+
+float full_frame_focal_length(const Camera& camera, float aspect) {
+  const float sensor_height = aspect >= 1.f ? 0.024f : 0.036f;  // the image's vertical side
+  return 0.5f * sensor_height / std::tan(0.5f * camera.yfov);
+}
+
+Camera lens_camera(const Camera& camera, const LensRequest& lens, float aspect,
+                   float default_focus, std::vector<std::string>& notes) {
+  Camera cam = camera;
+  const glm::vec3 forward = -glm::vec3(camera.to_world[2]);
+  float aperture = lens.aperture.value_or(0.f);
+  if (lens.fstop) {
+    if (camera.orthographic)
+      throw SettingError("--fstop needs a field of view: the camera is orthographic (give "
+                         "--aperture, the lens's diameter, or --fov)");
+    aperture = full_frame_focal_length(camera, aspect) / *lens.fstop;
+  }
+  if (!std::isfinite(aperture) || aperture < 0.f)
+    throw SettingError("the aperture is not a finite size (--fstop or --aperture)");
+  float focus = default_focus;
+  if (lens.focus_distance) focus = *lens.focus_distance;
+  if (lens.focus_on) {
+    // Its depth, in double: a point 1e20 away must not overflow the difference's square.
+    const double depth = glm::dot(glm::dvec3(*lens.focus_on) - glm::dvec3(camera.position()),
+                                  glm::dvec3(forward));
+    if (!(depth > 0.0) || !std::isfinite(float(depth))) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "--focus-on %g,%g,%g is not in front of the camera (its depth along the view "
+                    "is %g)",
+                    double(lens.focus_on->x), double(lens.focus_on->y), double(lens.focus_on->z),
+                    depth);
+      throw SettingError(text);
+    }
+    focus = float(depth);
+  }
+  if (!(aperture > 0.f)) {
+    if (lens.focus_distance || lens.focus_on)
+      notes.push_back(std::string(lens.focus_on ? "--focus-on" : "--focus-distance") +
+                      " has no effect without --aperture or --fstop (a pinhole is sharp at "
+                      "every depth)");
+    return cam;
+  }
+  if (!(focus > 0.f) || !std::isfinite(focus))
+    throw SettingError("the focus distance is not a positive finite depth");
+  cam.aperture = aperture;
+  cam.focus_distance = focus;
+  return cam;
+}
 
 float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
                  glm::vec3& direction) {
   return CameraProjection(camera, width, height).ray(x, y, origin, direction);
+}
+
+float camera_ray(const Camera& camera, int width, int height, float x, float y, float lens_u,
+                 float lens_v, glm::vec3& origin, glm::vec3& direction) {
+  return CameraProjection(camera, width, height).ray(x, y, lens_u, lens_v, origin, direction);
 }
 
 std::string camera_flags(const Camera& cam, const glm::vec3& target) {
@@ -89,6 +180,11 @@ std::string camera_flags(const Camera& cam, const glm::vec3& target) {
   std::string out = text;
   if (!cam.orthographic) {
     std::snprintf(text, sizeof text, " --fov %.7g", cam.yfov * 180.0 / M_PI);
+    out += text;
+  }
+  if (cam.aperture > 0.f) {
+    std::snprintf(text, sizeof text, " --aperture %.7g --focus-distance %.7g",
+                  double(cam.aperture), double(cam.focus_distance));
     out += text;
   }
   return out;

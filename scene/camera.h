@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dacrt/tracer/geometry.h"
 
@@ -23,6 +24,12 @@ struct Camera {
   // The up direction it was aimed with, as LookAt's up (+Y for the camera framing a scene, the
   // --up of an override); unset for a file's camera: its image's up.
   std::optional<glm::vec3> aimed_up;
+  // A thin lens (a render's --aperture or --fstop; glTF cameras are pinholes): rays start on a
+  // disk of this diameter around the position, across the view axis, and pass through the point
+  // the pinhole ray meets at depth focus_distance along the view axis, so the plane at that depth
+  // is sharp. 0: a pinhole (focus_distance unused).
+  float aperture = 0.f;
+  float focus_distance = 1.f;
 
   glm::vec3 position() const { return glm::vec3(to_world[3]); }
   glm::vec3 up() const { return aimed_up.value_or(glm::vec3(to_world[1])); }
@@ -51,9 +58,38 @@ Camera override_camera(const Camera& base, const CameraOverride& o, const glm::v
 glm::vec3 look_at_point(const Camera& camera, const glm::vec3& target);
 
 // The camera as render flags, ready to copy: "--look-from X,Y,Z --look-at X,Y,Z --up X,Y,Z
-// --fov DEGREES" (no --fov for an orthographic camera). The look-at point is on the view axis, as
+// --fov DEGREES" (no --fov for an orthographic camera), then "--aperture D --focus-distance F"
+// for a thin lens. The look-at point is on the view axis, as
 // far as `target` (the scene's centre).
 std::string camera_flags(const Camera& camera, const glm::vec3& target);
+
+// The lens as a render asks for it (--aperture or --fstop; --focus-distance or --focus-on), made
+// into the camera's aperture and focus_distance by lens_camera.
+struct LensRequest {
+  std::optional<float> aperture;        // diameter, in scene units (glTF: metres); 0: a pinhole
+  std::optional<float> fstop;           // or as an f-number (see lens_camera)
+  std::optional<float> focus_distance;  // depth of the plane in focus, along the view axis
+  std::optional<glm::vec3> focus_on;    // or a point whose depth is
+  bool any() const { return aperture || fstop || focus_distance || focus_on; }
+};
+
+// The focal length of a 36 × 24 mm sensor (full frame, its long side along the image's longer
+// side) that gives `camera` its vertical field of view for an image of this shape (width /
+// height), in metres: (24 or 36 mm) / 2 / tan(yfov / 2).
+float full_frame_focal_length(const Camera& camera, float aspect);
+
+// `camera` with the lens `lens` asks for, on an image of this aspect (width / height). The
+// aperture: --aperture, or the full-frame focal length over --fstop (a perspective camera only).
+// The focus: --focus-distance, the depth of --focus-on, else `default_focus` (the caller's
+// choice). Throws SettingError naming the flag for --fstop on an orthographic camera, a
+// focus point not in front of the camera, or an aperture that is not finite. `notes` gets one
+// line for what is not used (a focus without an aperture).
+Camera lens_camera(const Camera& camera, const LensRequest& lens, float aspect,
+                   float default_focus, std::vector<std::string>& notes);
+
+// A point on the unit disk from two uniforms, area-preserving (Shirley and Chiu 1997, "A
+// low distortion map between disk and square"): the lens sample.
+glm::vec2 sample_disk(float u1, float u2);
 
 // The largest image side, whether given (--width, --height) or derived from a camera's aspect.
 inline constexpr int max_image_side = 1 << 15;
@@ -71,6 +107,11 @@ glm::ivec2 image_size(float aspect, int width, int height, int longer, const std
 float camera_ray(const Camera& camera, int width, int height, float x, float y, glm::vec3& origin,
                  glm::vec3& direction);
 
+// The thin-lens camera ray through image point (x, y) from the lens point that the numbers
+// (lens_u, lens_v) in [0, 1)² pick (sample_disk). A pinhole camera's is camera_ray's.
+float camera_ray(const Camera& camera, int width, int height, float x, float y, float lens_u,
+                 float lens_v, glm::vec3& origin, glm::vec3& direction);
+
 // What camera_ray takes of a camera and an image size, made once for a batch of rays (the field
 // of view's tangent is worth hoisting: a call per camera sample was 4 % of a textured render). The
 // rays are the same bit for bit.
@@ -78,6 +119,7 @@ struct CameraProjection {
   glm::mat4 to_world;
   float width, height, aspect, tan_half, ymag, znear;
   bool orthographic;
+  float lens_radius, focus_distance;  // 0: a pinhole
 
   CameraProjection(const Camera& camera, int width, int height);
   float ray(float x, float y, glm::vec3& origin, glm::vec3& direction) const {
@@ -95,6 +137,13 @@ struct CameraProjection {
     // The near plane is at depth znear: `local` (depth 1) scaled by znear, |local| · znear away.
     return znear * glm::length(local);
   }
+  // Whether rays need a lens sample (the four-number ray).
+  bool thin_lens() const { return lens_radius > 0.f; }
+  // The ray from the lens point (lens_u, lens_v) picks (after pbrt-v4's PerspectiveCamera): it
+  // passes through the point the pinhole ray (or, orthographic, the parallel ray) meets on the
+  // plane in focus, at depth focus_distance. With no lens (lens_radius 0) the pinhole ray.
+  float ray(float x, float y, float lens_u, float lens_v, glm::vec3& origin,
+            glm::vec3& direction) const;
 };
 
 }  // namespace dacrt

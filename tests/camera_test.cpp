@@ -150,3 +150,104 @@ TEST_CASE("camera override: a new view from the framed camera is upright (its up
   CHECK(up(c).y > 0.9f);
   CHECK(near(c.up(), {0, 1, 0}));
 }
+
+// The thin lens: every ray through one image point, from anywhere on the lens, meets the pinhole
+// ray's point on the plane in focus (a plane at the focus distance along the view axis, not a
+// sphere around the lens), and the lens points fill a disk of the aperture's diameter uniformly.
+TEST_CASE("thin lens: rays through a pixel meet on the focus plane, from a disk of the aperture") {
+  for (bool orthographic : {false, true}) {
+    INFO(std::string(orthographic ? "orthographic" : "perspective"));
+    Camera cam = base_camera();
+    cam.to_world = glm::inverse(glm::lookAt(glm::vec3(1, 2, 3), glm::vec3(-2, 1, -4),
+                                            glm::vec3(0, 1, 0)));
+    cam.orthographic = orthographic;
+    cam.ymag = 0.8f;
+    cam.aperture = 0.4f, cam.focus_distance = 2.5f;
+    const glm::vec3 fwd = forward(cam), position = cam.position();
+    const int width = 60, height = 40;
+    // An image point off the centre (its ray leaves the axis at 15.6 degrees), where the depth
+    // along the axis and the distance along the ray differ by 3.8 %.
+    const float x = 47.3f, y = 6.6f;
+    Camera pinhole = cam;
+    pinhole.aperture = 0.f;
+    glm::vec3 po, pd;
+    camera_ray(pinhole, width, height, x, y, po, pd);
+    const glm::vec3 in_focus = po + pd * (cam.focus_distance / glm::dot(pd, fwd));
+    double r2 = 0.0, largest = 0.0;
+    const int n = 64;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        glm::vec3 o, d;
+        const float tmin =
+            camera_ray(cam, width, height, x, y, (i + 0.5f) / n, (j + 0.5f) / n, o, d);
+        CHECK(tmin == 0.f);  // znear 0
+        CHECK(std::abs(glm::length(d) - 1.f) < 1e-6f);
+        // The lens point is on the lens's plane (depth 0), at most the radius off the axis point.
+        const glm::vec3 axis_point = orthographic ? po : position;
+        const glm::vec3 off = o - axis_point;
+        CHECK(std::abs(glm::dot(off, fwd)) < 1e-5f);
+        const double r = glm::length(off);
+        CHECK(r <= 0.2 + 1e-5);
+        r2 += r * r, largest = std::max(largest, r);
+        // Where the ray reaches the focus plane's depth: the pinhole ray's point there.
+        const glm::vec3 at = o + d * (cam.focus_distance / glm::dot(d, fwd));
+        CHECK_MESSAGE(near(at, in_focus, 2e-5f), "lens sample " << i << "," << j);
+      }
+    // A uniform disk of radius R: mean r² = R² / 2 (the grid's midpoints, 64², to 0.1 %), and
+    // points out to its rim.
+    CHECK(r2 / (n * n) == doctest::Approx(0.5 * 0.2 * 0.2).epsilon(2e-3));
+    CHECK(largest > 0.19);
+    // Lens numbers do not change a pinhole's ray.
+    glm::vec3 o2, d2;
+    camera_ray(pinhole, width, height, x, y, 0.9f, 0.1f, o2, d2);
+    CHECK((o2 == po && d2 == pd));
+  }
+}
+
+// The near plane stays at depth znear whatever the lens point.
+TEST_CASE("thin lens: the near plane is at depth znear along the axis") {
+  Camera cam = base_camera();
+  cam.znear = 0.3f, cam.aperture = 0.5f, cam.focus_distance = 1.7f;
+  for (float u : {0.1f, 0.5f, 0.93f}) {
+    glm::vec3 o, d;
+    const float tmin = camera_ray(cam, 30, 20, 3.f, 17.f, u, 1.f - u, o, d);
+    CHECK(glm::dot(o + tmin * d - cam.position(), forward(cam)) == doctest::Approx(0.3f));
+  }
+}
+
+TEST_CASE("lens camera: aperture, f-number and focus from the request, and their errors") {
+  std::vector<std::string> notes;
+  const Camera base = base_camera();  // at (1, 2, 3) looking down -Z, yfov 0.5
+  LensRequest lens;
+  lens.aperture = 0.1f, lens.focus_on = glm::vec3(4, 0, -1);
+  Camera c = lens_camera(base, lens, 1.5f, 9.f, notes);
+  CHECK(c.aperture == 0.1f);
+  CHECK(c.focus_distance == doctest::Approx(4.f));  // its depth along the axis, not its distance
+  // An f-number: the full-frame focal length for yfov 0.5 (the 24 mm side vertical in a wide
+  // image, the 36 mm side in a tall one) over N.
+  LensRequest f;
+  f.fstop = 2.f;
+  const float focal = 0.012f / std::tan(0.25f);
+  CHECK(lens_camera(base, f, 1.5f, 3.f, notes).aperture == doctest::Approx(focal / 2.f));
+  CHECK(lens_camera(base, f, 0.5f, 3.f, notes).aperture == doctest::Approx(1.5f * focal / 2.f));
+  CHECK(lens_camera(base, f, 1.5f, 3.f, notes).focus_distance == 3.f);  // the default given
+  CHECK(notes.empty());
+  // A point behind the camera, or beside it, is no focus.
+  lens.focus_on = glm::vec3(0, 0, 3.5f);
+  CHECK_THROWS_WITH_AS(lens_camera(base, lens, 1.f, 1.f, notes),
+                       doctest::Contains("--focus-on 0,0,3.5 is not in front"), SettingError);
+  lens.focus_on = glm::vec3(5, 5, 3);
+  CHECK_THROWS_AS(lens_camera(base, lens, 1.f, 1.f, notes), SettingError);
+  // An f-number needs a field of view.
+  Camera ortho = base;
+  ortho.orthographic = true;
+  CHECK_THROWS_WITH_AS(lens_camera(ortho, f, 1.f, 1.f, notes),
+                       doctest::Contains("--fstop needs a field of view"), SettingError);
+  // A focus without an aperture: the pinhole, and a note.
+  LensRequest focus_only;
+  focus_only.focus_distance = 2.f;
+  c = lens_camera(base, focus_only, 1.f, 1.f, notes);
+  CHECK(c.aperture == 0.f);
+  REQUIRE(notes.size() == 1);
+  CHECK(notes[0].find("--focus-distance has no effect") != std::string::npos);
+}

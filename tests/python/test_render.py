@@ -49,6 +49,9 @@ def channel_of(exr, names):
           sampler="independent"),
      ["--spp", "2", "--width", "20", "--height", "20", "--integrator", "direct", "--look-from",
       "0.2,1.0,3.5", "--fov", "50.5", "--sampler", "independent"]),
+    (dict(spp=4, width=24, height=18, aperture=0.05, focus_on=(0.278, 0.273, 0.3)),
+     ["--spp", "4", "--width", "24", "--height", "18", "--aperture", "0.05", "--focus-on",
+      "0.278,0.273,0.3"]),
 ])
 def test_render_is_the_cli_render_bit_for_bit(tmp_path, cornell, options, flags):
     exr = cli_render(tmp_path, CORNELL, *flags, "--aov", ",".join(EVERY_AOV))
@@ -138,6 +141,13 @@ def test_errors_are_the_cli_messages_as_exceptions(tmp_path):
         dacrt.render(CORNELL, output="x.exr")
     with pytest.raises(ValueError, match="one backend"):
         dacrt.render(CORNELL, backend="dacrt,embree")
+    # The lens: one aperture, one focus, in front of the camera.
+    with pytest.raises(ValueError, match="fstop= and aperture= both give the aperture"):
+        dacrt.render(CORNELL, aperture=0.1, fstop=2)
+    with pytest.raises(ValueError, match="focus_on= and focus_distance= both give the focus"):
+        dacrt.render(CORNELL, focus_distance=1, focus_on=(0, 0, 0))
+    with pytest.raises(ValueError, match="not in front of the camera"):
+        dacrt.render(CORNELL, spp=1, width=8, height=8, fstop=2, focus_on=(0.278, 0.273, -2))
 
 
 def test_info_says_what_the_scene_holds(cornell):
