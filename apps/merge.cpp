@@ -42,7 +42,9 @@ Options
                              samplesMissing say which; the image has the samples there are
   --keep-sums                keep the exact sums in OUT even when it holds the whole render (it
                              keeps them anyway when it is one range of it: OUT is then a part too)
-  --preview FILE.png         an 8-bit preview, as render's (--view NAME, --exposure STOPS)
+  --preview FILE.png         an 8-bit preview, as render's
+  --view NAME                the preview's display view (`dacrt views` lists them)
+  --exposure STOPS           the preview's exposure in stops (default 0)
   --quiet                    no progress or summary on stderr
   -h, --help                 this text
 )help";
