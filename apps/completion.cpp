@@ -158,11 +158,11 @@ std::string quoted(const std::string& text) {
 
 std::string action(const ValueKind& k) {
   switch (k.kind) {
-    case ValueKind::files: return "_dacrt_files " + quoted(k.what);
-    case ValueKind::dirs: return "_dacrt_dirs";
-    case ValueKind::words: return "_dacrt_words " + quoted(k.what);
-    case ValueKind::list: return "_dacrt_list " + quoted(k.what);
-    case ValueKind::views: return "_dacrt_views";
+    case ValueKind::files: return "_dacrt__files " + quoted(k.what);
+    case ValueKind::dirs: return "_dacrt__dirs";
+    case ValueKind::words: return "_dacrt__words " + quoted(k.what);
+    case ValueKind::list: return "_dacrt__list " + quoted(k.what);
+    case ValueKind::views: return "_dacrt__views";
     case ValueKind::none: break;
   }
   return ":";  // a number or a name of the scene: nothing to offer
@@ -193,7 +193,7 @@ std::vector<HelpOption> command_options(const CommandHelp& c) {
 }
 
 std::string function_name(const std::string& command) {
-  std::string f = "_dacrt_" + command;
+  std::string f = "_dacrt_command_" + command;
   std::replace(f.begin(), f.end(), '-', '_');
   return f;
 }
@@ -204,7 +204,7 @@ constexpr const char* completion_head = R"bash(# bash completion for dacrt: comm
 # share/bash-completion/completions/dacrt.
 
 # File names among $cur with one of the extensions $1 ("exr|EXR"; "" for any), and folders.
-_dacrt_files() {
+_dacrt__files() {
   local f IFS=$'\n'
   compopt -o filenames 2>/dev/null
   COMPREPLY=()
@@ -212,23 +212,23 @@ _dacrt_files() {
     if [[ -d $f || -z $1 ]] || [[ $f =~ \.($1)$ ]]; then COMPREPLY+=("$f"); fi
   done
 }
-_dacrt_dirs() {
+_dacrt__dirs() {
   local IFS=$'\n'
   compopt -o filenames 2>/dev/null
   COMPREPLY=($(compgen -d -- "$cur"))
 }
 # One of the words $1.
-_dacrt_words() {
+_dacrt__words() {
   COMPREPLY=($(compgen -W "$1" -- "$cur"))
 }
 # A comma-separated list of the words $1: the item after the last comma.
-_dacrt_list() {
+_dacrt__list() {
   local prefix="" item=$cur
   if [[ $cur == *,* ]]; then prefix=${cur%,*},; item=${cur##*,}; fi
   COMPREPLY=($(compgen -P "$prefix" -W "$1" -- "$item"))
 }
 # A display view, as `dacrt views` lists them (names with spaces come back quoted).
-_dacrt_views() {
+_dacrt__views() {
   local v want=${cur//\\/} dacrt=${COMP_WORDS[0]/#\~/$HOME}
   want=${want#[\"\']}
   COMPREPLY=()
@@ -293,7 +293,7 @@ std::string bash_completion(const std::vector<CommandHelp>& commands) {
       script += "    " + (o.short_name.empty() ? "" : o.short_name + "|") + o.name + ") " +
                 action(value_kind(o)) + "; return ;;\n";
     }
-    script += "  esac\n  if [[ $cur == -* ]]; then\n    _dacrt_words " + quoted(joined(words)) +
+    script += "  esac\n  if [[ $cur == -* ]]; then\n    _dacrt__words " + quoted(joined(words)) +
               "\n    return\n  fi\n";
     const std::vector<std::string> args = positionals(c.help);
     script += "  " + (args.empty() ? std::string("COMPREPLY=()") : action(kind_of(args.front()))) +
@@ -311,7 +311,7 @@ _dacrt() {
   fi
   if (( COMP_CWORD == 1 )); then
 )bash";
-  script += "    _dacrt_words " + quoted(joined(names) + " --help --version") +
+  script += "    _dacrt__words " + quoted(joined(names) + " --help --version") +
             "\n    return\n  fi\n  case ${COMP_WORDS[1]} in\n";
   for (const CommandHelp& c : commands)
     script += "    " + c.name + ") " + function_name(c.name) + " ;;\n";
@@ -363,13 +363,13 @@ std::string term(const std::string& column) {
     const bool option = letter != std::string::npos && w[letter] == '-';
     const bool placeholder =
         letter != std::string::npos && std::isupper(static_cast<unsigned char>(w[letter]));
-    out += (out.empty() ? "" : " ") +
-           (option || w == "dacrt" ? "\\fB" + roff(w) + "\\fR"
-            : placeholder          ? "\\fI" + roff(w) + "\\fR"
-                                   : roff(w));
+    if (!out.empty()) out += ' ';
+    const char* font = option || w == "dacrt" ? "\\fB" : placeholder ? "\\fI" : "";
+    out.append(font).append(roff(w)).append(*font ? "\\fR" : "");
   }
-  if (!out.empty() && (out[0] == '.' || out[0] == '\'')) out = "\\&" + out;
-  return out + "\n";
+  if (!out.empty() && (out[0] == '.' || out[0] == '\'')) out.insert(0, "\\&");
+  out += '\n';
+  return out;
 }
 
 size_t indent_of(const std::string& line) {
@@ -401,8 +401,14 @@ std::string help_roff(const std::string& help) {
     } else if (at > 0 && at <= 4 && (line.find("  ", at) != std::string::npos ||
                                      (i + 1 < lines.size() && indent_of(lines[i + 1]) > at + 4 &&
                                       indent_of(lines[i + 1]) < lines[i + 1].size()))) {
-      // An item: its term, then its description, on this line and the more indented ones.
-      const std::string column = column_of(line, at);
+      // An item: its term, then its description, on this line and the more indented ones. The
+      // description starts at the column its continuation lines start at, when it is there
+      // (a term that fills its column leaves one space: "  --animation NAME|INDEX|all which").
+      std::string column = column_of(line, at);
+      const size_t next = i + 1 < lines.size() ? indent_of(lines[i + 1]) : 0;
+      if (next > at + 4 && next < line.size() && next < at + column.size() &&
+          line[next - 1] == ' ' && line[next] != ' ')
+        column = line.substr(at, next - 1 - at);
       out += ".TP\n" + term(column);
       const size_t rest = line.find_first_not_of(' ', at + column.size());
       if (rest != std::string::npos) out += text_line(line.substr(rest));
