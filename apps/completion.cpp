@@ -168,10 +168,11 @@ std::string action(const ValueKind& k) {
   return ":";  // a number or a name of the scene: nothing to offer
 }
 
-// The options of command `c`: those its help defines, and for render and converge every render
+// The options of command `c`: those its help defines, --help, and for render and converge every render
 // option they take from the option table (converge's help names them in its prose only).
 std::vector<HelpOption> command_options(const CommandHelp& c) {
   std::vector<HelpOption> options = help_options(c.help);
+  add_option(options, "--help", "-h", "");  // every command takes it, though not every help says
   const unsigned use = c.name == "render"     ? unsigned(use_render)
                        : c.name == "converge" ? unsigned(use_converge)
                                               : 0u;

@@ -36,7 +36,7 @@ std::vector<std::string> complete(const TempDir& dir, const std::string& script,
   const std::string program = "cd " + quoted(dir.path().string()) + " && source " +
                               quoted(script) + " && COMP_WORDS=(" + line +
                               ") && COMP_CWORD=$(( ${#COMP_WORDS[@]} - 1 )) && COMPREPLY=() && "
-                              "_dacrt && printf '%s\\n' \"${COMPREPLY[@]}\" | LC_ALL=C sort";
+                              "{ _dacrt; printf '%s\\n' \"${COMPREPLY[@]}\" | LC_ALL=C sort; }";
   const std::string out_file = dir / "completed.txt";
   const std::string command =
       "bash -c " + quoted(program) + " >" + quoted(out_file) + " 2>&1 </dev/null";
@@ -99,6 +99,7 @@ TEST_CASE("completion: bash completes the commands, options, known values and fi
   CHECK(complete(dir, script, {dacrt, "info", "--animation", "a"}) == Words{"all"});
   CHECK(complete(dir, script, {dacrt, "bench", "--sweep", ""}) == Words{"rays", "triangles"});
   CHECK(complete(dir, script, {dacrt, "completion", ""}) == Words{"bash"});
+  CHECK(complete(dir, script, {dacrt, "views", "--h"}) == Words{"--help"});  // every command's
   // converge: its own options and the render options it takes, not those it does not.
   CHECK(complete(dir, script, {dacrt, "converge", "--time-b"}) == Words{"--time-budget"});
   CHECK(complete(dir, script, {dacrt, "converge", "--look-f"}) == Words{"--look-from"});
