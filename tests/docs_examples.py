@@ -273,7 +273,7 @@ def run_page(page, problems, skipped, timings):
                 continue
             if language == "":
                 for l in lines:
-                    if re.match(r"\s*(build/dacrt |\$ |>>> |tools/|mpirun |python3? )", l):
+                    if re.match(r"\s*(build/dacrt |\$ |>>> |tools/\S|mpirun |python3? )", l):
                         problems.append("%s: an untagged block holds the command line '%s': tag "
                                         "the block sh or python so that it runs" % (where, l))
                 continue
