@@ -8,79 +8,23 @@
 #include <sstream>
 
 #include "dacrt/render/request.h"
+#include "dacrt/util/help_text.h"
 
 namespace dacrt {
 
 namespace {
 
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
-std::vector<std::string> words_of(const std::string& text) {
-  std::vector<std::string> words;
-  std::istringstream in(text);
-  for (std::string word; in >> word;) words.push_back(word);
-  return words;
-}
-
-bool is_option(const std::string& word) {
-  return word.size() >= 2 && word[0] == '-' &&
-         (std::isalpha(static_cast<unsigned char>(word[1])) ||
-          (word[1] == '-' && word.size() > 2 && std::islower(static_cast<unsigned char>(word[2]))));
-}
-
-// An option line of a help: indented by at most 4, an option first.
-bool option_line(const std::string& line, size_t& at) {
-  at = line.find_first_not_of(' ');
-  return at != std::string::npos && at > 0 && at <= 4 &&
-         is_option(line.substr(at, line.find(' ', at) - at));
-}
-
-// The text of a line from `at` up to its description (two spaces), or to its end.
-std::string column_of(const std::string& line, size_t at) {
-  const size_t gap = line.find("  ", at);
-  return line.substr(at, gap == std::string::npos ? std::string::npos : gap - at);
-}
-
-void add_option(std::vector<HelpOption>& options, const std::string& name,
-                const std::string& short_name, const std::string& value) {
-  auto o = std::find_if(options.begin(), options.end(), [&](const HelpOption& h) {
-    return h.name == name || (!short_name.empty() && h.short_name == short_name) ||
-           (name.size() == 2 && h.short_name == name);
-  });
-  if (o == options.end()) o = options.insert(options.end(), {name, short_name, {}});
-  if (o->short_name.empty()) o->short_name = short_name;
-  if (!value.empty() && std::find(o->values.begin(), o->values.end(), value) == o->values.end())
-    o->values.push_back(value);
-}
-
-// The value shown after an option among `words` (from words[k]), quotes kept together, brackets
-// dropped ("[NAME.]KEY=VALUE" stays: its bracket is inside).
-std::string value_at(const std::vector<std::string>& words, size_t k) {
-  if (k >= words.size() || words[k].empty() || words[k][0] == '-' || words[k] == "|") return "";
-  std::string v = words[k];
-  if (v[0] == '"')
-    while (std::count(v.begin(), v.end(), '"') < 2 && ++k < words.size()) v += " " + words[k];
-  while (!v.empty() && v.back() == ']') v.pop_back();
-  if (v.rfind('[', 0) == 0 && v.find(']') == std::string::npos) v.erase(0, 1);
-  return v;
-}
-
 // The arguments a command's "Usage:" line shows that are not options nor their values
 // ("SCENE", "PART.exr...", "A.exr", "bash").
 std::vector<std::string> positionals(const std::string& help) {
   std::vector<std::string> out;
-  for (const std::string& line : lines_of(help)) {
+  for (const std::string& line : text_lines(help)) {
     if (line.rfind("Usage: dacrt ", 0) != 0) continue;
-    const std::vector<std::string> words = words_of(line);
+    const std::vector<std::string> words = text_words(line);
     for (size_t k = 3; k < words.size(); ++k) {
       const std::string& w = words[k];
       if (w[0] == '[') break;  // optional parts: options
-      if (is_option(w)) {
+      if (is_option_word(w)) {
         ++k;
         continue;
       }
@@ -172,7 +116,7 @@ std::string action(const ValueKind& k) {
 // option they take from the option table (converge's help names them in its prose only).
 std::vector<HelpOption> command_options(const CommandHelp& c) {
   std::vector<HelpOption> options = help_options(c.help);
-  add_option(options, "--help", "-h", "");  // every command takes it, though not every help says
+  add_help_option(options, "--help", "-h", "");  // every command takes it, though not every help says
   const unsigned use = c.name == "render"     ? unsigned(use_render)
                        : c.name == "converge" ? unsigned(use_converge)
                                               : 0u;
@@ -184,10 +128,10 @@ std::vector<HelpOption> command_options(const CommandHelp& c) {
       const auto shown = std::find_if(from_help.begin(), from_help.end(),
                                       [&](const HelpOption& h) { return h.name == name; });
       if (shown == from_help.end() || r.value == OptionValue::none)
-        add_option(options, name, std::string(r.short_name), "");
+        add_help_option(options, name, std::string(r.short_name), "");
       else
         for (const std::string& v : shown->values)
-          add_option(options, name, std::string(r.short_name), v);
+          add_help_option(options, name, std::string(r.short_name), v);
     }
   }
   return options;
@@ -241,43 +185,6 @@ _dacrt__views() {
 )bash";
 
 }  // namespace
-
-std::vector<HelpOption> help_options(const std::string& help) {
-  std::vector<HelpOption> options;
-  std::string usage;
-  for (const std::string& line : lines_of(help)) {
-    if (line.rfind("Usage:", 0) == 0) usage = line;
-    size_t at = 0;
-    if (!option_line(line, at)) continue;
-    // "-o, --output OUT.exr", "--width W, --height H": options separated by ", ".
-    std::string short_name, column = column_of(line, at) + ", ";
-    for (size_t start = 0, comma; (comma = column.find(", ", start)) != std::string::npos;
-         start = comma + 2) {
-      const std::vector<std::string> words = words_of(column.substr(start, comma - start));
-      if (words.empty() || !is_option(words[0])) break;
-      if (words[0][1] != '-' && words.size() == 1) {
-        short_name = words[0];
-        continue;
-      }
-      add_option(options, words[0], words[0][1] == '-' ? short_name : "", value_at(words, 1));
-      short_name.clear();
-    }
-  }
-  // The Usage line's options ("[--scene INDEX]"), unless an option line has them already.
-  const std::vector<std::string> words = words_of(usage);
-  for (size_t k = 0; k < words.size(); ++k) {
-    std::string w = words[k];
-    while (!w.empty() && w[0] == '[') w.erase(0, 1);
-    while (!w.empty() && w.back() == ']') w.pop_back();
-    if (!is_option(w)) continue;
-    const bool known = std::any_of(options.begin(), options.end(), [&](const HelpOption& o) {
-      return o.name == w || o.short_name == w;
-    });
-    const std::string value = words[k].back() == ']' ? "" : value_at(words, k + 1);
-    if (!known) add_option(options, w, "", value);
-  }
-  return options;
-}
 
 std::string bash_completion(const std::vector<CommandHelp>& commands) {
   std::string script = completion_head;
@@ -359,7 +266,7 @@ std::string text_line(const std::string& line) {
 // An item's term: options bold, placeholders (capitalised) italic.
 std::string term(const std::string& column) {
   std::string out;
-  for (const std::string& w : words_of(column)) {
+  for (const std::string& w : text_words(column)) {
     const size_t letter = w.find_first_not_of("[\"(");
     const bool option = letter != std::string::npos && w[letter] == '-';
     const bool placeholder =
@@ -381,7 +288,7 @@ size_t indent_of(const std::string& line) {
 // A help text as roff: "Usage:" lines as they are, headings bold, the indented items ("  --spp N
 // samples ...", "  primary    the scene's ...") as tagged paragraphs, prose filled.
 std::string help_roff(const std::string& help) {
-  const std::vector<std::string> lines = lines_of(help);
+  const std::vector<std::string> lines = text_lines(help);
   std::string out;
   enum { none, prose, item } block = none;
   for (size_t i = 0; i < lines.size(); ++i) {
@@ -405,7 +312,7 @@ std::string help_roff(const std::string& help) {
       // An item: its term, then its description, on this line and the more indented ones. The
       // description starts at the column its continuation lines start at, when it is there
       // (a term that fills its column leaves one space: "  --animation NAME|INDEX|all which").
-      std::string column = column_of(line, at);
+      std::string column = item_column(line, at);
       const size_t next = i + 1 < lines.size() ? indent_of(lines[i + 1]) : 0;
       if (next > at + 4 && next < line.size() && next < at + column.size() &&
           line[next - 1] == ' ' && line[next] != ' ')
@@ -443,7 +350,7 @@ std::string man_page(const std::string& main_help, const std::vector<CommandHelp
   page += ".SH NAME\ndacrt \\- " + roff(summary) + "\n.SH SYNOPSIS\n";
   for (const CommandHelp& c : commands) {
     // The Usage line of each command, without "Usage: ".
-    for (const std::string& line : lines_of(c.help))
+    for (const std::string& line : text_lines(c.help))
       if (line.rfind("Usage: ", 0) == 0) {
         page += ".br\n" + term(line.substr(7));
         break;

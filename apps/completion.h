@@ -7,21 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "dacrt/util/help_text.h"
+
 namespace dacrt {
 
 // A command of the CLI and its --help text, as it prints it.
 struct CommandHelp {
   std::string name, help;
 };
-
-// An option a help text defines: on an option line ("  -o, --output OUT.exr   the image") or in
-// its "Usage:" line ("[--scene INDEX]"), with its short name and each value it is shown with
-// ("OUT.exr"; one per line for an option on several lines: "rays", "triangles"); a flag has none.
-struct HelpOption {
-  std::string name, short_name;
-  std::vector<std::string> values;
-};
-std::vector<HelpOption> help_options(const std::string& help);
 
 // The bash completion script (`source <(dacrt completion bash)`): the commands, each command's
 // options, the values the option table knows (--backend, --integrator, --sampler, --aov, ...),

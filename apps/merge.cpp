@@ -21,6 +21,7 @@
 #include "dacrt/util/memory.h"
 #include "dacrt/util/paths.h"
 #include "dacrt/util/progress.h"
+#include "dacrt/util/help_text.h"
 #include "dacrt/util/text.h"
 
 namespace dacrt {
@@ -59,7 +60,7 @@ struct MergeArgs {
 MergeArgs parse_merge(const std::vector<std::string>& given) {
   MergeArgs m;
   std::vector<std::string> args = given;
-  const std::vector<std::string> flags = {"--allow-gaps", "--keep-sums", "--quiet", "--help"};
+  const std::vector<std::string> flags = help_flag_names(merge_help);
   for (size_t i = 0; i < args.size(); ++i) {
     split_option_value(args, i, flags);
     const std::string& a = args[i];
@@ -82,9 +83,7 @@ MergeArgs parse_merge(const std::vector<std::string>& given) {
     } else if (a == "--quiet") {
       m.quiet = true;
     } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("unknown option " + a +
-                       did_you_mean(a, {"--output", "--preview", "--view", "--exposure",
-                                        "--allow-gaps", "--keep-sums", "--quiet"}));
+      throw UsageError("unknown option " + a + did_you_mean(a, help_option_names(merge_help)));
     } else {
       m.parts.push_back(a);
     }
