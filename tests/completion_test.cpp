@@ -32,7 +32,7 @@ std::string quoted(const std::string& word) {
 std::vector<std::string> complete(const TempDir& dir, const std::string& script,
                                   const std::vector<std::string>& words) {
   std::string line;
-  for (const std::string& w : words) line += " " + quoted(w);
+  for (const std::string& w : words) line.append(" ").append(quoted(w));
   const std::string program = "cd " + quoted(dir.path().string()) + " && source " +
                               quoted(script) + " && COMP_WORDS=(" + line +
                               ") && COMP_CWORD=$(( ${#COMP_WORDS[@]} - 1 )) && COMPREPLY=() && "
