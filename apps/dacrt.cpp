@@ -26,6 +26,7 @@
 
 #include "studies/converge.h"
 #include "apps/convert.h"
+#include "apps/completion.h"
 #include "apps/diff.h"
 #include "apps/info.h"
 #include "apps/merge.h"
@@ -86,6 +87,8 @@ Usage:
                                  into its image, exactly (`dacrt merge --help`)
   dacrt convert IN.exr OUT       an EXR as PNG, JPEG, HDR or EXR, by OUT's extension, through
                                  the preview's display view (`dacrt convert --help`)
+  dacrt completion bash          the bash completion script: `source <(dacrt completion bash)`
+  dacrt man                      the manual page dacrt(1) in roff: `dacrt man | man -l -`
   dacrt --help                   this text; `dacrt render --help` lists the render options
   dacrt --version                the version
 )";
@@ -144,6 +147,79 @@ int views(const std::vector<std::string>& args) {
   return 0;
 }
 
+constexpr const char* completion_help = R"help(Usage: dacrt completion bash
+
+Prints the bash completion script: commands, each command's options, the values the options know
+(backends, integrators, samplers, AOVs, display views) and file names by the extension each
+option takes (a scene: .gltf and .glb). Load it with
+  source <(dacrt completion bash)
+in ~/.bashrc, or save it as ~/.local/share/bash-completion/completions/dacrt (`cmake --install`
+puts it in PREFIX/share/bash-completion/completions).
+)help";
+
+constexpr const char* man_help = R"help(Usage: dacrt man
+
+Prints the manual page dacrt(1) in roff, made of every command's --help: read it with
+`dacrt man | man -l -`. `cmake --install` puts it in PREFIX/share/man/man1/dacrt.1.
+)help";
+
+int completion(const std::vector<std::string>& args);
+int man(const std::vector<std::string>& args);
+
+// Each command and what runs it.
+using CommandMain = int (*)(const std::vector<std::string>&);
+constexpr std::pair<const char*, CommandMain> commands[] = {
+    {"render", render},         {"info", info_main}, {"views", views},       {"bench", bench_main},
+    {"converge", converge_main}, {"diff", diff_main}, {"merge", merge_main}, {"completion", completion},
+    {"man", man},               {"convert", convert_main}};
+
+// What `main({"--help"})` prints on stdout: the command's help, as its users read it.
+std::string help_of(CommandMain main) {
+  std::cout.flush();
+  std::fflush(stdout);
+  std::FILE* captured = std::tmpfile();
+  if (!captured) throw Error(std::string("cannot make a temporary file: ") + std::strerror(errno));
+  const int saved = dup(STDOUT_FILENO);
+  dup2(fileno(captured), STDOUT_FILENO);
+  main({"--help"});
+  std::cout.flush();
+  std::fflush(stdout);
+  dup2(saved, STDOUT_FILENO);
+  close(saved);
+  std::string text;
+  std::rewind(captured);
+  for (int c; (c = std::fgetc(captured)) != EOF;) text += char(c);
+  std::fclose(captured);
+  return text;
+}
+
+std::vector<CommandHelp> command_helps() {
+  std::vector<CommandHelp> helps;
+  for (const auto& [name, main] : commands) helps.push_back({name, help_of(main)});
+  return helps;
+}
+
+int completion(const std::vector<std::string>& args) {
+  if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help"))
+    return std::fputs(completion_help, stdout), 0;
+  if (args.size() != 1 || args[0] != "bash")
+    throw UsageError(args.empty() ? "completion needs a shell: bash"
+                                  : "completion knows bash, not '" + args[0] + "'" +
+                                        did_you_mean(args[0], {"bash"}));
+  const std::string script = bash_completion(command_helps());
+  std::fputs(script.c_str(), stdout);
+  return 0;
+}
+
+int man(const std::vector<std::string>& args) {
+  if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help"))
+    return std::fputs(man_help, stdout), 0;
+  if (!args.empty()) throw UsageError("man takes no arguments");
+  const std::string page = man_page(main_help, command_helps(), version());
+  std::fputs(page.c_str(), stdout);
+  return 0;
+}
+
 }  // namespace
 
 // A command's exit code, once what it wrote to stdout has reached the file (a full disk, a closed
@@ -172,11 +248,6 @@ int run(std::vector<std::string> args) {
     std::printf("dacrt %s\n", version());
     return 0;
   }
-  // Each command and what runs it.
-  const std::pair<const char*, int (*)(const std::vector<std::string>&)> commands[] = {
-      {"render", render},         {"info", info_main}, {"views", views},     {"bench", bench_main},
-      {"converge", converge_main}, {"diff", diff_main}, {"merge", merge_main},
-      {"convert", convert_main}};
   std::vector<std::string> names;
   for (const auto& [name, main] : commands) {
     if (command != name) {

@@ -21,6 +21,7 @@
 #include "dacrt/util/image.h"
 #include "dacrt/util/memory.h"
 #include "dacrt/util/paths.h"
+#include "dacrt/util/help_text.h"
 #include "dacrt/util/text.h"
 
 namespace dacrt {
@@ -61,7 +62,7 @@ DiffArgs parse_diff(const std::vector<std::string>& given) {
   std::vector<std::string> args = given;
   std::vector<std::string> images;
   for (size_t i = 0; i < args.size(); ++i) {
-    split_option_value(args, i, {"--json", "--help"});
+    split_option_value(args, i, help_flag_names(diff_help));
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
       if (i + 1 >= args.size() || args[i + 1].empty()) throw UsageError(a + " needs a value");
@@ -78,8 +79,7 @@ DiffArgs parse_diff(const std::vector<std::string>& given) {
     else if (a == "--json")
       d.json = true;
     else if (a.size() > 1 && a[0] == '-')
-      throw UsageError("diff: unknown option " + a +
-                       did_you_mean(a, {"--output", "--preview", "--scale", "--json"}));
+      throw UsageError("diff: unknown option " + a + did_you_mean(a, help_option_names(diff_help)));
     else
       images.push_back(a);
   }

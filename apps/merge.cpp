@@ -22,6 +22,7 @@
 #include "dacrt/util/memory.h"
 #include "dacrt/util/paths.h"
 #include "dacrt/util/progress.h"
+#include "dacrt/util/help_text.h"
 #include "dacrt/util/text.h"
 
 namespace dacrt {
@@ -44,7 +45,9 @@ Options
   --keep-sums                keep the exact sums in OUT even when it holds the whole render (it
                              keeps them anyway when it is one range of it: OUT is then a part too)
   --preview FILE             the image alone, as render's --preview: .png or .jpg through the
-                             display view (--view NAME, --exposure STOPS), .hdr or .exr linear
+                             display view, .hdr or .exr linear
+  --view NAME                a .png or .jpg preview's display view (`dacrt views` lists them)
+  --exposure STOPS           a .png or .jpg preview's exposure in stops (default 0)
   --quiet                    no progress or summary on stderr
   -h, --help                 this text
 )help";
@@ -59,7 +62,7 @@ struct MergeArgs {
 MergeArgs parse_merge(const std::vector<std::string>& given) {
   MergeArgs m;
   std::vector<std::string> args = given;
-  const std::vector<std::string> flags = {"--allow-gaps", "--keep-sums", "--quiet", "--help"};
+  const std::vector<std::string> flags = help_flag_names(merge_help);
   for (size_t i = 0; i < args.size(); ++i) {
     split_option_value(args, i, flags);
     const std::string& a = args[i];
@@ -82,9 +85,7 @@ MergeArgs parse_merge(const std::vector<std::string>& given) {
     } else if (a == "--quiet") {
       m.quiet = true;
     } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("unknown option " + a +
-                       did_you_mean(a, {"--output", "--preview", "--view", "--exposure",
-                                        "--allow-gaps", "--keep-sums", "--quiet"}));
+      throw UsageError("unknown option " + a + did_you_mean(a, help_option_names(merge_help)));
     } else {
       m.parts.push_back(a);
     }

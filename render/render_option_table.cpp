@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "dacrt/render/request.h"
+#include "dacrt/tracer/backend.h"
 #include "dacrt/util/error.h"
 #include "dacrt/util/text.h"
 
@@ -212,6 +213,9 @@ void set_environment(R& r, S& v, S& flag) {
   else
     r.settings.environment = parse_rgb(flag, v), r.settings.environment_file.clear();
 }
+// --sample-environment's modes.
+const std::vector<std::string> environment_modes = {"auto", "on", "off"};
+
 void set_sample_environment(R& r, S& v, S& flag) {
   using Mode = RenderSettings::EnvironmentSampling;
   if (v == "auto")
@@ -222,7 +226,7 @@ void set_sample_environment(R& r, S& v, S& flag) {
     r.settings.sample_environment = Mode::off;
   else
     throw UsageError(flag + " wants auto, on or off, not '" + v + "'" +
-                     did_you_mean(v, {"auto", "on", "off"}));
+                     did_you_mean(v, environment_modes));
 }
 void set_seed(R& r, S& v, S& flag) { r.settings.seed = uint64_t(parse_int(flag, v, 0, LONG_MAX)); }
 void set_sampler(R& r, S& v, S&) {
@@ -566,6 +570,17 @@ std::vector<std::string> render_flag_names() {
   for (const RenderOption& o : table)
     if (o.value == OptionValue::none) flags.emplace_back(o.name);
   return flags;
+}
+
+std::vector<std::string> render_option_choices(std::string_view name) {
+  if (name == "--backend") return Backend::names();
+  if (name == "--integrator") return Integrator::names();
+  if (name == "--sampler") return sampler_names();
+  if (name == "--sample-environment") return environment_modes;
+  std::vector<std::string> names;
+  if (name == "--aov")
+    for (int a = 0; a < aov_count; ++a) names.emplace_back(AovSet::name(Aov(a)));
+  return names;
 }
 
 std::string option_suggestion(std::string_view given, unsigned use) {

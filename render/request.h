@@ -116,6 +116,11 @@ void split_option_value(std::vector<std::string>& args, size_t i,
 // The render options that take no value (the flags), for split_option_value.
 std::vector<std::string> render_flag_names();
 
+// The values an option takes when they are a known set of names, for completion: --backend's
+// backends (those built in), --integrator's, --sampler's, --aov's, --sample-environment's
+// modes; empty for any other option (its value is a number, a file or a name of the scene).
+std::vector<std::string> render_option_choices(std::string_view name);
+
 // " (did you mean --samples?)" for the name of a render option of `use` near `given`, else "".
 std::string option_suggestion(std::string_view given, unsigned use = use_render);
 

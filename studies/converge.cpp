@@ -29,6 +29,7 @@
 #include "dacrt/render/header.h"
 #include "dacrt/render/request.h"
 #include "dacrt/render/session.h"
+#include "dacrt/util/help_text.h"
 #include "dacrt/util/text.h"
 #include "dacrt/util/paths.h"
 #include "bench/html_page.h"
@@ -186,16 +187,16 @@ void check_backend_option(const std::string& where, const std::string& assignmen
                    "' is not a backend (known: " + names + ")");
 }
 
-// converge's own options (the render options of the table come beside them).
-const std::vector<std::string> converge_options = {
-    "--config", "--reference", "--reference-spp", "--no-reference", "--noise", "--metric",
-    "--time-budget", "--max-spp", "--repeats", "--target-error", "--output", "--no-plot"};
+// converge's own options, as its help lists them (the render options of the table come beside
+// them).
+const std::vector<std::string> converge_options = help_option_names(converge_help);
 
 ConvergeArgs parse_converge(const std::vector<std::string>& given) {
   ConvergeArgs c;
   std::vector<std::string> args = given;
   std::vector<std::string> flags = render_flag_names();
-  flags.insert(flags.end(), {"--no-reference", "--noise", "--no-plot"});
+  const std::vector<std::string> own_flags = help_flag_names(converge_help);
+  flags.insert(flags.end(), own_flags.begin(), own_flags.end());
   for (size_t i = 0; i < args.size(); ++i) {
     split_option_value(args, i, flags);
     const std::string& a = args[i];

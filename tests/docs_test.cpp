@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "help_text.h"
 
 using namespace dacrt::test;
 namespace fs = std::filesystem;
@@ -23,86 +24,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const fs::path source_dir = DACRT_SOURCE_DIR;
-
-using Names = std::set<std::string>;
-
-bool word_char(char c) {
-  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
-// Every long option written in `text`: "--" not inside a word, then a lower-case name.
-Names long_options(const std::string& text) {
-  Names names;
-  for (size_t i = 0; i + 2 < text.size(); ++i) {
-    if (text.compare(i, 2, "--") != 0 || (i > 0 && word_char(text[i - 1])) ||
-        !std::islower(static_cast<unsigned char>(text[i + 2])))
-      continue;
-    size_t end = i + 2;
-    while (end < text.size() &&
-           (std::islower(static_cast<unsigned char>(text[end])) ||
-            std::isdigit(static_cast<unsigned char>(text[end])) || text[end] == '-'))
-      ++end;
-    names.insert(text.substr(i, end - i));
-    i = end - 1;
-  }
-  return names;
-}
-
-// The short options a help text lists: "-x" at the start of an option line ("  -o, --output").
-Names short_options(const std::string& help) {
-  Names names;
-  for (const std::string& line : lines_of(help)) {
-    const size_t at = line.find_first_not_of(' ');
-    if (at == 0 || at == std::string::npos || at + 2 >= line.size()) continue;
-    if (line[at] == '-' && std::isalpha(static_cast<unsigned char>(line[at + 1])) &&
-        (line[at + 2] == ',' || line[at + 2] == ' '))
-      names.insert(line.substr(at, 2));
-  }
-  return names;
-}
-
-// Every option a help text prints, in its option lines and in its prose.
-Names printed_options(const std::string& help) {
-  Names names = long_options(help);
-  const Names shorts = short_options(help);
-  names.insert(shorts.begin(), shorts.end());
-  return names;
-}
-
-// The options a command's help defines: the option column of its option lines ("  --width W,
-// --height H      resolution …": the text before the description) and those of its "Usage:"
-// line ("Usage: dacrt info SCENE [--scene INDEX]"); not those its prose mentions.
-Names defined_options(const std::string& help) {
-  Names names = short_options(help);
-  for (const std::string& line : lines_of(help)) {
-    std::string column;
-    const size_t at = line.find_first_not_of(' ');
-    if (line.rfind("Usage:", 0) == 0)
-      column = line;
-    else if (at != 0 && at != std::string::npos && line[at] == '-')
-      column = line.substr(at, line.find("  ", at) - at);
-    const Names longs = long_options(column);
-    names.insert(longs.begin(), longs.end());
-  }
-  return names;
-}
-
-// `name` in `text` as a whole token (so --backend is not found inside --backend-option).
-bool has_token(const std::string& text, const std::string& name) {
-  for (size_t at = text.find(name); at != std::string::npos; at = text.find(name, at + 1)) {
-    const size_t end = at + name.size();
-    if ((at == 0 || !word_char(text[at - 1])) && (end == text.size() || !word_char(text[end])))
-      return true;
-  }
-  return false;
-}
 
 // The section of usage.md under "## dacrt COMMAND", up to the next "## " heading.
 std::string section(const std::string& usage, const std::string& command) {
@@ -224,24 +145,6 @@ std::vector<std::string> link_targets(const std::string& markdown) {
   return targets;
 }
 
-struct Help {
-  std::string command, text;
-};
-
-// The --help of the top level and of every command, as the built CLI prints it.
-std::vector<Help> helps() {
-  TempDir dir("docs-help");
-  std::vector<Help> out;
-  for (const std::string command :
-       {"", "render", "bench", "converge", "diff", "merge", "convert", "info", "views"}) {
-    const Run r = run(dir, command.empty() ? "--help" : command + " --help");
-    INFO("dacrt " << command << " --help");
-    REQUIRE(r.code == 0);
-    out.push_back({command, r.out});
-  }
-  return out;
-}
-
 }  // namespace
 
 TEST_CASE("docs: usage.md names every option of every --help, and no other") {
@@ -257,8 +160,9 @@ TEST_CASE("docs: usage.md names every option of every --help, and no other") {
   // The parsing finds what it should (else the checks below would pass on nothing).
   for (const char* known : {"--backend-option", "--tmax-at-hit", "--reference-spp", "-o", "-h"})
     CHECK_MESSAGE(printed.count(known), known << " is not found in any --help");
-  CHECK(defined_options(all[1].text).count("--height"));
-  CHECK(!defined_options(all[3].text).count("--look-from"));  // converge's prose, not its own
+  CHECK(defined_options(help_of(all, "render")).count("--height"));
+  // (converge's prose names it, not one of its own lines)
+  CHECK(!defined_options(help_of(all, "converge")).count("--look-from"));
 
   // Each command has its section. The options its help defines are in the section's tables;
   // every option its help prints is named in the section (the top level's: in the page).
@@ -301,12 +205,8 @@ TEST_CASE("docs: usage.md names every option of every --help, and no other") {
 TEST_CASE("docs: usage.md describes every dacrt backend key the help lists") {
   const std::string usage = slurp(source_dir / "docs" / "usage.md");
   const std::vector<Help> all = helps();
-  const auto help_of = [&](const std::string& command) {
-    return std::find_if(all.begin(), all.end(), [&](const Help& h) { return h.command == command; })
-        ->text;
-  };
-  const Names render_keys = keys_after(help_of("render"), "(dacrt:");
-  const Names bench_keys = keys_after(help_of("bench"), "(keys:");
+  const Names render_keys = keys_after(help_of(all, "render"), "(dacrt:");
+  const Names bench_keys = keys_after(help_of(all, "bench"), "(keys:");
   CHECK(render_keys.size() >= 10);
   CHECK(render_keys.count("bins"));
   CHECK(render_keys.count("group_rays"));
