@@ -45,9 +45,10 @@ stress: build
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build in its own directory. The three statistical
 # end-to-end renders of the convergence suite (3.5 minutes of CPU there) and the default lighting
-# of all 48 real scenes run in `make test` only: the code they cover runs under the sanitizers in
-# the shorter render tests (the loader over every real scene in gltf's and the Khronos tests).
-SANITIZE_SKIP ?= convergence suite: (many low-spp|the Lambert lanes render|embree agrees)|default lighting: every scene of ../shared
+# of all 48 real scenes and the docs' examples run in `make test` only: the code they cover runs
+# under the sanitizers in the shorter render and CLI tests (the loader over every real scene in
+# gltf's and the Khronos tests).
+SANITIZE_SKIP ?= convergence suite: (many low-spp|the Lambert lanes render|embree agrees)|default lighting: every scene of ../shared|docs: every example of README.md
 test-sanitize: deps
 	@bash tools/install-deps.sh chromium tidy
 	cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDACRT_SANITIZE=ON
