@@ -497,7 +497,7 @@ FilmRender render_to_film(const RenderRequest& r, const Scene& scene) {
   const uint32_t first = r.first_sample(), last = r.last_sample();
   Progress bar("render", shot.pixels() * uint64_t(last - first), !r.quiet);
   const RenderOutcome outcome = job.run(film, first, last, bar, r.passes);
-  return {std::move(film), outcome};
+  return {std::move(film), outcome, shot.notes};
 }
 
 }  // namespace dacrt

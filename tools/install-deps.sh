@@ -7,7 +7,8 @@ set -euo pipefail
 packages=(cmake g++ make pkg-config libtinygltf-dev nlohmann-json3-dev libstb-dev libopenexr-dev
           libglm-dev libopencolorio-dev doctest-dev libtbb-dev libembree-dev libpng-dev
           libjpeg62-turbo-dev libwebp-dev libmeshoptimizer-dev libdraco-dev gnuplot-nox
-          libopenmpi-dev openmpi-bin pybind11-dev python3-dev python3-numpy python3-pytest)
+          libopenmpi-dev openmpi-bin pybind11-dev python3-dev python3-numpy python3-pytest
+          python3-venv python3-setuptools python3-wheel)  # the last three: `pip install .`
 packages+=("$@")  # extra packages a target needs (make fuzz: clang and its runtime)
 
 missing=()
