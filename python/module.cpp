@@ -1,7 +1,8 @@
-// The Python module `dacrt`: scenes loaded once and rendered many times, renders as numpy arrays
-// (the CLI's pixels bit for bit: the keywords are the CLI's render options, from the same table,
-// rendered by the same function as a session's), the backends on any rays, EXR files read back,
-// and the bench and converge studies as plain data.
+// The native module `dacrt._dacrt` under the package `dacrt` (python/dacrt/__init__.py, which
+// gives its functions their signatures and documentation): scenes loaded once and rendered many
+// times, renders as numpy arrays (the CLI's pixels bit for bit: the keywords are the CLI's render
+// options, from the same table, rendered by the same function as a session's), the backends on
+// any rays, EXR files read back, and the bench and converge studies as plain data.
 // Long calls release the GIL and stop cleanly on Ctrl-C (python/interruptible.h).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -9,7 +10,6 @@
 
 #include <atomic>
 #include <cmath>
-#include <glm/glm.hpp>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -23,6 +23,7 @@
 #include "dacrt/render/render_job.h"
 #include "dacrt/render/request.h"
 #include "dacrt/render/session.h"
+#include "dacrt/scene/camera.h"
 #include "dacrt/tracer/backend.h"
 #include "dacrt/util/error.h"
 #include "interruptible.h"

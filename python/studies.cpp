@@ -112,18 +112,22 @@ std::vector<std::string> keyword_options(const py::kwargs& kwargs,
 
 namespace {
 
-// The JSON of `dacrt bench --json` as Python data.
+// The JSON of `dacrt bench --json` as Python data, and the warnings.
 py::object bench(const py::object& scene_path, const py::kwargs& kwargs) {
   std::vector<std::string> args = {path_argument(scene_path, "scene")};
   for (std::string& a : keyword_options(kwargs, {"json", "report", "help"},
                                         "bench() returns its results: use the CLI for files",
                                         {"backend_option"}))
     args.push_back(std::move(a));
-  const bench::BenchArgs parsed = bench::parse_bench_args(args);
+  bench::BenchArgs parsed = bench::parse_bench_args(args);
+  std::vector<std::string> said;
+  parsed.warnings = &said;
   std::atomic<bool> stop{false};  // a bench is not stopped midway: Ctrl-C waits for its end
   const std::string text = run_interruptible(
       stop, [&] { return json_text(bench::to_json(bench::bench_report(parsed))); });
-  return py::module_::import("json").attr("loads")(text);
+  py::list warnings;
+  for (const std::string& w : said) warnings.append(message_text(w));
+  return py::make_tuple(py::module_::import("json").attr("loads")(text), warnings);
 }
 
 // A directory of its own, removed with what it holds when the call ends.

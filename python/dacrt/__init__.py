@@ -220,12 +220,15 @@ def bench(scene: PathLike, *, rays: Optional[Union[str, Sequence[str]]] = None,
     The keywords are the command's options (`dacrt bench --help`), dashes as underscores; None is
     the command's default: rays='primary,shadow' (or a list), backends=, width=, height=, count=,
     repeat=, threads=, backend_option= (a list repeats it), sweep='rays' or 'triangles', seed=,
-    tmax_at_hit=True. progress= as render()'s. The GIL is released while it runs.
+    tmax_at_hit=True. progress= as render()'s; its warnings (a ray type without rays, backends
+    that disagree) are DacrtWarning. The GIL is released while it runs.
     """
     options = dict(rays=rays, backends=backends, width=width, height=height, count=count,
                    repeat=repeat, threads=threads, backend_option=backend_option, sweep=sweep,
                    seed=seed, tmax_at_hit=tmax_at_hit, progress=_show_progress(progress))
-    return _dacrt.bench(scene, **options)
+    report, notes = _dacrt.bench(scene, **options)
+    _warn(notes)
+    return report
 
 
 @dataclasses.dataclass(frozen=True)

@@ -189,3 +189,27 @@ def test_info_lists_the_cameras_as_dacrt_info_does(tmp_path):
     framed = dacrt.load(two).info
     assert framed["cameras_from_file"] == 0 and len(framed["cameras"]) == 1
     assert not framed["cameras"][0]["from_file"]
+
+
+def test_bench_says_its_warnings_as_warnings(tmp_path, capfd):
+    # A camera looking away from the only triangle: no primary ray hits, so no shadow rays.
+    import base64, struct
+    positions = struct.pack("9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    scene = tmp_path / "away.gltf"
+    scene.write_text(json.dumps({
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64," +
+                     base64.b64encode(positions).decode()}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 3], "rotation": [0, 1, 0, 0]}],
+        "scenes": [{"nodes": [0, 1]}], "scene": 0}))
+    with pytest.warns(dacrt.DacrtWarning, match="shadow: no rays"):
+        report = dacrt.bench(scene, rays="primary,shadow", backends="brute", width=8, height=8,
+                             repeat=1, progress=False)
+    assert {r["rays"] for r in report["results"]} == {"primary"}
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""
