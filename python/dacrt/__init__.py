@@ -23,7 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _dacrt
-from ._dacrt import Error, Scene
+from ._dacrt import Error, Scene, _render_keyword_table, _render_keywords
 
 __version__: str = _dacrt.__version__
 

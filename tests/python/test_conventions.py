@@ -173,7 +173,7 @@ def test_info_lists_the_cameras_as_dacrt_info_does(tmp_path):
     assert wide["aspect"] == pytest.approx(1.5) and not wide["orthographic"]
     assert wide["ortho_height"] is None and wide["from_file"]
     assert ortho["name"] is None and ortho["orthographic"] and ortho["fov"] is None
-    assert ortho["ortho_height"] == pytest.approx(2.5) and ortho["aspect"] is None
+    assert ortho["ortho_height"] == pytest.approx(2.5) and ortho["aspect"] == pytest.approx(1.6)
     for scene in (two, CORNELL):  # as `dacrt info` prints them
         mine = [(c["name"], c["position"], c["fov"], c["ortho_height"], c["aspect"])
                 for c in dacrt.load(scene).info["cameras"]]
