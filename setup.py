@@ -41,6 +41,10 @@ class CMakeBuild(build_ext):
             sys.exit("setup.py: CMake built no module in %s/python/dacrt" % build)
         target = pathlib.Path(self.get_ext_fullpath(ext.name))
         target.parent.mkdir(parents=True, exist_ok=True)
+        # setuptools keeps its build folder between installs: no native file of an earlier one.
+        for stale in [*target.parent.glob("_dacrt.*.so"), *target.parent.glob("libdacrt.so*"),
+                      target.parent / "__init__.pyi"]:
+            stale.unlink(missing_ok=True)
         shutil.copy2(built[-1], target)
         if stub.exists():
             shutil.copy2(stub, target.parent / stub.name)
