@@ -34,6 +34,8 @@ struct BenchArgs {
   bool tmax_at_hit = false;
   bool quiet = false;
   bool help = false;
+  // A library's call (Python's bench()): its warnings go here rather than on stderr.
+  std::vector<std::string>* warnings = nullptr;
 };
 
 // Backends that --backend-option applies to.

@@ -139,6 +139,7 @@ Options BenchRunner::options_for(const std::string& backend) const {
 }
 
 void BenchRunner::warn(const std::string& message) const {
+  if (args_.warnings) return args_.warnings->push_back(message);
   // A progress bar on a terminal is a line without its newline yet: end it first.
   bool bar = !args_.quiet && isatty(STDERR_FILENO);
   std::fprintf(stderr, "%sdacrt bench: %s\n", bar ? "\n" : "", message.c_str());

@@ -124,6 +124,31 @@ std::vector<std::string> render_keywords() {
   return keys;
 }
 
+py::list render_keyword_table() {
+  using V = OptionValue;
+  auto type = [](V v) -> const char* {
+    switch (v) {
+      case V::none: return "flag";
+      case V::integer: return "int";
+      case V::number: return "number";
+      case V::text: return "str";
+      case V::name_or_index: return "name_or_index";
+      case V::path: return "path";
+      case V::point: return "point";
+      case V::range: return "range";
+      case V::names: return "names";
+      case V::colour_or_file: return "colour_or_file";
+    }
+    return "";
+  };
+  py::list table;
+  for (const RenderOption& o : render_options())
+    if (o.uses & use_python)
+      table.append(py::make_tuple(o.python_keyword(), type(o.value), o.repeatable,
+                                  (o.uses & use_converge) != 0, std::string(o.help)));
+  return table;
+}
+
 RenderRequest render_request(const std::string& path, const py::kwargs& kwargs) {
   RenderRequest r;
   r.scene = path;

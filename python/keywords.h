@@ -23,4 +23,10 @@ RenderRequest render_request(const std::string& path, const pybind11::kwargs& kw
 // Every keyword render() takes, for its signature and the test that ties them to the table.
 std::vector<std::string> render_keywords();
 
+// Each option Python takes, from the table, for the package's signatures and documentation
+// (python/dacrt/__init__.py): (keyword, value type, repeatable, taken by converge(), help lines).
+// The value type: flag, int, number, str, name_or_index, path, point, range, names or
+// colour_or_file (render/request.h's OptionValue).
+pybind11::list render_keyword_table();
+
 }  // namespace dacrt::python

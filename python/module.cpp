@@ -1,7 +1,8 @@
-// The Python module `dacrt`: scenes loaded once and rendered many times, renders as numpy arrays
-// (the CLI's pixels bit for bit: the keywords are the CLI's render options, from the same table,
-// rendered by the same function as a session's), the backends on any rays, EXR files read back,
-// and the bench and converge studies as plain data.
+// The native module `dacrt._dacrt` under the package `dacrt` (python/dacrt/__init__.py, which
+// gives its functions their signatures and documentation): scenes loaded once and rendered many
+// times, renders as numpy arrays (the CLI's pixels bit for bit: the keywords are the CLI's render
+// options, from the same table, rendered by the same function as a session's), the backends on
+// any rays, EXR files read back, and the bench and converge studies as plain data.
 // Long calls release the GIL and stop cleanly on Ctrl-C (python/interruptible.h).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -16,13 +17,13 @@
 #include <string>
 #include <vector>
 
-#include "dacrt/render/request.h"
 #include "dacrt/util/paths.h"
 #include "dacrt/io/exr.h"
 #include "dacrt/io/gltf.h"
 #include "dacrt/render/render_job.h"
 #include "dacrt/render/request.h"
 #include "dacrt/render/session.h"
+#include "dacrt/scene/camera.h"
 #include "dacrt/tracer/backend.h"
 #include "dacrt/util/error.h"
 #include "image.h"
@@ -82,6 +83,35 @@ ScenePtr load_scene(const std::string& path, std::optional<std::string> variant,
   return s;
 }
 
+// Each camera as `dacrt info` prints it: index, name (None when unnamed), position, up, a point
+// it looks at (on its axis, as far as the scene's centre), vertical field of view in degrees
+// (None for an orthographic camera, whose view height is given instead), aspect ratio (None:
+// the image's), and whether it is the file's (False: made to frame the scene).
+py::list cameras(const Scene& scene) {
+  const Box b = scene.bounds();
+  const glm::vec3 centre = b.empty() ? glm::vec3(0.f) : b.center();
+  auto triple = [](glm::vec3 v) { return py::make_tuple(v.x, v.y, v.z); };
+  py::list out;
+  for (size_t c = 0; c < scene.cameras.size(); ++c) {
+    const Camera& cam = scene.cameras[c];
+    py::dict d;
+    d["index"] = c;
+    d["name"] = cam.name.empty() ? py::object(py::none()) : py::object(message_text(cam.name));
+    d["position"] = triple(cam.position());
+    d["look_at"] = triple(look_at_point(cam, centre));
+    d["up"] = triple(cam.up());
+    d["orthographic"] = cam.orthographic;
+    d["fov"] = cam.orthographic ? py::object(py::none())
+                                : py::object(py::float_(double(cam.yfov) * 180.0 / M_PI));
+    d["ortho_height"] = cam.orthographic ? py::object(py::float_(2.0 * double(cam.ymag)))
+                                         : py::object(py::none());
+    d["aspect"] = cam.aspect > 0 ? py::object(py::float_(cam.aspect)) : py::object(py::none());
+    d["from_file"] = scene.cameras_from_file > 0;
+    out.append(d);
+  }
+  return out;
+}
+
 py::dict scene_info(const LoadedScene& s) {
   const Scene& scene = s.scene;
   const MaterialCounts counts = count_materials(scene);
@@ -108,7 +138,8 @@ py::dict scene_info(const LoadedScene& s) {
   info["alpha_blend_materials"] = counts.blended;
   info["transmissive_materials"] = counts.transmissive;
   info["emissive_triangles"] = counts.emissive_triangles;
-  info["cameras"] = scene.cameras_from_file;  // 0: the one camera was made to frame the scene
+  info["cameras_from_file"] = scene.cameras_from_file;  // 0: cameras[0] frames the scene
+  info["cameras"] = cameras(scene);
   info["punctual_lights"] = scene.lights.size();
   info["variants"] = scene.variants;
   info["animations"] = s.file->animation_count();
@@ -177,14 +208,16 @@ py::object render(const py::object& scene, const py::kwargs& kwargs) {
   std::vector<const Channel*> rgb;
   for (const Channel& c : outputs.front().channels) rgb.push_back(&c);
   const py::array_t<float> image = stack(rgb, film.width(), film.height());
-  if (!aovs_asked) return image;
+  py::list notes;
+  for (const std::string& note : done.notes) notes.append(message_text(note));
+  if (!aovs_asked) return py::make_tuple(image, py::none(), notes);
   py::dict aovs;
   for (size_t k = 1; k < outputs.size(); ++k) {
     std::vector<const Channel*> layer;
     for (const Channel& c : outputs[k].channels) layer.push_back(&c);
     aovs[py::str(outputs[k].name)] = stack(layer, film.width(), film.height());
   }
-  return py::make_tuple(image, aovs);
+  return py::make_tuple(image, aovs, notes);
 }
 
 // Rays from two N×3 arrays; ValueError for other shapes.
@@ -292,15 +325,12 @@ ScenePtr load(const py::object& path, const py::object& variant, std::optional<i
 
 }  // namespace dacrt::python
 
-PYBIND11_MODULE(dacrt, m) {
+PYBIND11_MODULE(_dacrt, m) {
   using namespace dacrt;
   using namespace dacrt::python;
   m.doc() =
-      "dacrt: a path tracer whose ray queries are Divide-And-Conquer Ray Tracing with ray "
-      "sampling.\n\nload() a glTF scene once, render() it to numpy arrays (the pixels of `dacrt "
-      "render` bit for bit), trace() your own rays with any backend, read_exr() the CLI's "
-      "outputs, and run the bench() and converge() studies as plain data. Long calls release "
-      "the GIL; Ctrl-C stops them cleanly and raises KeyboardInterrupt.";
+      "dacrt's native part: the package `dacrt` (python/dacrt/__init__.py) gives each function "
+      "its signature, its documentation and its defaults, and calls these.";
   m.attr("__version__") = dacrt::version();
 
   static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
@@ -334,59 +364,31 @@ PYBIND11_MODULE(dacrt, m) {
       .def_property_readonly(
           "info", [](const LoadedScene& s) { return scene_info(s); },
           "What `dacrt info` says, as a dict: triangles, meshes, materials (and how many are "
-          "textured, alpha-tested, transmissive), emissive triangles, cameras (0: none in the "
-          "file, one frames the scene), punctual lights, variants, animations, bounds, and "
-          "`skipped`: what the file asks for that is not rendered as specified.")
+          "textured, alpha-tested, transmissive), emissive triangles, cameras (a dict each: "
+          "index, name, position, look_at, up, orthographic, fov in degrees or ortho_height, "
+          "aspect, from_file), cameras_from_file (0: none in the file, cameras[0] frames the "
+          "scene), punctual lights, variants, animations, bounds, and `skipped`: what the file "
+          "asks for that is not rendered as specified.")
       .def("__repr__", [](const LoadedScene& s) {
         return "<dacrt.Scene " + std::string(py::repr(path_text(s.path))) + ", " +
                std::to_string(s.scene.geometry.size()) + " triangles>";
       });
 
+  // The signatures and the documentation are the package's (python/dacrt/__init__.py).
   m.def("load", &load, py::arg("path"), py::kw_only(), py::arg("variant") = py::none(),
         py::arg("scene") = py::none(), py::arg("time") = py::none(),
-        py::arg("animation") = py::none(),
-        "load(path, *, variant=None, scene=None, time=None, animation=None) -> Scene\n\n"
-        "Loads a glTF 2.0 file (.gltf or .glb): `variant` a KHR_materials_variants name, "
-        "`scene` the index of a scene of the file (default: its default scene), `animation` "
-        "which of its animations play (a name, an index or 'all'; default: the first), `time` "
-        "the seconds they are evaluated at (default: the rest pose; render(time=...) "
-        "poses it again). Raises dacrt.Error with the loader's one-line message.");
-
-  m.def("render", &render, py::arg("scene"),
-        "render(scene, **options) -> image, or (image, aovs) when aovs= is given\n\n"
-        "Renders a Scene (or a path, loaded for this call) as `dacrt render` does, and returns "
-        "the image as a float32 numpy array of shape (height, width, 3), linear radiance: the "
-        "pixels of the CLI's EXR bit for bit. The options are the CLI's render options "
-        "(`dacrt render --help`) as keywords, dashes as underscores: spp=, width=, height=, "
-        "backend= ('dacrt', 'dacrt-naive', 'embree', 'brute'), integrator=, seed=, "
-        "samples=(first, last) (sample indices of the spp render), aovs=[...] (albedo, normal, "
-        "depth, position, variance, samples: returned in a dict of (height, width[, 3]) arrays), "
-        "camera= (an index), time= (seconds), animation= (a name, an index or 'all'; a loaded "
-        "scene's is given to load()), max_depth=, threads=, sampler=, look_from=(x, y, "
-        "z), ...; True gives a bare flag. progress=True shows the progress bar on stderr. Bad "
-        "options raise ValueError, a bad scene dacrt.Error. The GIL is released while rendering; "
-        "Ctrl-C stops the render at its next wavefront and raises KeyboardInterrupt.");
-
+        py::arg("animation") = py::none());
+  // render(scene, **options) -> (image, aovs or None, the shot's notes)
+  m.def("render", &render, py::arg("scene"));
   m.def("trace", &trace, py::arg("scene"), py::arg("origins"), py::arg("directions"),
         py::kw_only(), py::arg("backend") = "dacrt", py::arg("tmin") = 0.f,
-        py::arg("tmax") = std::numeric_limits<float>::infinity(), py::arg("occluded") = false,
-        "trace(scene, origins, directions, *, backend='dacrt', tmin=0, tmax=inf, "
-        "occluded=False) -> dict\n\n"
-        "The backend's closest hits of N rays (origins and directions: N×3 arrays, converted to "
-        "float32; directions need not be unit length, t is in their units): a dict of numpy "
-        "arrays t (float32, inf where nothing is hit), prim (uint32 triangle index, 0xFFFFFFFF "
-        "for a miss), u and v (barycentric weights of the triangle's corners 1 and 2). With "
-        "occluded=True, one bool per ray: anything hit in [tmin, tmax]. Every triangle is "
-        "opaque here (alpha masks are the renderer's business). dacrt, dacrt-naive and brute "
-        "give the same hits bit for bit. The GIL is released while tracing.");
-
-  m.def("read_exr", &exr_channels, py::arg("path"),
-        "read_exr(path) -> dict\n\nEvery channel of an OpenEXR file as a float32 numpy array "
-        "of shape (height, width), by channel name ('R', 'albedo.R', ...): to compare with the "
-        "CLI's outputs. Integer channels come as floats.");
-
+        py::arg("tmax") = std::numeric_limits<float>::infinity(), py::arg("occluded") = false);
+  m.def("read_exr", &exr_channels, py::arg("path"));
   m.def("_render_keywords", &render_keywords,
         "The keywords render() takes (the render option table's Python column, and progress).");
+  m.def("_render_keyword_table", &render_keyword_table,
+        "Each render option Python takes, from the render option table: (keyword, value type, "
+        "repeatable, taken by converge(), its help lines).");
 
   add_studies(m);
   add_image(m);

@@ -12,6 +12,7 @@
 #include "bench/args.h"
 #include "bench/command.h"
 #include "bench/report.h"
+#include "dacrt/render/request.h"
 #include "dacrt/util/error.h"
 #include "dacrt/util/text.h"
 #include "interruptible.h"
@@ -111,17 +112,22 @@ std::vector<std::string> keyword_options(const py::kwargs& kwargs,
 
 namespace {
 
-// The JSON of `dacrt bench --json` as Python data.
+// The JSON of `dacrt bench --json` as Python data, and the warnings.
 py::object bench(const py::object& scene_path, const py::kwargs& kwargs) {
   std::vector<std::string> args = {path_argument(scene_path, "scene")};
   for (std::string& a : keyword_options(kwargs, {"json", "report", "help"},
-                                        "bench() returns its results: use the CLI for files"))
+                                        "bench() returns its results: use the CLI for files",
+                                        {"backend_option"}))
     args.push_back(std::move(a));
-  const bench::BenchArgs parsed = bench::parse_bench_args(args);
+  bench::BenchArgs parsed = bench::parse_bench_args(args);
+  std::vector<std::string> said;
+  parsed.warnings = &said;
   std::atomic<bool> stop{false};  // a bench is not stopped midway: Ctrl-C waits for its end
   const std::string text = run_interruptible(
       stop, [&] { return json_text(bench::to_json(bench::bench_report(parsed))); });
-  return py::module_::import("json").attr("loads")(text);
+  py::list warnings;
+  for (const std::string& w : said) warnings.append(message_text(w));
+  return py::make_tuple(py::module_::import("json").attr("loads")(text), warnings);
 }
 
 // A directory of its own, removed with what it holds when the call ends.
@@ -138,18 +144,24 @@ struct TemporaryDirectory {
   }
 };
 
-// `dacrt converge`'s CSV rows as dicts (numbers as floats), in a temporary directory removed
-// afterwards; with reference= given, the reference the CLI would keep is not kept.
+// `dacrt converge` run in a temporary directory removed afterwards: (its convergence.csv's
+// header, its rows as lists of text, its warnings and notes). Nothing goes to stdout. With
+// reference= given, the reference the CLI would keep is not kept.
 py::object converge(const py::object& scene_path, const py::kwargs& kwargs) {
   const TemporaryDirectory dir;
   std::vector<std::string> args = {path_argument(scene_path, "scene"), "-o", dir.path.string(),
                                    "--no-plot"};
+  // A list for a repeatable option repeats it: --config, --target-error and the render options'.
+  std::vector<std::string> repeated = {"config", "target_error"};
+  for (const RenderOption& o : render_options())
+    if (o.repeatable) repeated.push_back(o.python_keyword());
   for (std::string& a :
        keyword_options(kwargs, {"output", "o", "no_plot", "help"},
-                       "converge() returns its points: use the CLI for files", {"config"}))
+                       "converge() returns its points: use the CLI for files", repeated))
     args.push_back(std::move(a));
   std::atomic<bool> stop{false};  // converge stops on SIGINT itself, as the CLI does
-  const int code = run_interruptible(stop, [&] { return converge_main(args); });
+  ConvergeSaid said;
+  const int code = run_interruptible(stop, [&] { return converge_for_library(args, said); });
   if (code != 0) {
     PyErr_SetNone(PyExc_KeyboardInterrupt);
     throw py::error_already_set();
@@ -157,45 +169,20 @@ py::object converge(const py::object& scene_path, const py::kwargs& kwargs) {
   const py::module_ csv = py::module_::import("csv");
   const py::object file = py::module_::import("io").attr("open")(
       (dir.path / "convergence.csv").string(), "r", py::arg("newline") = "");
-  py::list rows;
-  for (const py::handle row : csv.attr("DictReader")(file)) {
-    py::dict out;
-    for (const auto& [key, value] : py::cast<py::dict>(row)) {
-      const std::string text = py::cast<std::string>(value);
-      char* end = nullptr;
-      const double number = std::strtod(text.c_str(), &end);
-      if (!text.empty() && *end == '\0')
-        out[key] = number;
-      else
-        out[key] = value;
-    }
-    rows.append(out);
-  }
+  const py::list rows = py::list(csv.attr("reader")(file));
   file.attr("close")();
-  return rows;
+  py::list warnings;
+  for (const std::string& w : said.warnings) warnings.append(message_text(w));
+  const py::object header = rows.empty() ? py::object(py::list()) : rows[0];
+  return py::make_tuple(header, rows[py::slice(1, py::ssize_t(py::len(rows)), 1)], warnings);
 }
 
 }  // namespace
 
 void add_studies(py::module_& m) {
-  m.def("bench", &bench, py::arg("scene"),
-        "bench(scene_path, **options) -> dict\n\n"
-        "`dacrt bench`: every backend on the same rays of each type, in the same run, and "
-        "returns what `dacrt bench --json` writes (the results per backend and ray type: build "
-        "and trace seconds of every run, medians with 95 % intervals, Mrays/s, peak memory). "
-        "Options as the CLI's, dashes as underscores: rays='primary,shadow', backends=, width=, "
-        "height=, count=, repeat=, threads=, sweep=, ...; progress=True shows its progress on "
-        "stderr. The GIL is released while it runs.");
-  m.def("converge", &converge, py::arg("scene"),
-        "converge(scene_path, **options) -> list of dicts\n\n"
-        "`dacrt converge`: renders each configuration at 1, 2, 4, ... samples per pixel until "
-        "its time budget is spent and measures each point's error; returns the rows of its "
-        "convergence.csv as dicts (numbers as floats). Options as the CLI's, dashes as "
-        "underscores: config=['', 'backend=embree'] (one --config each), time_budget=, "
-        "max_spp=, reference=, reference_spp=, no_reference=True, noise=True, metric=, "
-        "repeats=, and the render options (width=, height=, ...). progress=True shows its "
-        "progress on stderr. Ctrl-C stops it as it stops the CLI (KeyboardInterrupt); a second "
-        "Ctrl-C ends the process, as the CLI's does.");
+  // The signatures and the documentation are the package's (python/dacrt/__init__.py).
+  m.def("bench", &bench, py::arg("scene"));
+  m.def("converge", &converge, py::arg("scene"));
 }
 
 }  // namespace dacrt::python

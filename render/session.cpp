@@ -593,7 +593,7 @@ FilmRender render_to_film(const RenderRequest& r, const Scene& scene) {
   Progress bar("render", shot.pixels() * uint64_t(last - first), !r.quiet, {}, shot.pixels());
   bar.limit_time(r.passes.time_limit);
   const RenderOutcome outcome = job.run(film, first, last, bar, r.passes);
-  return {std::move(film), outcome};
+  return {std::move(film), outcome, shot.notes};
 }
 
 }  // namespace dacrt

@@ -98,6 +98,7 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads);
 struct FilmRender {
   Film film;
   RenderOutcome outcome;
+  std::vector<std::string> notes;  // the shot's notes for the user (make_shot), not printed
 };
 FilmRender render_to_film(const RenderRequest& r, const Scene& scene);
 

@@ -500,6 +500,14 @@ ConvergeFiles check_files(const ConvergeArgs& a) {
   return f;
 }
 
+// A warning: into `said` for a library, else a line on stderr.
+void warn(ConvergeSaid* said, const std::string& message) {
+  if (said)
+    said->warnings.push_back(message);
+  else
+    std::fprintf(stderr, "dacrt converge: warning: %s\n", message.c_str());
+}
+
 // The reference and its own error: given (--reference), or rendered as two independent halves,
 // averaged (their difference measures the reference's own noise) and written to OUTDIR. False
 // when a stop came first.
@@ -625,9 +633,9 @@ void measure(const ConvergeArgs& a, const Config& c, int repeat, const Scene& sc
 // The plot, the summary on stdout and in the page, and the closing lines.
 void finish(const ConvergeArgs& a, const ConvergeFiles& f, const std::vector<Curve>& curves,
             const Reference& reference, const std::optional<std::string>& gnuplot,
-            const std::string& title) {
+            const std::string& title, ConvergeSaid* said) {
   if (gnuplot) draw_plot(*gnuplot, fs::absolute(f.script).string(), f.svg, f.png);
-  warn_short_runs(curves);
+  for (const std::string& w : short_run_warnings(curves)) warn(said, w);
   // The summary goes to stdout and into the page.
   char* text = nullptr;
   size_t size = 0;
@@ -639,26 +647,26 @@ void finish(const ConvergeArgs& a, const ConvergeFiles& f, const std::vector<Cur
   std::fclose(summary);
   const std::string summary_text(text, size);
   std::free(text);
-  std::fputs(summary_text.c_str(), stdout);
+  if (!said) std::fputs(summary_text.c_str(), stdout);
   write_page(a.outdir, title, curves, *a.metric, summary_text, gnuplot ? f.svg : std::string());
-  if (!a.shared.quiet) {
+  if (!a.shared.quiet && !said) {
     std::fprintf(stderr, "converge: wrote %s, %s, %s", f.page.c_str(), f.csv.c_str(),
                  f.script.c_str());
     if (gnuplot) std::fprintf(stderr, ", %s, %s", f.svg.c_str(), f.png.c_str());
     std::fprintf(stderr, "\n");
   }
   if (a.plot && !gnuplot)
-    std::fprintf(stderr,
-                 "dacrt converge: warning: no plot: gnuplot is not on PATH (install "
-                 "gnuplot-nox, then run `gnuplot convergence.gp` in %s)\n",
-                 a.outdir.c_str());
+    warn(said, "no plot: gnuplot is not on PATH (install gnuplot-nox, then run `gnuplot "
+               "convergence.gp` in " + a.outdir + ")");
 }
 
-}  // namespace
-
-int converge_main(const std::vector<std::string>& args) {
+// The command; `said` (a library's call) takes its warnings and notes, and stdout stays empty.
+int run_converge(const std::vector<std::string>& args, ConvergeSaid* said) {
   ConvergeArgs a = parse_converge(args);
-  if (a.help) return std::fputs(help_text().c_str(), stdout), 0;
+  if (a.help) {
+    if (said) throw UsageError("converge: --help is the command line's");
+    return std::fputs(help_text().c_str(), stdout), 0;
+  }
   std::vector<Config> configs = parse_configs(a);
   const bool verbose = !a.shared.quiet;
   ConvergeFiles f = check_files(a);
@@ -666,9 +674,8 @@ int converge_main(const std::vector<std::string>& args) {
   if (a.plot) {
     gnuplot = find_in_path("gnuplot");
     if (!gnuplot)
-      std::fprintf(stderr,
-                   "dacrt converge: warning: gnuplot is not on PATH: the CSV and the script are "
-                   "written, the plot is not (install gnuplot-nox)\n");
+      warn(said, "gnuplot is not on PATH: the CSV and the script are written, the plot is not "
+                 "(install gnuplot-nox)");
   }
   Reference reference;
   if (!a.reference.empty()) {
@@ -685,7 +692,9 @@ int converge_main(const std::vector<std::string>& args) {
   check_outputs(f.outputs, f.inputs);
   // Every configuration renders the same shot (the options that change it are the shared ones).
   const Shot shot = make_shot(scene, a.shared.settings);
-  if (verbose)
+  if (said)
+    said->warnings.insert(said->warnings.end(), shot.notes.begin(), shot.notes.end());
+  else if (verbose)
     for (const std::string& note : shot.notes) std::fprintf(stderr, "%s\n", note.c_str());
   const std::optional<Image>& given = reference.image;
   if (given && (given->width != shot.width || given->height != shot.height))
@@ -758,9 +767,17 @@ int converge_main(const std::vector<std::string>& args) {
       write_so_far();
     }
   curves = measured();
-  if (!curves.empty()) finish(a, f, curves, reference, gnuplot, title);
+  if (!curves.empty()) finish(a, f, curves, reference, gnuplot, title, said);
   if (signals.signal()) return 128 + signals.signal();
   return 0;
+}
+
+}  // namespace
+
+int converge_main(const std::vector<std::string>& args) { return run_converge(args, nullptr); }
+
+int converge_for_library(const std::vector<std::string>& args, ConvergeSaid& said) {
+  return run_converge(args, &said);
 }
 
 }  // namespace dacrt

@@ -287,15 +287,16 @@ void print_reference(std::FILE* out, const std::string& path,
         path.c_str());
 }
 
-void warn_short_runs(const std::vector<Curve>& curves) {
+std::vector<std::string> short_run_warnings(const std::vector<Curve>& curves) {
+  std::vector<std::string> warnings;
   for (const Curve& c : curves) {
     const double seconds = seconds_of(c.points.back()).mean;
     if (too_short_to_time(seconds))
-      std::fprintf(stderr,
-                   "dacrt converge: warning: --config \"%s\" ran %.3g s in all: times under "
-                   "0.1 s are noisy (a larger --time-budget, --max-spp or image runs longer)\n",
-                   c.label.c_str(), seconds);
+      warnings.push_back("--config \"" + c.label + "\" ran " + format("%.3g", seconds) +
+                         " s in all: times under 0.1 s are noisy (a larger --time-budget, "
+                         "--max-spp or image runs longer)");
   }
+  return warnings;
 }
 
 void print_table(std::FILE* out, const std::vector<Curve>& curves, Metric metric,

@@ -61,9 +61,9 @@ void draw_plot(const std::string& gnuplot, const std::string& script, const std:
 // unknown.
 void print_reference(std::FILE* out, const std::string& path,
                      const std::optional<ReferenceError>& error);
-// One warning line on stderr for each curve whose last point is too short to time
-// (render/convergence.h: under 0.1 s).
-void warn_short_runs(const std::vector<Curve>& curves);
+// A warning for each curve whose last point is too short to time (render/convergence.h: under
+// 0.1 s).
+std::vector<std::string> short_run_warnings(const std::vector<Curve>& curves);
 void print_table(std::FILE* out, const std::vector<Curve>& curves, Metric metric,
                  std::vector<double> targets);
 

@@ -8,7 +8,8 @@ packages=(cmake g++ make pkg-config libtinygltf-dev nlohmann-json3-dev libstb-de
           libglm-dev libopencolorio-dev doctest-dev libtbb-dev libembree-dev libpng-dev
           libjpeg62-turbo-dev libwebp-dev libmeshoptimizer-dev libdraco-dev gnuplot-nox
           libopenmpi-dev openmpi-bin pybind11-dev python3-dev python3-numpy python3-pytest
-          groff-base man-db)  # (the man page checked, `dacrt man | man -l -`)
+          groff-base man-db  # the man page checked, `dacrt man | man -l -`
+          python3-venv python3-setuptools python3-wheel)  # the last three: `pip install .`
 packages+=("$@")  # extra packages a target needs (make fuzz: clang and its runtime)
 
 missing=()

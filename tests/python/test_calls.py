@@ -72,14 +72,14 @@ def test_bench_returns_its_results_as_data():
         (b, t) for b in ("dacrt", "brute") for t in ("primary", "shadow")}
     for r in rows:
         assert r["count"] > 0 and len(r["intervals"]["trace_s"]["runs"]) == 2
-    with pytest.raises(TypeError, match="returns its results"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'json'"):
         dacrt.bench(CORNELL, json="x.json")
 
 
 def test_converge_returns_its_points_as_data():
     rows = dacrt.converge(CORNELL, config=["", "sampler=independent"], width=16, height=16,
                           no_reference=True, max_spp=4, time_budget=5)
-    labels = {r["config"] for r in rows}
+    labels = {r.config for r in rows}
     assert labels == {"default", "sampler=independent"}
-    assert all(r["spp"] in (1.0, 2.0, 4.0) for r in rows)
-    assert all(r["noise"] > 0 for r in rows)
+    assert all(r.spp in (1, 2, 4) for r in rows)
+    assert all(r.noise > 0 for r in rows)

@@ -58,8 +58,8 @@ def test_load_refuses_the_times_the_cli_refuses(time):
 
 def test_wrong_types_are_type_errors_naming_the_keyword():
     cases = [
-        (dict(progress="yes"), "progress= wants True or False, not str"),
-        (dict(progress=1), "progress= wants True or False, not int"),
+        (dict(progress="yes"), "progress= wants True, False or None, not str"),
+        (dict(progress=1), "progress= wants True, False or None, not int"),
         (dict(spp=True), "spp= wants a value, not True"),
         (dict(width=False), "width= wants a value, not False"),
         (dict(seed={"a": 1}), "seed= wants an int, not dict"),

@@ -29,11 +29,12 @@ step render "$work/prefix/bin/dacrt" render "$scene" --width 24 --height 16 --sp
 "$work/build/consumer" "$scene" "$work/cli.exr" 24 16 4 7
 
 # The installed Python module, when the build has one: imported from the prefix alone.
-module=$(find "$work/prefix" -name 'dacrt.cpython-*.so' | head -n 1)
+# The package is the folder dacrt/ (its Python files and the native _dacrt module).
+module=$(find "$work/prefix" -name '_dacrt.cpython-*.so' | head -n 1)
 if [ -n "$module" ]; then
   python=${DACRT_PYTHON:-/usr/bin/python3}
-  # Installed to /usr/local, the module would be where the interpreter looks without PYTHONPATH.
-  where=$(dirname "$module")
+  # Installed to /usr/local, the package would be where the interpreter looks without PYTHONPATH.
+  where=$(dirname "$(dirname "$module")")
   where=/usr/local/${where#"$work/prefix/"}
   if ! "$python" -c "import sys; sys.exit('$where' not in sys.path)"; then
     echo "consumer check: the module installs to PREFIX/${where#/usr/local/}, which $python does not search under /usr/local"
@@ -44,7 +45,7 @@ if [ -n "$module" ]; then
     # ASan's __cxa_throw interceptor) loaded before the interpreter
     *sanitize=address*) preload="$(c++ -print-file-name=libasan.so):$(c++ -print-file-name=libstdc++.so)" ;;
   esac
-  LD_PRELOAD=$preload ASAN_OPTIONS=detect_leaks=0 PYTHONPATH=$(dirname "$module") "$python" -c "
+  LD_PRELOAD=$preload ASAN_OPTIONS=detect_leaks=0 PYTHONPATH=$(dirname "$(dirname "$module")") "$python" -c "
 import sys, dacrt
 assert dacrt.__file__.startswith('$work/prefix'), dacrt.__file__
 image = dacrt.read_exr('$work/cli.exr')
