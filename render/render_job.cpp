@@ -151,7 +151,7 @@ std::string dark_image_note(const Image& image, const Shot& shot, double exposur
                 100.0 * double(dark) / double(pixels), sum / double(pixels));
   return output + line +
          (lit_by_sky ? ": --exposure STOPS brightens its preview"
-                     : ": only the scene's own lights light it; --environment 1,1,1 adds a sky, "
+                     : ": no sky lights it; --environment 1,1,1 adds one, "
                        "--exposure STOPS brightens its preview");
 }
 

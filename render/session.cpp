@@ -593,7 +593,14 @@ FilmRender render_to_film(const RenderRequest& r, const Scene& scene) {
   Progress bar("render", shot.pixels() * uint64_t(last - first), !r.quiet, {}, shot.pixels());
   bar.limit_time(r.passes.time_limit);
   const RenderOutcome outcome = job.run(film, first, last, bar, r.passes);
-  return {std::move(film), outcome, shot.notes};
+  std::vector<std::string> notes = shot.notes;
+  if (outcome.timed_out)
+    notes.push_back(r.scene + ": the time limit stopped the render at " +
+                    std::to_string(outcome.spp()) + " of " + std::to_string(last - first) +
+                    " samples per pixel");
+  if (std::string dark = dark_image_note(film.resolve(), shot, 0.0, r.scene); !dark.empty())
+    notes.push_back(std::move(dark));
+  return {std::move(film), outcome, std::move(notes)};
 }
 
 }  // namespace dacrt

@@ -98,7 +98,8 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads);
 struct FilmRender {
   Film film;
   RenderOutcome outcome;
-  std::vector<std::string> notes;  // the shot's notes for the user (make_shot), not printed
+  std::vector<std::string> notes;  // for the user, not printed: the shot's (make_shot), a time
+                                   // limit's stop, a nearly black image (dark_image_note)
 };
 FilmRender render_to_film(const RenderRequest& r, const Scene& scene);
 

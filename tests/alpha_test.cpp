@@ -90,6 +90,7 @@ TEST_CASE("alpha BLEND: shadow rays see through it as camera rays do") {
   sun.direction = glm::vec3(0, 0, -1);
   scene.lights = {sun};
   RenderSettings s;
+  s.environment = glm::vec3(0.f);  // its lights alone (a sky of 1 stays beside the file's lights)
   s.width = s.height = 16, s.spp = 256;
   Result r = render(scene, s);
   CHECK(r.stats.by_type[size_t(RayType::shadow)].rays > 0);

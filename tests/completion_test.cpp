@@ -63,7 +63,7 @@ TEST_CASE("completion: bash completes the commands, options, known values and fi
   const std::string dacrt = DACRT_CLI;
 
   CHECK(complete(dir, script, {dacrt, "ren"}) == Words{"render"});
-  CHECK(complete(dir, script, {dacrt, "c"}) == Words{"completion", "converge"});
+  CHECK(complete(dir, script, {dacrt, "c"}) == Words{"completion", "converge", "convert"});
   CHECK(complete(dir, script, {dacrt, "render", "--sp"}) == Words{"--spp"});
   CHECK(complete(dir, script, {dacrt, "render", "--look"}) == Words{"--look-at", "--look-from"});
   // Values the option table knows; a list's item after its last comma; --opt=value.

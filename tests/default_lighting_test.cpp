@@ -101,7 +101,7 @@ TEST_CASE("default lighting: a nearly black render says so, with the option that
   Run r = run(dir, "render " + box + args + " --exposure -20 --preview " + (dir / "dark.png"));
   REQUIRE_MESSAGE(r.code == 0, r.err);
   CHECK(r.err.find(dir / "dark.exr" + ": the image is nearly black") != std::string::npos);
-  CHECK(r.err.find("--environment 1,1,1 adds a sky") != std::string::npos);
+  CHECK(r.err.find("no sky lights it; --environment 1,1,1 adds one") != std::string::npos);
   r = run(dir, "render " + box + args);  // the lamp lights it
   REQUIRE_MESSAGE(r.code == 0, r.err);
   CHECK(r.err.find("nearly black") == std::string::npos);

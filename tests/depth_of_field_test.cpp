@@ -92,6 +92,7 @@ TEST_CASE("depth of field: a point's circle of confusion is the thin lens's, in 
     const float aperture = c.aperture;
     const Scene scene = point_like_emitter(c.depth, side, yfov);
     RenderSettings s;
+    s.environment = glm::vec3(0.f);  // the square alone, on black
     s.width = s.height = size;
     s.spp = 256;
     s.lens.aperture = aperture;

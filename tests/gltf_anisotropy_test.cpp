@@ -148,6 +148,7 @@ TEST_CASE("render: a point light's highlight on an anisotropic metal stretches a
   // is larger along the tangent, across it when the direction is turned by 90°, and equal for
   // the isotropic metal.
   RenderSettings s;
+  s.environment = glm::vec3(0.f);  // its lights alone (a sky of 1 stays beside the file's lights)
   s.width = s.height = 16, s.spp = 16;
   auto moments = [&](float strength, float rotation) {
     Scene scene = lit_plane();

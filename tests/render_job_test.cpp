@@ -714,7 +714,7 @@ TEST_CASE("render job: a nearly black image gets one line naming the option that
   Image image(10, 10);  // black
   const std::string own = dark_image_note(image, shot, 0.0, "out.exr");
   CHECK(own.rfind("out.exr: the image is nearly black (100.0 % of its pixels", 0) == 0);
-  CHECK(own.find("--environment 1,1,1 adds a sky") != std::string::npos);
+  CHECK(own.find("no sky lights it; --environment 1,1,1 adds one") != std::string::npos);
   shot.environment = glm::vec3(1.f);
   const std::string sky = dark_image_note(image, shot, 0.0, "out.exr");
   CHECK(sky.find("--exposure STOPS") != std::string::npos);

@@ -64,6 +64,7 @@ TEST_CASE("transmission: next-event estimation lights a rough sheet through its 
     sun.direction = glm::vec3(0, 0, behind ? 1.f : -1.f);
     scene.lights = {sun};
     RenderSettings s;
+    s.environment = glm::vec3(0.f);  // its lights alone (a sky of 1 stays beside the file's lights)
     s.width = s.height = 8, s.spp = 16, s.max_depth = 1;
     Result r = render(scene, s);
     const float alpha = 0.25f, f0 = 0.04f;

@@ -177,6 +177,7 @@ TEST_CASE("volume: a point light inside an absorbing volume: shadow and camera r
   l.position = glm::vec3(0.3f, -0.2f, 1.f);
   scene.lights = {l};
   RenderSettings s;
+  s.environment = glm::vec3(0.f);  // its lights alone (a sky of 1 stays beside the file's lights)
   s.width = s.height = 16, s.spp = 64;
   Result r = render(scene, s);
   const double sigma = std::log(2.0), brdf = 0.5 / glm::pi<double>();

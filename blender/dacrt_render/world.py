@@ -44,8 +44,8 @@ def _output(world):
 def environment(world, work, width, samples):
     """(--environment's value or None for dacrt's default, warnings). A textured world is baked
     to work/environment.exr, width × width/2 pixels, `samples` Cycles samples per pixel."""
-    if world is None:
-        return None, ["the scene has no world: dacrt's default environment is used"]
+    if world is None:  # Cycles renders a scene without a world on black
+        return "0.0,0.0,0.0", []
     warnings = []
     if world.use_nodes:
         output = _output(world)

@@ -206,6 +206,18 @@ def read_exr(path: PathLike) -> Dict[str, np.ndarray]:
     return _dacrt.read_exr(path)
 
 
+def write_image(path: PathLike, image: npt.ArrayLike, view: Optional[str] = None,
+                exposure: float = 0.0) -> None:
+    """Writes a scene-linear image (a float array of shape (height, width, 3), or 4 with alpha,
+    such as render()'s) in the format its file name says: .exr (float RGB, alpha as A), .hdr
+    (Radiance RGBE), .png (8-bit, with alpha) or .jpg/.jpeg, the last two through the display
+    view (view=, a name of `dacrt views`; default sRGB) after scaling by 2**exposure: the bytes
+    `dacrt render --preview` and `dacrt convert` write. JPEG and HDR hold no alpha (a UserWarning
+    says it is dropped). An unknown extension or a bad view raises ValueError, a file that cannot
+    be written dacrt.Error. Written to a temporary name and renamed."""
+    _dacrt.write_image(path, image, view=view, exposure=exposure)
+
+
 def bench(scene: PathLike, *, rays: Optional[Union[str, Sequence[str]]] = None,
           backends: Optional[Union[str, Sequence[str]]] = None, width: Optional[int] = None,
           height: Optional[int] = None, count: Optional[int] = None,
@@ -323,7 +335,7 @@ _signed(converge,
         + ["    progress=: progress on stderr (None: where it is seen)"])
 
 __all__ = ["DacrtWarning", "ConvergeRow", "Error", "PathLike", "Scene", "bench", "converge",
-           "load", "read_exr", "render", "trace"]
+           "load", "read_exr", "render", "trace", "write_image"]
 
 # A function the native module has and this file does not wrap is dacrt's as it is.
 for _name in dir(_dacrt):

@@ -41,7 +41,7 @@ def annotation(a) -> str:
     """A type as the stub spells it."""
     if a is npt.ArrayLike:
         return "npt.ArrayLike"
-    if a is type(None):
+    if a is None or a is type(None):
         return "None"
     origin, args = typing.get_origin(a), typing.get_args(a)
     if origin is typing.Union:

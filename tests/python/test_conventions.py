@@ -80,6 +80,16 @@ def test_a_render_says_its_notes_as_warnings_and_prints_nothing(tmp_path, capfd)
     assert said[0].filename == __file__  # the warning points at the caller's line
     out, err = capfd.readouterr()
     assert out == "" and err == ""
+    # Without the sky nothing lights it: a warning says the image is black, and what lights it.
+    with pytest.warns(dacrt.DacrtWarning) as said:
+        dacrt.render(scene, progress=False, environment="0,0,0", **SMALL)
+    dark = [str(w.message) for w in said if "nearly black" in str(w.message)]
+    assert len(dark) == 1 and "no sky lights it; --environment 1,1,1 adds one" in dark[0], dark
+    # A time limit that ends the render early says how far it got.
+    with pytest.warns(dacrt.DacrtWarning) as said:
+        dacrt.render(CORNELL, progress=False, spp=100000, width=8, height=8, time_limit=0.01)
+    stopped = [str(w.message) for w in said if "time limit" in str(w.message)]
+    assert len(stopped) == 1 and " of 100000 samples per pixel" in stopped[0], stopped
 
 
 class Stream:
