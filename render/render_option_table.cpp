@@ -137,30 +137,28 @@ float parse_length(S& flag, S& v, bool zero_ok, const char* what) {
     throw UsageError(flag + " wants " + what + ", got '" + v + "'");
   return float(*x);
 }
+// Two options that give one thing (the aperture, the focus): the second one given is refused.
+void one_of(bool other_given, S& flag, const char* other, const char* what) {
+  if (other_given)
+    throw UsageError(flag + " and " + spelt_like(flag, other) + " both give the " + what +
+                     ": use one");
+}
 void set_aperture(R& r, S& v, S& flag) {
-  if (r.settings.lens.fstop)
-    throw UsageError(flag + " and " + spelt_like(flag, "--fstop") +
-                     " both give the aperture: use one");
+  one_of(bool(r.settings.lens.fstop), flag, "--fstop", "aperture");
   r.settings.lens.aperture =
       parse_length(flag, v, true, "the lens's diameter, a finite number >= 0 (0: a pinhole)");
 }
 void set_fstop(R& r, S& v, S& flag) {
-  if (r.settings.lens.aperture)
-    throw UsageError(flag + " and " + spelt_like(flag, "--aperture") +
-                     " both give the aperture: use one");
+  one_of(bool(r.settings.lens.aperture), flag, "--aperture", "aperture");
   r.settings.lens.fstop = parse_length(flag, v, false, "an f-number, a finite number > 0");
 }
 void set_focus_distance(R& r, S& v, S& flag) {
-  if (r.settings.lens.focus_on)
-    throw UsageError(flag + " and " + spelt_like(flag, "--focus-on") +
-                     " both give the focus: use one");
+  one_of(bool(r.settings.lens.focus_on), flag, "--focus-on", "focus");
   r.settings.lens.focus_distance =
       parse_length(flag, v, false, "a distance, a finite number > 0");
 }
 void set_focus_on(R& r, S& v, S& flag) {
-  if (r.settings.lens.focus_distance)
-    throw UsageError(flag + " and " + spelt_like(flag, "--focus-distance") +
-                     " both give the focus: use one");
+  one_of(bool(r.settings.lens.focus_distance), flag, "--focus-distance", "focus");
   r.settings.lens.focus_on = parse_point(flag, v);
 }
 void set_scene(R& r, S& v, S& flag) { r.gltf.scene = int(parse_int(flag, v, 0, 1 << 20)); }
