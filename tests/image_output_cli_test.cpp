@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "mpirun.h"
 #include "cli_scene.h"
 #include "dacrt/io/exr.h"
 #include "dacrt/io/image_file.h"
@@ -54,10 +55,6 @@ size_t count(const std::string& text, const std::string& word) {
   size_t n = 0;
   for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++n;
   return n;
-}
-
-bool have_mpirun() {
-  return std::system("command -v mpirun >/dev/null 2>&1") == 0;
 }
 
 // check_refused for words in a vector.
@@ -186,7 +183,7 @@ TEST_CASE("image outputs: under mpirun rank 0 writes the PNG of one process") {
   TempDir dir("out-mpi");
   REQUIRE(run(dir, "render " + cornell + small + " -o " + (dir / "one.png")).code == 0);
   const Run r = run(dir, "render " + cornell + small + " -o " + (dir / "two.png"),
-                    "mpirun -q --allow-run-as-root --oversubscribe -np 2");
+                    mpirun(2));
   REQUIRE_MESSAGE(r.code == 0, r.err);
   CHECK(slurp(dir / "two.png") == slurp(dir / "one.png"));
   size_t files = 0;
