@@ -351,8 +351,9 @@ void check_time_limit(const std::string& name, double limit, const std::string& 
     CHECK(d["stopped_by"] == "the time limit");
     CHECK(d["time_limit"].get<double>() == limit);
     REQUIRE(spp >= 1);
-    // Each render had the whole limit (per backend, per frame) and crossed it...
-    CHECK(seconds >= limit);
+    // Each render had the whole limit (per backend, per frame) and crossed it (render_seconds
+    // is read off another clock than the limit's, a moment apart: 0.999 s was seen for 1 s)...
+    CHECK(seconds >= 0.98 * limit);
     // ... by one pass: the first of 1 spp, later ones sized by the time left, so the last
     // costs about a sample per pixel (the bound leaves room for a busy 2-core machine).
     CHECK(passes >= 2);
