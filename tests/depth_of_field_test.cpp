@@ -12,21 +12,13 @@
 #include "dacrt/io/exr.h"
 #include "dacrt/render/render_job.h"
 #include "lit_scene.h"
+#include "render_check.h"
 #include "test_geometry.h"
 
 using namespace dacrt;
 using namespace dacrt::test;
 
 namespace {
-
-Film render(const Scene& scene, const RenderSettings& s) {
-  auto backend = Backend::create("dacrt", scene.geometry);
-  RenderJob job(scene, *backend, s);
-  Film film = job.film();
-  Progress quiet("test", 1, false);
-  job.run(film, 0, uint32_t(s.spp), quiet);
-  return film;
-}
 
 // A square emitter of side `side` centred on the view axis at depth `depth`, facing a camera at
 // the origin that looks down -Z with this vertical field of view; nothing else (black around).
@@ -97,7 +89,7 @@ TEST_CASE("depth of field: a point's circle of confusion is the thin lens's, in 
     s.spp = 256;
     s.lens.aperture = aperture;
     s.lens.focus_distance = c.focus;
-    const Film film = render(scene, s);
+    const Film film = render(scene, s).film;
     const double tan_half = std::tan(0.5 * yfov);
     const double radius =
         aperture * std::abs(c.depth - c.focus) / c.depth / (2.0 * c.focus * tan_half) * size / 2.0;
@@ -125,7 +117,7 @@ TEST_CASE("depth of field: aperture 0 renders the pinhole bit for bit") {
   s.aovs = AovSet::parse("albedo,normal,depth,position,variance,samples");
   auto channels = [&](const RenderSettings& settings) {
     std::vector<std::vector<float>> out;
-    for (Channel& ch : render(scene, settings).channels()) out.push_back(std::move(ch.values));
+    for (Channel& ch : render(scene, settings).film.channels()) out.push_back(std::move(ch.values));
     return out;
   };
   auto bits = [](const std::vector<std::vector<float>>& a,
