@@ -182,7 +182,8 @@ std::optional<Film> film_to_resume(const std::string& file, const RenderJob& job
 // dropped as NaN), with the header saying what it holds; any other file holds the image alone
 // (check_request refused what only an EXR can hold), and a render cut short, whose EXR would
 // keep the exact sums to resume or merge it, says once (`warned`) that this one does not.
-void write_outputs(const RenderRequest& r, const Scene& scene, const Shot& shot,
+// Returns the resolved image when one was made (a non-EXR output or a preview).
+std::optional<Image> write_outputs(const RenderRequest& r, const Scene& scene, const Shot& shot,
                    const BackendRun& run, const Film& film, const RenderOutcome& outcome,
                    const MatchKeys& keys, bool& warned) {
   const ExrMetadata header = render_header(r, scene, shot, run, film, outcome, keys);
@@ -199,9 +200,10 @@ void write_outputs(const RenderRequest& r, const Scene& scene, const Shot& shot,
       warned = true;
     }
   }
-  if (run.preview.empty()) return;
+  if (run.preview.empty()) return image;
   if (!image) image = film.resolve();
   write_image(run.preview, *image, r.display, header, {}, "--preview");
+  return image;
 }
 
 }  // namespace
@@ -427,11 +429,12 @@ bool RenderSession::State::render_backend(BackendRun& run, size_t index, const S
   if (outcome.timed_out) run.stopped = "the time limit";
   // A render stopped before its first sample leaves the previous outputs as they were.
   if (film.max_count() == 0 && outcome.stopped) return false;
-  write_outputs(r, scene, shot, run, film, outcome, keys, warned);
-  if (!r.quiet)
-    if (const std::string dark = dark_image_note(film.resolve(), shot, r.display.exposure, run.output);
-        !dark.empty())
-      print_message(dark);
+  std::optional<Image> image = write_outputs(r, scene, shot, run, film, outcome, keys, warned);
+  if (!r.quiet) {
+    if (!image) image = film.resolve();
+    const std::string dark = dark_image_note(*image, shot, r.display.exposure, run.output);
+    if (!dark.empty()) print_message(dark);
+  }
   if (hooks.rendered) hooks.rendered(run, film);
   if (!r.quiet) print_summary(run, shot, s);
   return !outcome.stopped;
