@@ -109,7 +109,7 @@ LightTree::LightTree(std::span<const Bounds> emitters) {
   build(order, 0, order.size(), emitters, 0);
   parent_.assign(nodes_.size(), 0);
   for (uint32_t i = 0; i < nodes_.size(); ++i)
-    if (!nodes_[i].leaf) parent_[i + 1] = i, parent_[nodes_[i].right] = i;
+    if (!nodes_[i].leaf) parent_[i + 1] = i, parent_[nodes_[i].child] = i;
 }
 
 uint32_t LightTree::build(std::vector<uint32_t>& order, size_t first, size_t last,
@@ -119,8 +119,8 @@ uint32_t LightTree::build(std::vector<uint32_t>& order, size_t first, size_t las
   depth_ = std::max(depth_, depth);
   if (last - first == 1) {
     const uint32_t e = order[first];
-    nodes_[index].bounds = emitters[e];
-    nodes_[index].entry = e;
+    nodes_[index] = node(emitters[e]);
+    nodes_[index].child = e;
     nodes_[index].leaf = true;
     leaf_[e] = index;
     return index;
@@ -183,40 +183,47 @@ uint32_t LightTree::build(std::vector<uint32_t>& order, size_t first, size_t las
   }
   build(order, first, mid, emitters, depth + 1);
   const uint32_t right = build(order, mid, last, emitters, depth + 1);
-  nodes_[index].bounds = all;
-  nodes_[index].right = right;
+  nodes_[index] = node(all);
+  nodes_[index].child = right;
   return index;
 }
 
+LightTree::Node LightTree::node(const Bounds& b) {
+  const glm::vec3 half = 0.5f * (b.hi - b.lo);
+  return {0.5f * (b.lo + b.hi), glm::dot(half, half), b.w, b.power, b.cos_o, sine(b.cos_o), b.cos_e,
+          0, false, b.two_sided};
+}
+
 float LightTree::importance(const Bounds& b, const LightContext& at) {
-  const glm::vec3 pc = 0.5f * (b.lo + b.hi), half = 0.5f * (b.hi - b.lo);
-  const float r2 = glm::dot(half, half);  // of the ball around the box
-  const glm::vec3 to = at.p - pc;         // from the centre to the point
+  return importance(node(b), at);
+}
+
+float LightTree::importance(const Node& b, const LightContext& at) {
+  const glm::vec3 to = at.p - b.centre;  // from the centre to the point
   const float d2 = glm::dot(to, to);
   // The half angle the ball subtends from the point: every direction from inside it.
   float sin_b = 0.f, cos_b = -1.f;
-  if (d2 > r2) {
-    const float sin2 = r2 / d2;
+  if (d2 > b.radius2) {
+    const float sin2 = b.radius2 / d2;
     sin_b = std::sqrt(sin2), cos_b = std::sqrt(1.f - sin2);
   }
-  const float d = std::sqrt(d2);
-  const glm::vec3 wi = d > 0.f ? to / d : b.w;
+  const float inv_d = d2 > 0.f ? 1.f / std::sqrt(d2) : 0.f;
+  float cos_pi = 1.f;
+  if (at.n != glm::vec3(0.f)) {  // the point's horizon, first: it ends many walks early
+    // The cosine at the point, towards the nearest direction of the ball (1 at the centre).
+    const float cos_i = d2 > 0.f ? -glm::dot(to, at.n) * inv_d : 1.f;
+    cos_pi = cos_sub_clamped(sine(cos_i), cos_i, sin_b, cos_b);
+    if (!(cos_pi > 0.f)) return 0.f;
+  }
   // The least angle between the emitted directions and the point: θ' = max(0, θw − θo − θb).
-  float cos_w = glm::dot(b.w, wi);
+  float cos_w = d2 > 0.f ? glm::dot(b.w, to) * inv_d : 1.f;
   if (b.two_sided) cos_w = std::abs(cos_w);
-  const float sin_w = sine(cos_w), sin_o = sine(b.cos_o);
-  const float cos_x = cos_sub_clamped(sin_w, cos_w, sin_o, b.cos_o);
-  const float sin_x = sin_sub_clamped(sin_w, cos_w, sin_o, b.cos_o);
+  const float sin_w = sine(cos_w);
+  const float cos_x = cos_sub_clamped(sin_w, cos_w, b.sin_o, b.cos_o);
+  const float sin_x = sin_sub_clamped(sin_w, cos_w, b.sin_o, b.cos_o);
   const float cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
   if (!(cos_p > b.cos_e)) return 0.f;
-  float result = b.power * cos_p / std::max(d2, r2);
-  if (at.n != glm::vec3(0.f)) {
-    // The cosine at the point, towards the nearest direction of the ball.
-    const float cos_i = -glm::dot(wi, at.n);
-    const float cos_pi = cos_sub_clamped(sine(cos_i), cos_i, sin_b, cos_b);
-    if (!(cos_pi > 0.f)) return 0.f;
-    result *= cos_pi;
-  }
+  const float result = b.power * cos_p / std::max(d2, b.radius2) * cos_pi;
   if (std::isnan(result)) return 0.f;
   return std::min(result, FLT_MAX);
 }
@@ -233,16 +240,15 @@ uint32_t LightTree::first_part(float a, float b, uint32_t range) {
 LightTree::Pick LightTree::sample(uint32_t k, uint32_t range, const LightContext& at) const {
   uint32_t node = 0;
   while (!nodes_[node].leaf) {
-    const uint32_t a = node + 1, b = nodes_[node].right;
-    const uint32_t part =
-        first_part(importance(nodes_[a].bounds, at), importance(nodes_[b].bounds, at), range);
+    const uint32_t a = node + 1, b = nodes_[node].child;
+    const uint32_t part = first_part(importance(nodes_[a], at), importance(nodes_[b], at), range);
     if (k < part) {
       node = a, range = part;
     } else {
       k -= part, range -= part, node = b;
     }
   }
-  return {nodes_[node].entry, range};
+  return {nodes_[node].child, range};
 }
 
 uint32_t LightTree::units(uint32_t entry, uint32_t range, const LightContext& at) const {
@@ -252,9 +258,8 @@ uint32_t LightTree::units(uint32_t entry, uint32_t range, const LightContext& at
   uint32_t node = 0;
   while (n > 0 && range > 0) {
     const uint32_t next = path[size_t(--n)];
-    const uint32_t a = node + 1, b = nodes_[node].right;
-    const uint32_t part =
-        first_part(importance(nodes_[a].bounds, at), importance(nodes_[b].bounds, at), range);
+    const uint32_t a = node + 1, b = nodes_[node].child;
+    const uint32_t part = first_part(importance(nodes_[a], at), importance(nodes_[b], at), range);
     range = next == a ? part : range - part;
     node = next;
   }

@@ -25,7 +25,8 @@ namespace dacrt {
 
 // How next-event estimation chooses an emitter (integrators/lights.h, --light-sampler).
 enum class LightPicking : uint8_t {
-  automatic,  // the tree from LightSampler::tree_threshold emitters on, else power
+  automatic,  // the tree from LightSampler::tree_threshold emitters on, unless next-event
+              // estimation samples an environment too (LightSampling); else power
   tree,       // this tree
   power,      // an alias table by power, the same from every point
 };
@@ -65,16 +66,22 @@ class LightTree {
   // The units of [0, range) that pick `entry` from `at` (sample's, exactly; 0 if none does).
   uint32_t units(uint32_t entry, uint32_t range, const LightContext& at) const;
 
-  // The importance of a bounds from `at` (see the top): ≥ 0, 0 when it cannot light it.
+  // The importance of an emitter's or a node's bounds from `at` (see the top): ≥ 0, 0 when it
+  // cannot light it.
   static float importance(const Bounds& b, const LightContext& at);
 
  private:
+  // A node's bounds as importance() reads them: the ball around its box, the cone's sine too.
   struct Node {
-    Bounds bounds;
-    uint32_t right = 0;  // an inner node's second child (its first is the next node)
-    uint32_t entry = 0;  // a leaf's emitter
-    bool leaf = false;
+    glm::vec3 centre;
+    float radius2;
+    glm::vec3 w;
+    float power, cos_o, sin_o, cos_e;
+    uint32_t child;  // an inner node's second child (its first is the next node), a leaf's entry
+    bool leaf, two_sided;
   };
+  static Node node(const Bounds& b);
+  static float importance(const Node& b, const LightContext& at);
   uint32_t build(std::vector<uint32_t>& order, size_t first, size_t last,
                  std::span<const Bounds> emitters, int depth);
   // The part of `range` the first child gets, given both children's importance.

@@ -40,6 +40,7 @@ class LightSampler {
 
   bool empty() const { return table_.empty(); }
   bool tree() const { return !tree_.empty(); }
+  int tree_depth() const { return tree_.depth(); }
   size_t triangles() const { return triangles_.size(); }
   // The emitters: the triangles (triangle(entry)), then the punctual lights given, in order.
   size_t entries() const { return entries_; }

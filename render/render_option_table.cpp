@@ -471,7 +471,8 @@ const RenderOption table[] = {
      set_sample_environment},
     {"--light-sampler", "Light transport", V::text, use_render | use_converge | use_config | use_python, false,
      R"h(  --light-sampler MODE       how next-event estimation picks an emitter: auto (default: a
-                             light tree from 64 emitters on, else by power), tree, power
+                             light tree from 64 emitters on where no environment is sampled,
+                             else by power), tree, power
 )h",
      set_light_sampler},
     {"--seed", "Light transport", V::integer, use_render | use_converge | use_config | use_python, false,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "dacrt/integrators/light_sampling.h"
 #include "dacrt/integrators/lights.h"
 #include "dacrt/util/random.h"
 #include "lit_scene.h"
@@ -158,6 +159,19 @@ TEST_CASE("light sampler: auto picks by power below the threshold and by the tre
   const Scene many = random_lamps(rng, 2 * int(LightSampler::tree_threshold));
   CHECK(LightSampler(many, many.lights).tree());
   CHECK(!LightSampler(many, many.lights, LightPicking::power).tree());
+}
+
+TEST_CASE("light sampling: beside a sampled environment auto picks by power") {
+  Pcg32 rng(4);
+  const Scene many = random_lamps(rng, 2 * int(LightSampler::tree_threshold));
+  Image sky(1, 1);
+  sky.rgb = {0.5f, 0.5f, 0.5f};
+  const EnvironmentMap map(sky, "sky");
+  CHECK(LightSampling(many, many.lights, nullptr).by_point());
+  CHECK(!LightSampling(many, many.lights, &map).by_point());
+  CHECK(LightSampling(many, many.lights, &map, TriangleSampling::solid_angle_if_large,
+                      LightPicking::tree)
+            .by_point());
 }
 
 namespace {

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes a glTF scene of many small lamps: a 40 m x 40 m Lambert floor with a few grey blocks
 on it, under N small emissive squares (0.1 m to 0.2 m a side, 0.3 m to 3 m up), of powers spread
-over two decades (eight emissive strengths, KHR_materials_emissive_strength), most facing down,
+over two decades (eight emissive strengths 0.2 to 20, KHR_materials_emissive_strength), most facing down,
 one in eight facing sideways. A camera looks over the floor at an angle. Deterministic: the same
 N and seed give the same file.
 
@@ -20,7 +20,7 @@ parser.add_argument("--seed", type=int, default=1)
 args = parser.parse_args()
 rng = random.Random(args.seed)
 
-LEVELS = 8  # emissive strengths 2 .. 200, log-spaced
+LEVELS = 8  # emissive strengths 0.2 .. 20, log-spaced
 positions, primitives = [], []  # primitives: (material, first vertex, vertex count)
 
 
@@ -66,7 +66,8 @@ for _ in range(args.lamps):
 
 add_primitive(0, floor_and_blocks)
 for level in range(LEVELS):
-    add_primitive(1 + level, lambda level=level: [quad(c) for c in lamps[level]])
+    if lamps[level]:
+        add_primitive(1 + level, lambda level=level: [quad(c) for c in lamps[level]])
 
 data = b"".join(struct.pack("<3f", *p) for p in positions)
 lo = [min(p[k] for p in positions) for k in range(3)]
@@ -74,7 +75,7 @@ hi = [max(p[k] for p in positions) for k in range(3)]
 materials = [{"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.6, 0.6, 1.0],
                                                         "metallicFactor": 0.0, "roughnessFactor": 1.0}}]
 for level in range(LEVELS):
-    strength = 2.0 * 100.0 ** (level / (LEVELS - 1))
+    strength = 0.2 * 100.0 ** (level / (LEVELS - 1))
     materials.append({"name": "lamp %d" % level, "emissiveFactor": [1.0, 0.85, 0.6],
                       "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": strength}},
                       "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0}})

@@ -4,7 +4,7 @@
 # a reference (the error is the noise between two seeds), on
 # - a generated floor under N small lamps (tools/make_many_lights.py; N from $LAMPS, default
 #   "4000 64 16": the target scene, then near the automatic choice's threshold and below it), and
-# - the conference room lit by its own lamps (/work/shared/scenes/mcguire/conference, or
+# - the conference room under 72 point lights (/work/shared/scenes/mcguire/conference, or
 #   $CONFERENCE; skipped when absent).
 # Prints, per scene, both configurations' noise at the longest time both ran and the ratio of
 # their noise² at that equal time (tree over power: below 1 the tree wins).
@@ -60,6 +60,15 @@ for n in $lamps; do
   python3 "$here/make_many_lights.py" "$scene" --lamps "$n"
   converge "$scene" "many-lights-$n"
 done
+# The conference room's file has no emitters (its lamps are grey geometry): it is lit here by a
+# grid of 12 x 6 point lights under its ceiling, 72 in all, seen from inside.
 if [ -e "$conference/conference.glb" ]; then
-  converge "$conference/conference.glb" conference --environment 0,0,0
+  lights=()
+  for i in $(seq 0 11); do
+    for j in $(seq 0 5); do
+      lights+=(--point-light "$((-900 + 220 * i)),600,$((-950 + 280 * j))=12000,11600,10800")
+    done
+  done
+  converge "$conference/conference.glb" conference-72-points --environment 0,0,0 \
+    --look-from 1600,420,300 --look-at -600,150,-500 --fov 55 "${lights[@]}"
 fi
