@@ -471,7 +471,7 @@ const RenderOption table[] = {
      set_sample_environment},
     {"--light-sampler", "Light transport", V::text, use_render | use_converge | use_config | use_python, false,
      R"h(  --light-sampler MODE       how next-event estimation picks an emitter: auto (default: a
-                             light tree from 64 emitters on where no environment is sampled,
+                             light tree from 8 emitters on where no environment is sampled,
                              else by power), tree, power
 )h",
      set_light_sampler},

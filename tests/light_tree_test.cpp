@@ -153,7 +153,7 @@ TEST_CASE("light tree sampler: pmf sums to 1 from any point and the picks follow
 
 TEST_CASE("light sampler: auto picks by power below the threshold and by the tree from it") {
   Pcg32 rng(3);
-  const Scene few = random_lamps(rng, 10);
+  const Scene few = random_lamps(rng, 2);  // (with three punctual lights: below the threshold)
   CHECK(!LightSampler(few, few.lights).tree());
   CHECK(LightSampler(few, few.lights, LightPicking::tree).tree());
   const Scene many = random_lamps(rng, 2 * int(LightSampler::tree_threshold));
