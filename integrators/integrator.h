@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "dacrt/film/film.h"
+#include "dacrt/integrators/light_tree.h"
 #include "dacrt/integrators/sampler.h"
 #include "dacrt/integrators/sample_order.h"
 #include "dacrt/scene/camera.h"
@@ -49,6 +50,9 @@ struct RenderSettings {
   // pilot of bounce rays from the camera's first hits, integrators/path.cpp).
   enum class EnvironmentSampling : uint8_t { automatic, on, off };
   EnvironmentSampling sample_environment = EnvironmentSampling::automatic;
+  // How next-event estimation picks an emitter (integrators/lights.h): by a light tree where
+  // there are many, else by power.
+  LightPicking light_sampler = LightPicking::automatic;
   // The samples.
   int spp = 64;
   int max_depth = 64;      // scattering events per path; Russian roulette ends most earlier
@@ -101,6 +105,10 @@ struct RenderStats {
   uint64_t clamped_samples = 0;          // with values beyond ±value_limit (film/fixed.h)
   double seconds = 0.0;                  // whole render
   std::vector<std::string> skipped;      // work the scene did not need, in words
+  // How next-event estimation picked emitters: "tree" or "power" (empty: it samples none), and
+  // how many it picked from.
+  std::string light_sampler;
+  uint64_t light_entries = 0;
 
   uint64_t total_rays() const {
     uint64_t n = 0;

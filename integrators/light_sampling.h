@@ -75,24 +75,36 @@ class LightSampling {
   // lights: the render's punctual lights (Shot::lights), which must outlive this. map: null for a
   // uniform (or black) environment, which only BSDF sampling reaches.
   LightSampling(const Scene& scene, std::span<const PunctualLight> lights, const EnvironmentMap* map,
-                TriangleSampling triangles = TriangleSampling::solid_angle_if_large);
+                TriangleSampling triangles = TriangleSampling::solid_angle_if_large,
+                LightPicking picking = LightPicking::automatic);
 
   // Nothing to sample: no shadow rays at all.
   bool empty() const { return lights_.empty() && !map_; }
   // False when every emissive triangle is sampled by area (TriangleSampling::area).
   bool solid_angle() const { return triangles_ != TriangleSampling::area; }
+  // True when the choice of emitter depends on the shading point (the light tree): the callers
+  // keep each path's last LightContext for the MIS weight of emission its bounce ray finds.
+  bool by_point() const { return lights_.tree(); }
+  const LightSampler& sampler() const { return lights_; }
+  // Where next-event estimation at shading point x (surface point p) chooses from: p, and the
+  // normal on the side light arrives from unless the surface transmits (both sides then).
+  static LightContext context(const glm::vec3& p, const ShadingPoint& x) {
+    return {p, x.transmits ? glm::vec3(0.f) : x.ng};
+  }
 
-  // What the Lambert lanes (integrators/lambert_lanes.h) take of the emitter `pick` chooses, when
-  // it is an emissive triangle they can sample: opaque, untextured, uncoated, of an area within
-  // float's range, and the scene has no environment map to sample. Null otherwise (a punctual
-  // light, say): emitter() then samples it.
+  // What the Lambert lanes (integrators/lambert_lanes.h) take of the emitter `pick` chooses from
+  // `at`, when it is an emissive triangle they can sample: opaque, untextured, uncoated, of an
+  // area within float's range, and the scene has no environment map to sample. Null otherwise (a
+  // punctual light, say): emitter() then samples it. pmf: the probability of the choice.
   struct AreaEmitter {
     glm::vec3 corner[3], normal, centre, radiance;
-    float radius2, area, pmf;
+    float radius2, area;
     bool double_sided;
   };
-  const AreaEmitter* area_emitter(float pick) const {
-    const std::optional<AreaEmitter>& e = area_emitters_[lights_.pick(pick)];
+  const AreaEmitter* area_emitter(float pick, const LightContext& at, float& pmf) const {
+    const LightSampler::Choice c = lights_.pick(pick, at);
+    pmf = c.pmf;
+    const std::optional<AreaEmitter>& e = area_emitters_[c.entry];
     return e ? &*e : nullptr;
   }
 
@@ -100,16 +112,18 @@ class LightSampling {
   // angle from there, else 0 (it samples the area).
   double sampled_solid_angle(const glm::vec3& o, uint32_t tri) const;
   // Next-event estimation's solid-angle density towards triangle `tri` from point o, the
-  // triangle being met at distance t, at cosine `cos_light` to its normal; `area` its area.
+  // triangle being met at distance t, at cosine `cos_light` to its normal; `area` its area;
+  // `from`: the context of the choice made at o's shading point (by_point(); else unused).
   // (t² / area in double: at a glTF node scale of 1e30 or 1e-30 both over- or underflow float.)
-  float emitter_pdf(const glm::vec3& o, uint32_t tri, float t, float cos_light, double area) const {
-    return emitter_density((1.f - map_share_) * lights_.pmf(tri), sampled_solid_angle(o, tri),
-                           double(t) * t, cos_light, area);
+  float emitter_pdf(const glm::vec3& o, uint32_t tri, float t, float cos_light, double area,
+                    const LightContext& from = {}) const {
+    return emitter_density((1.f - map_share_) * lights_.pmf(tri, from),
+                           sampled_solid_angle(o, tri), double(t) * t, cos_light, area);
   }
   // MIS weight of emission found by BSDF sampling (solid-angle pdf bsdf_pdf) along a ray from o.
   float emitter_weight(float bsdf_pdf, uint32_t tri, const glm::vec3& o, float t, float cos_light,
-                       double area) const {
-    return power_heuristic(bsdf_pdf, emitter_pdf(o, tri, t, cos_light, area));
+                       double area, const LightContext& from = {}) const {
+    return power_heuristic(bsdf_pdf, emitter_pdf(o, tri, t, cos_light, area, from));
   }
   // ... and of the environment map, along direction d.
   float environment_weight(float bsdf_pdf, const glm::vec3& d) const {

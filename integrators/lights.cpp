@@ -1,6 +1,7 @@
 #include "dacrt/integrators/lights.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <glm/gtc/constants.hpp>
 
 #include "dacrt/materials/sampling.h"
@@ -29,7 +30,8 @@ glm::vec3 average_emission(const Scene& scene, uint32_t tri) {
 
 }  // namespace
 
-LightSampler::LightSampler(const Scene& scene, std::span<const PunctualLight> lights)
+LightSampler::LightSampler(const Scene& scene, std::span<const PunctualLight> lights,
+                           LightPicking picking)
     : scene_(scene) {
   const Geometry& g = scene.geometry;
   std::vector<double> power;
@@ -61,7 +63,64 @@ LightSampler::LightSampler(const Scene& scene, std::span<const PunctualLight> li
         break;
     }
   }
-  table_ = AliasTable(power);
+  entries_ = power.size();
+  // The tree's emitters: those with power that are not directional.
+  std::vector<uint32_t> in_tree;
+  double tree_power = 0.0, most = 0.0;
+  for (uint32_t e = 0; e < entries_; ++e) {
+    const bool directional = e >= triangles_.size() &&
+                             lights[e - triangles_.size()].type == PunctualLight::Type::directional;
+    if (directional || !(power[e] > 0.0)) continue;
+    in_tree.push_back(e);
+    tree_power += power[e], most = std::max(most, power[e]);
+  }
+  const bool use_tree = !in_tree.empty() && (picking == LightPicking::tree ||
+                                             (picking == LightPicking::automatic &&
+                                              entries_ >= tree_threshold));
+  if (!use_tree) {
+    table_ = AliasTable(power);
+  } else {
+    std::vector<LightTree::Bounds> leaves;
+    for (const uint32_t e : in_tree) {
+      LightTree::Bounds b;
+      // Relative to the most powerful, as a float (at least the least normal float: a leaf of
+      // power 0 would be as good as absent).
+      b.power = std::max(FLT_MIN, float(power[e] / most));
+      if (e < triangles_.size()) {
+        const uint32_t tri = triangles_[e];
+        b.lo = glm::min(glm::min(g.vertex(tri, 0), g.vertex(tri, 1)), g.vertex(tri, 2));
+        b.hi = glm::max(glm::max(g.vertex(tri, 0), g.vertex(tri, 1)), g.vertex(tri, 2));
+        b.w = g.unit_normal(tri);
+        b.two_sided = scene.materials[g.material[tri]].double_sided;
+      } else {
+        const PunctualLight& l = lights[e - triangles_.size()];
+        b.lo = b.hi = l.position;
+        if (l.type == PunctualLight::Type::spot && glm::length(l.direction) > 0.f) {
+          // Full intensity within θi of its axis, none past θo: θe = θo − θi beyond the first.
+          b.w = glm::normalize(l.direction);
+          b.cos_o = std::clamp(l.cos_inner, -1.f, 1.f);
+          b.cos_e = std::cos(std::acos(std::clamp(l.cos_outer, -1.f, 1.f)) - std::acos(b.cos_o));
+        } else {
+          b.cos_o = -1.f;  // every direction
+        }
+      }
+      leaves.push_back(b);
+    }
+    tree_ = LightTree(leaves);
+    tree_entry_ = in_tree;
+    entry_in_tree_.assign(entries_, none);
+    for (uint32_t k = 0; k < in_tree.size(); ++k) entry_in_tree_[in_tree[k]] = k;
+    // The tree's share of the choice and the directional lights', by power.
+    std::vector<double> top{tree_power};
+    for (uint32_t e = uint32_t(triangles_.size()); e < entries_; ++e)
+      if (lights[e - triangles_.size()].type == PunctualLight::Type::directional)
+        directional_.push_back(e), top.push_back(power[e]);
+    table_ = AliasTable(top);
+    tree_units_ = table_.units(0);
+    uint32_t sum = tree_units_;
+    for (size_t j = 0; j < directional_.size(); ++j)
+      directional_units_.push_back(sum += table_.units(j + 1));
+  }
   if (table_.empty()) return;  // nothing emits
   if (triangles_.empty()) return;
   index_by_triangle_.assign(g.size(), none);
@@ -72,13 +131,43 @@ LightSampler::LightSampler(const Scene& scene, std::span<const PunctualLight> li
     const glm::vec3 centre = (v0 + v1 + v2) * (1.f / 3.f);
     const float r2 = std::max({glm::dot(v0 - centre, v0 - centre), glm::dot(v1 - centre, v1 - centre),
                                glm::dot(v2 - centre, v2 - centre)});
-    emitters_.push_back({g.unit_normal(tri), centre, r2, float(table_.pmf(i)), g.area(tri)});
+    emitters_.push_back(
+        {g.unit_normal(tri), centre, r2, tree() ? 0.f : float(table_.pmf(i)), g.area(tri)});
   }
 }
 
-LightSampler::Sample LightSampler::sample(float u, float u1, float u2) const {
-  const size_t i = table_.sample(u);       // a light whose pmf is 0 (black) is never returned
-  const float pmf = float(table_.pmf(i));  // a multiple of 2^-24: exact in float
+LightSampler::Choice LightSampler::pick(float u, const LightContext& at) const {
+  if (tree_.empty()) {
+    const size_t i = table_.sample(u);         // a light whose pmf is 0 (black) is never returned
+    return {i, float(table_.pmf(i))};          // a multiple of 2^-24: exact in float
+  }
+  constexpr uint32_t all = AliasTable::kUnits;
+  uint32_t k = std::min(all - 1, uint32_t(std::max(0.f, u) * float(all)));
+  if (k < tree_units_) {
+    const LightTree::Pick p = tree_.sample(k, tree_units_, at);
+    return {tree_entry_[p.entry], float(p.units) * (1.f / all)};
+  }
+  const size_t j = size_t(std::upper_bound(directional_units_.begin(), directional_units_.end(), k) -
+                          directional_units_.begin());
+  const uint32_t below = j == 0 ? tree_units_ : directional_units_[j - 1];
+  return {directional_[j], float(directional_units_[j] - below) * (1.f / all)};
+}
+
+float LightSampler::entry_pmf(size_t entry, const LightContext& at) const {
+  if (tree_.empty()) return float(table_.pmf(entry));
+  constexpr float unit = 1.f / AliasTable::kUnits;
+  if (entry_in_tree_[entry] != none)
+    return float(tree_.units(entry_in_tree_[entry], tree_units_, at)) * unit;
+  for (size_t j = 0; j < directional_.size(); ++j)
+    if (directional_[j] == entry)
+      return float(directional_units_[j] - (j == 0 ? tree_units_ : directional_units_[j - 1])) *
+             unit;
+  return 0.f;  // (emits nothing)
+}
+
+LightSampler::Sample LightSampler::sample(float u, float u1, float u2,
+                                          const LightContext& at) const {
+  const auto [i, pmf] = pick(u, at);
   if (i >= triangles_.size())
     return {int(i - triangles_.size()), 0, glm::vec3(0.f), glm::vec2(0.f), pmf};
   uint32_t tri = triangles_[i];

@@ -115,12 +115,17 @@ PathTracer::PathTracer(const Scene& scene, const Shot& shot, Backend& backend,
       uniform_map_(uniform_environment(scene, shot_, backend, settings, stats_)),
       map_(shot_.environment_map && !shot_.environment_map->black() ? shot_.environment_map.get()
                                                                     : uniform_map_.get()),
-      lights_(scene, shot_.lights, map_),
+      lights_(scene, shot_.lights, map_, TriangleSampling::solid_angle_if_large,
+              settings.light_sampler),
       media_(scene.materials) {
   if (lights_.empty())
     stats_.skipped.insert(
         stats_.skipped.begin(),
         "shadow rays (the scene has no emitters and no lights, and no environment map)");
+  if (!lights_.sampler().empty()) {
+    stats_.light_sampler = lights_.by_point() ? "tree" : "power";
+    stats_.light_entries = lights_.sampler().entries();
+  }
   for (const Material& m : scene.materials) emitters_ |= m.emissive();
   dims_ = {roulette, bsdf_u};
   if (!lights_.empty()) dims_.insert(dims_.end(), {light_pick, light_u});
@@ -172,7 +177,17 @@ uint32_t PathTracer::shade_lambert_lanes(const RayBatch& rays, const HitBatch& h
     in.u_roulette[k] = u[roulette], in.u_bsdf[0][k] = u[bsdf_u], in.u_bsdf[1][k] = u[bsdf_v];
     if (!lambert_scene_.lights) continue;
     in.u_light[0][k] = u[light_u], in.u_light[1][k] = u[light_v];
-    const LightSampling::AreaEmitter* e = lights_.area_emitter(u[light_pick]);
+    // The light tree chooses from the hit point, on the side the ray came from.
+    LightContext at;
+    if (lights_.by_point()) {
+      const glm::vec3 n = g.unit_normal(tri);
+      at = {(1.f - hits.u[i] - hits.v[i]) * g.vertex(tri, 0) + hits.u[i] * g.vertex(tri, 1) +
+                hits.v[i] * g.vertex(tri, 2),
+            glm::dot(n, d) < 0.f ? n : -n};
+      light_from_[path] = at;
+    }
+    float pmf;
+    const LightSampling::AreaEmitter* e = lights_.area_emitter(u[light_pick], at, pmf);
     in.light_ok[k] = e != nullptr;
     if (!e) continue;
     for (int a = 0; a < 3; ++a) {
@@ -180,7 +195,7 @@ uint32_t PathTracer::shade_lambert_lanes(const RayBatch& rays, const HitBatch& h
       in.light_normal[a][k] = e->normal[a], in.light_centre[a][k] = e->centre[a];
       in.light_radiance[a][k] = e->radiance[a];
     }
-    in.light_radius2[k] = e->radius2, in.light_area[k] = e->area, in.light_pmf[k] = e->pmf;
+    in.light_radius2[k] = e->radius2, in.light_area[k] = e->area, in.light_pmf[k] = pmf;
     in.light_double_sided[k] = e->double_sided;
   }
   shade_lambert(lambert_scene_, in, int(lanes), out);
@@ -219,6 +234,8 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
   scratch_rays(n);
   if (media_.any() && stacks_.size() < paths_.throughput.size())
     stacks_.resize(paths_.throughput.size());
+  if (lights_.by_point() && light_from_.size() < paths_.throughput.size())
+    light_from_.resize(paths_.throughput.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](auto range) {
     VertexNumbers numbers[sampler_lanes];
     LambertIn in{};
@@ -289,7 +306,8 @@ void PathTracer::emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i)
   float weight = 1.f;
   if (paths_.depth[path] > 0)
     weight = lights_.emitter_weight(paths_.bsdf_pdf[path], tri, rays.origin(i), hits.t[i],
-                                    std::abs(cos), g.area(tri));
+                                    std::abs(cos), g.area(tri),
+                                    lights_.by_point() ? light_from_[path] : LightContext{});
   paths_.radiance[path] +=
       paths_.throughput[path] * emission_at(scene_, tri, hits.u[i], hits.v[i], -d) * weight;
 }
@@ -345,6 +363,7 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
                        offset_ray_origin({p, h.p_error}, ng),
                        transmits ? offset_ray_origin({p, h.p_error}, -ng) : p,
                        transmits};
+  if (lights_.by_point()) light_from_[path] = LightSampling::context(p, x);
   if (!lights_.empty()) {
     ShadowRay& shadow = scratch_shadow_[q];
     auto pairs = [&](Dimension first) { return random.pair(first); };

@@ -47,6 +47,9 @@ class PathTracer final : public Wavefront {
   // those each path is in (only when there are volumes).
   const Media media_;
   std::vector<MediumStack> stacks_;
+  // With the light tree (LightSampling::by_point), by slot: where the path's last vertex chose
+  // its emitter from, for the MIS weight of the emission its bounce ray finds.
+  std::vector<LightContext> light_from_;
   std::vector<Dimension> dims_;  // what a vertex draws (shade draws them for 16 rays at a time)
   uint32_t drawn_;               // their mask
 };

@@ -79,7 +79,7 @@ MatchKeys match_keys(const RenderRequest& r, const Shot& shot, const std::string
     aovs += AovSet::name(Aov(a));
   }
   const char* sample_environment[] = {"auto", "on", "off"};
-  return {{"match.inputs", inputs_hash},
+  MatchKeys keys = {{"match.inputs", inputs_hash},
           {"match.gltfScene", std::to_string(r.gltf.scene)},
           {"match.variant", r.gltf.variant},
           {"match.time", r.gltf.time ? real(*r.gltf.time) : "rest pose"},
@@ -99,6 +99,11 @@ MatchKeys match_keys(const RenderRequest& r, const Shot& shot, const std::string
           {"match.lambertLanes", s.lambert_lanes ? "on" : "off"},
           {"match.aovs", aovs},
           {"match.intersection", backend == "embree" ? "embree" : "dacrt"}};
+  // (Only when asked: auto decides alike from the same scene and lights.)
+  const char* light_sampler[] = {"auto", "tree", "power"};
+  if (s.light_sampler != LightPicking::automatic)
+    keys.push_back({"match.lightSampler", light_sampler[int(s.light_sampler)]});
+  return keys;
 }
 
 ExrMetadata render_header(const RenderRequest& r, const Scene& scene, const Shot& shot,

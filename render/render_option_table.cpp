@@ -226,6 +226,20 @@ void set_sample_environment(R& r, S& v, S& flag) {
     throw UsageError(flag + " wants auto, on or off, not '" + v + "'" +
                      did_you_mean(v, environment_modes));
 }
+// --light-sampler's modes.
+const std::vector<std::string> light_sampler_modes = {"auto", "tree", "power"};
+
+void set_light_sampler(R& r, S& v, S& flag) {
+  if (v == "auto")
+    r.settings.light_sampler = LightPicking::automatic;
+  else if (v == "tree")
+    r.settings.light_sampler = LightPicking::tree;
+  else if (v == "power")
+    r.settings.light_sampler = LightPicking::power;
+  else
+    throw UsageError(flag + " wants auto, tree or power, not '" + v + "'" +
+                     did_you_mean(v, light_sampler_modes));
+}
 void set_seed(R& r, S& v, S& flag) { r.settings.seed = uint64_t(parse_int(flag, v, 0, LONG_MAX)); }
 void set_sampler(R& r, S& v, S&) {
   if (parse_sampler(v, r.settings.sampler)) return;
@@ -455,6 +469,12 @@ const RenderOption table[] = {
                              rays escaping), on, off
 )h",
      set_sample_environment},
+    {"--light-sampler", "Light transport", V::text, use_render | use_converge | use_config | use_python, false,
+     R"h(  --light-sampler MODE       how next-event estimation picks an emitter: auto (default: a
+                             light tree from 8 emitters on where no environment is sampled,
+                             else by power), tree, power
+)h",
+     set_light_sampler},
     {"--seed", "Light transport", V::integer, use_render | use_converge | use_config | use_python, false,
      R"h(  --seed S                   random seed (default 0)
 )h",
@@ -575,6 +595,7 @@ std::vector<std::string> render_option_choices(std::string_view name) {
   if (name == "--integrator") return Integrator::names();
   if (name == "--sampler") return sampler_names();
   if (name == "--sample-environment") return environment_modes;
+  if (name == "--light-sampler") return light_sampler_modes;
   std::vector<std::string> names;
   if (name == "--aov")
     for (int a = 0; a < aov_count; ++a) names.emplace_back(AovSet::name(Aov(a)));

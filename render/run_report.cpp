@@ -44,6 +44,9 @@ void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings
                    rt.seconds, rt.rays_per_second() * 1e-6);
   }
   for (const auto& skipped : stats.skipped) print_message("  skipped: " + skipped);
+  if (stats.light_sampler == "tree")
+    print_message("  emitters picked by a light tree (" + std::to_string(stats.light_entries) +
+                  " emitters; --light-sampler)");
   if (stats.dropped_samples)
     std::fprintf(stderr, "  warning: %llu samples were NaN or inf and were dropped\n",
                  (unsigned long long)stats.dropped_samples);

@@ -79,6 +79,8 @@ nlohmann::json to_json(const BackendRun& run) {
       {"dropped_samples", stats.dropped_samples},
       {"clamped_samples", stats.clamped_samples},
       {"skipped", stats.skipped},
+      {"light_sampler", stats.light_sampler},
+      {"light_entries", stats.light_entries},
       {"bounce_calls", stats.bounce_calls},
       {"bounce_batch", {{"min", batches.min}, {"median", batches.median}, {"max", batches.max}}},
       {"backend_stats", to_json(b)}};

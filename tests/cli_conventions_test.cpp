@@ -57,6 +57,8 @@ TEST_CASE("cli conventions: a misspelt option, command or value gets the nearest
       {"render x.gltf --sampler sobl", "unknown sampler 'sobl' (did you mean sobol?)"},
       {"render x.gltf --backend embre", "(did you mean embree?)"},
       {"render x.gltf --sample-environment offf", "(did you mean off?)"},
+      {"render x.gltf --light-sampler treee",
+       "--light-sampler wants auto, tree or power, not 'treee' (did you mean tree?)"},
       {"rendr x.gltf", "unknown command 'rendr' (did you mean render?)"},
       {"converge x.gltf --time-buget 3", "(did you mean --time-budget?)"},
       {"converge x.gltf --max-dept 3", "(did you mean --max-depth?)"},

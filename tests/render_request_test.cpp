@@ -21,7 +21,7 @@ std::string sample_value(const RenderOption& o) {
   static const std::map<std::string_view, std::string> by_name = {
       {"--view", "sRGB"},       {"--variant", "red"},       {"--animation", "walk"},
       {"--integrator", "ao"},   {"--sample-environment", "on"}, {"--sampler", "independent"},
-      {"--point-light", "0,1,0=1,1,1"}, {"--backend-option", "dacrt.bins=8"},
+      {"--light-sampler", "tree"}, {"--point-light", "0,1,0=1,1,1"}, {"--backend-option", "dacrt.bins=8"},
       {"--aov", "albedo,depth"}, {"--backend", "brute"},   {"--adaptive", "0.05"}};
   if (const auto it = by_name.find(o.name); it != by_name.end()) return it->second;
   switch (o.value) {
