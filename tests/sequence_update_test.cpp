@@ -71,7 +71,7 @@ TEST_CASE("sequence: updated backends render every frame as a new backend does, 
     const fs::path glb = kSamples / name / "glTF-Binary" / (std::string(name) + ".glb");
     if (!fs::exists(glb)) continue;
     ++scenes;
-    INFO(name);
+    INFO(std::string(name));
     TempDir dir;
     for (const std::string& backend : backends()) {
       INFO(backend);

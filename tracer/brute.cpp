@@ -21,7 +21,7 @@ class Brute final : public Backend {
   // Nothing is built: refit and rebuild both copy the new corners.
   Update update(const Geometry& g) override {
     if (frames_ == Update::none) return Update::none;
-    const bool same = g.size() == geometry_->size();
+    const bool same = 3 * g.size() == corners_.size();  // `g` may be geometry_, re-made
     copy(g);
     rays_ = 0;
     return same ? Update::rebuild : Update::build;

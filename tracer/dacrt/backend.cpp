@@ -47,7 +47,8 @@ class Dacrt final : public Backend {
   Update update(const Geometry& g) override {
     if (frames_ == Update::none) return Update::none;
     std::lock_guard lock(buffer_mutex_);
-    const Update how = g.size() != geometry_->size() ? Update::build : frames_;
+    // (`g` may be the object the backend has, re-made: the count it had is the records'.)
+    const Update how = g.size() != triangles_.front().refs.size() ? Update::build : frames_;
     geometry_ = &g;
     if (how == Update::refit) {
       Triangles& first = triangles_.front();
