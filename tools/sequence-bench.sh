@@ -34,7 +34,7 @@ for scene in "${scenes[@]}"; do
       "$BIN" render "$scene" --width 1920 --height 1080 --spp "$SPP" --quiet \
         --frames "0:$FRAMES" --fps 12 --backend dacrt,embree \
         --backend-option "dacrt.frames=$1" --backend-option "embree.frames=$2" \
-        -o "$OUT/$name.exr" --stats "$OUT/$name.$1-$2.$run.json"
+        -o "$OUT/$name.exr" --stats "$OUT/$name.$1-$2.$run.json" > /dev/null  # (the table)
     done
   done
 done
