@@ -271,7 +271,9 @@ class Dacrt final : public Backend {
   std::vector<Triangles> triangles_;  // one per chunk
   Array<RayRef> ray_buffer_;          // on huge pages where they are advised (ray_batch.h)
   TopLevels top_;                     // built with the first records
-  Array<TriangleRef> scratch_;        // update()'s, when there is one chunk only
+  // update()'s, when there is one chunk only (with two, the second's records serve; either way
+  // no more than the `chunks` copies dacrt_memory_bound counts, unless chunks=1).
+  Array<TriangleRef> scratch_;
   Box bounds_;
   std::unique_ptr<Kernel> kernel_;
   double build_seconds_ = 0.0;
