@@ -18,7 +18,12 @@ struct BackendRun {
   RenderStats stats;
   Stats backend_stats;
   double seconds = 0.0;        // whole render, the backend's build included
-  double build_seconds = 0.0;  // the backend's build (Backend::create) alone
+  double build_seconds = 0.0;  // the backend's build (Backend::create) alone; 0 when updated
+  // How the backend was made ready for this frame of --frames: "new" (created: the first frame,
+  // or option frames=new), else what Backend::update did ("refit", "rebuild", or "build": the
+  // triangle count changed), which took update_seconds.
+  std::string update = "new";
+  double update_seconds = 0.0;
   uint32_t spp = 0;            // samples every pixel has (fewer than asked when stopped early)
   // The samples the pixels got: fewest, most, mean (they differ with adaptive sampling).
   uint32_t least_spp = 0, most_spp = 0;

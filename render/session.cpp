@@ -74,6 +74,8 @@ nlohmann::json to_json(const BackendRun& run) {
       {"render_seconds", stats.seconds},
       {"seconds_with_build", run.seconds},
       {"build_seconds", run.build_seconds},
+      {"update", run.update},
+      {"update_seconds", run.update_seconds},
       {"paths", stats.paths},
       {"wavefront", stats.wavefront},
       {"dropped_samples", stats.dropped_samples},
@@ -238,6 +240,9 @@ struct RenderSession::State {
   double whole_start = -1.0;
 
   nlohmann::json frame_stats = nlohmann::json::array();
+  // One per backend, kept from frame to frame of --frames and updated (Backend::update) with
+  // each frame's geometry; a single frame keeps none.
+  std::vector<std::unique_ptr<Backend>> backends_kept;
   std::vector<BackendRun> last_runs;
   std::string title;
 
@@ -386,13 +391,35 @@ bool RenderSession::State::render_backend(BackendRun& run, size_t index, const S
       runs.size() > 1 ? " " + run.backend + " (" + std::to_string(index + 1) + " of " +
                             std::to_string(runs.size()) + ")"
                       : std::string();
-  Activity building("building the " + run.backend + " backend for " +
-                        std::to_string(scene.geometry.size()) + " triangles",
-                    !r.quiet);
-  auto backend =
-      Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
-  run.build_seconds = seconds_since(t0);
-  building.done("built the " + run.backend + " backend in " + seconds_text(run.build_seconds));
+  // A sequence keeps each backend and hands it the next frame's geometry; it builds anew the
+  // first time, and when the backend does not follow frames (option frames=new).
+  const bool keeps = frames.size() > 1;
+  if (keeps && backends_kept.size() < runs.size()) backends_kept.resize(runs.size());
+  std::unique_ptr<Backend> own;
+  std::unique_ptr<Backend>& backend = keeps ? backends_kept[index] : own;
+  if (backend) {
+    Activity updating("updating the " + run.backend + " backend for " +
+                          std::to_string(scene.geometry.size()) + " triangles",
+                      !r.quiet);
+    const Backend::Update how = backend->update(scene.geometry);
+    if (how == Backend::Update::none) {
+      backend.reset();
+    } else {
+      run.update = to_string(how);
+      run.update_seconds = seconds_since(t0);
+      updating.done("updated the " + run.backend + " backend (" + run.update + ") in " +
+                    seconds_text(run.update_seconds));
+    }
+  }
+  if (!backend) {
+    Activity building("building the " + run.backend + " backend for " +
+                          std::to_string(scene.geometry.size()) + " triangles",
+                      !r.quiet);
+    backend =
+        Backend::create(run.backend, scene.geometry, r.backend_options.for_plugin(run.backend));
+    run.build_seconds = seconds_since(t0);
+    building.done("built the " + run.backend + " backend in " + seconds_text(run.build_seconds));
+  }
   // The integrator's set-up (textures, lights) and the film: long for a large scene or image.
   Activity preparing("preparing the render" + which, !r.quiet);
   RenderJob job(scene, *backend, s, shot);
@@ -537,8 +564,12 @@ bool RenderSession::State::render_frame(int frame, StopOnSignals& signals) {
                   frame == frames.front() ? " (the load)" : "");
     std::string text = line;
     for (const BackendRun& run : runs_now) {
-      std::snprintf(line, sizeof line, ", %s build %.3f ms", run.backend.c_str(),
-                    1e3 * run.build_seconds);
+      if (run.update == "new")
+        std::snprintf(line, sizeof line, ", %s build %.3f ms", run.backend.c_str(),
+                      1e3 * run.build_seconds);
+      else
+        std::snprintf(line, sizeof line, ", %s %s %.3f ms", run.backend.c_str(),
+                      run.update.c_str(), 1e3 * run.update_seconds);
       text += line;
     }
     if (k + 1 < frames.size() && go_on) {  // the frames left, at the pace of those done

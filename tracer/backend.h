@@ -60,6 +60,26 @@ class Backend {
   }
   virtual Stats stats() const = 0;
 
+  // How a backend follows the next frame of an animation (update()).
+  enum class Update {
+    refit,    // its structure kept, its boxes recomputed for the new positions
+    rebuild,  // its structure built anew for the new positions, on the memory it has
+    build,    // as rebuild, because the triangle count changed (a refit cannot follow that)
+    none,     // it does not follow (option frames=new): the caller creates a new backend
+  };
+  // The triangles moved: from now on the backend answers for `geometry` (which must outlive it;
+  // the object it was created with, re-made in place, or another), whose triangle count may
+  // differ. Answers are the same bit for bit as a new backend's on `geometry` (ties go to the
+  // lower triangle index whatever the structure); statistics and the random streams start again.
+  // Not concurrent with intersect() or occluded(). The default follows nothing.
+  virtual Update update(const Geometry& geometry) {
+    (void)geometry;
+    return Update::none;
+  }
+  // The option every backend takes, frames=refit|rebuild|new (`fallback` when not given): how
+  // update() follows a frame. Throws Error naming `backend` for another value.
+  static Update frames_option(const Options& options, std::string_view backend, Update fallback);
+
   using Factory = std::function<std::unique_ptr<Backend>(const Geometry&, const Options&)>;
   struct Registration {
     Registration(std::string name, Factory factory);
@@ -72,6 +92,8 @@ class Backend {
 };
 
 // True if `filter` (maybe null) turns down ray i's hit on `tri` at (u, v).
+const char* to_string(Backend::Update how);
+
 inline bool rejected(const HitFilter* filter, const RayBatch& rays, uint32_t i, uint32_t tri,
                      float u, float v) {
   return filter && filter->tests(tri) && !filter->accept(rays, i, tri, u, v);

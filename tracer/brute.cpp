@@ -12,11 +12,19 @@ namespace {
 
 class Brute final : public Backend {
  public:
-  Brute(const Geometry& g, const Options& options) : geometry_(g) {
-    options.check_known("backend brute", {});
-    corners_.reserve(3 * g.size());
-    for (size_t i = 0; i < g.size(); ++i)
-      for (int c = 0; c < 3; ++c) corners_.push_back(g.vertex(i, c));
+  Brute(const Geometry& g, const Options& options)
+      : frames_(frames_option(options, "brute", Update::rebuild)) {
+    options.check_known("backend brute", {"frames"});
+    copy(g);
+  }
+
+  // Nothing is built: refit and rebuild both copy the new corners.
+  Update update(const Geometry& g) override {
+    if (frames_ == Update::none) return Update::none;
+    const bool same = 3 * g.size() == corners_.size();  // `g` may be geometry_, re-made
+    copy(g);
+    rays_ = 0;
+    return same ? Update::rebuild : Update::build;
   }
 
   void do_intersect(const RayBatch& rays, HitBatch& hits, const HitFilter* filter) override {
@@ -28,7 +36,7 @@ class Brute final : public Backend {
         hits.u[i] = hits.v[i] = 0.f;
         if (!Ray::valid(rays.origin(i), rays.direction(i), rays.tmin[i], rays.tmax[i])) continue;
         Ray r = Ray::shear(rays, i);
-        for (uint32_t tri = 0; tri < geometry_.size(); ++tri) {
+        for (uint32_t tri = 0; tri < geometry_->size(); ++tri) {
           TriangleHit h;
           if (!intersect_triangle(r, corners_[3 * tri], corners_[3 * tri + 1],
                                   corners_[3 * tri + 2], rays.tmin[i], hits.t[i], h) ||
@@ -49,7 +57,7 @@ class Brute final : public Backend {
         occluded[i] = 0;
         if (!Ray::valid(rays.origin(i), rays.direction(i), rays.tmin[i], rays.tmax[i])) continue;
         Ray r = Ray::shear(rays, i);
-        for (uint32_t tri = 0; tri < geometry_.size() && !occluded[i]; ++tri) {
+        for (uint32_t tri = 0; tri < geometry_->size() && !occluded[i]; ++tri) {
           TriangleHit h;
           occluded[i] = intersect_triangle(r, corners_[3 * tri], corners_[3 * tri + 1],
                                            corners_[3 * tri + 2], rays.tmin[i], rays.tmax[i], h) &&
@@ -63,14 +71,21 @@ class Brute final : public Backend {
   Stats stats() const override {
     Stats s;
     s.rays = rays_;
-    s.triangle_tests = rays_ * geometry_.size();
+    s.triangle_tests = rays_ * geometry_->size();
     return s;
   }
 
  private:
   void count(size_t n) { rays_ += n; }
+  void copy(const Geometry& g) {
+    geometry_ = &g;
+    corners_.resize(3 * g.size());
+    for (size_t i = 0; i < g.size(); ++i)
+      for (int c = 0; c < 3; ++c) corners_[3 * i + size_t(c)] = g.vertex(i, c);
+  }
 
-  const Geometry& geometry_;
+  const Update frames_;
+  const Geometry* geometry_ = nullptr;
   std::vector<glm::vec3> corners_;  // the triangles' corners, contiguous: 3 per triangle
   std::atomic<uint64_t> rays_{0};
 };

@@ -111,8 +111,9 @@ std::vector<std::string> variant_names(const Gltf& gltf) {
 // The scene at options.time. `geometry_only`: what a frame re-makes (triangles, their attributes,
 // cameras and lights), without decoding the textures, noting what is not read or warning again.
 // `gltf` may have served earlier runs: what they decoded and kept (Gltf::kept) is not read again.
+// `reuse`: a scene whose arrays the new one fills (MeshLoader::reuse), or null.
 Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& animations,
-          bool geometry_only = false) {
+          bool geometry_only = false, Scene* reuse = nullptr) {
   gltf.pose = options.time ? pose_at(animations, gltf.model.nodes.size(), *options.time)
                            : std::vector<NodePose>{};
   int scene = options.scene;
@@ -131,6 +132,7 @@ Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& 
     out.variant = options.variant;
   }
   MeshLoader meshes(gltf, out);
+  if (reuse) meshes.reuse(*reuse);
   out.path = gltf.path;
   // Required extensions, types, ranges and indices were checked against the schema
   // (io/gltf/schema.cpp) before tinygltf parsed the file.
@@ -156,7 +158,11 @@ Scene run(Gltf& gltf, const GltfOptions& options, const std::vector<Animation>& 
   meshes.finish();
   if (out.materials.empty()) out.materials.push_back(default_material());
   out.cameras_from_file = out.cameras.size();
-  if (out.cameras.empty()) out.cameras.push_back(frame_bounds(out.bounds(), 0.f));
+  // A pose's camera-less scene takes the camera framing the rest pose (GltfAnimation::Impl::
+  // load): its own bounds are not needed.
+  const bool rest_framed = geometry_only && options.time && !animations.empty();
+  if (out.cameras.empty())
+    out.cameras.push_back(rest_framed ? Camera{} : frame_bounds(out.bounds(), 0.f));
   if (geometry_only) return out;
 
   auto warn = [&](size_t n, const char* what) {
@@ -254,10 +260,10 @@ struct GltfAnimation::Impl {
       return 0;
     });
   }
-  Scene load(const GltfOptions& at, bool geometry_only) {
+  Scene load(const GltfOptions& at, bool geometry_only, Scene* reuse = nullptr) {
     return guarded(path, [&] {
       const std::lock_guard<std::mutex> lock(running);
-      Scene scene = gltf::run(*gltf, at, animations, geometry_only);
+      Scene scene = gltf::run(*gltf, at, animations, geometry_only, reuse);
       scene.files = files;
       if (at.time && !geometry_only && !note.empty()) print_message(note);
       // Posed, the scene is framed as at rest (the camera made for a file without one, a
@@ -293,7 +299,8 @@ Scene GltfAnimation::load() const {
 void GltfAnimation::pose(double time, Scene& scene) const {
   GltfOptions at = impl_->options;
   at.time = time;
-  Scene posed = impl_->load(at, true);
+  // The new arrays fill the old ones' memory (no page is allocated and touched anew).
+  Scene posed = impl_->load(at, true, &scene);
   scene.geometry = std::move(posed.geometry);
   scene.degenerate_triangles = posed.degenerate_triangles;  // a pose can collapse triangles
   scene.normals = std::move(posed.normals);

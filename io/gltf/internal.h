@@ -293,6 +293,10 @@ class MeshLoader {
   void add_mesh(int mesh, const glm::dmat4& world, int node, const MeshPose& pose = {});
   // Moves the per-corner attributes into the scene, once every mesh is added.
   void finish();
+  // Takes the arrays of `old` (a scene an earlier run made: its geometry and per-corner
+  // attributes), emptied, so that this run fills the memory they have instead of allocating its
+  // own (a pose of the frames of a sequence). Before any mesh is added.
+  void reuse(Scene& old);
 
   // Counts `units` of work (a triangle each, or an instance read) against the memory available,
   // failing with `where` (at node `node`) in the message once they could not fit.

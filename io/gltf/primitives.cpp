@@ -1,6 +1,8 @@
 // glTF meshes and primitives: triangle lists, strips and fans flattened into world-space
 // triangles, each with its material and the per-corner shading normals, texture coordinates,
 // colours and tangents (from the file or generated) that some primitive of the scene has.
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <limits>
@@ -87,6 +89,24 @@ void MeshLoader::finish() {
     scene_.texcoords[slot] = std::move(texcoords_[slot].data);
   scene_.colors = std::move(colors_.data);
   scene_.tangents = std::move(tangents_.data);
+}
+
+void MeshLoader::reuse(Scene& old) {
+  auto emptied = [](auto& v) {
+    auto out = std::move(v);
+    out.clear();  // the capacity stays
+    return out;
+  };
+  Geometry& g = scene_.geometry;
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a) g.p[k][a] = emptied(old.geometry.p[k][a]);
+  g.material = emptied(old.geometry.material);
+  normals_ = emptied(old.normals);
+  texcoords_.resize(std::max(texcoords_.size(), old.texcoords.size()));
+  for (size_t slot = 0; slot < old.texcoords.size(); ++slot)
+    texcoords_[slot].data = emptied(old.texcoords[slot]);
+  colors_.data = emptied(old.colors);
+  tangents_.data = emptied(old.tangents);
 }
 
 // The material's textures are needed once a primitive uses it (only those are decoded).
@@ -561,27 +581,50 @@ void MeshLoader::add_triangles(const Vertices& v,
   // their corners' attributes, and counted: no ray hits them, and a file of millions of them at
   // one point (80 M zero vertices of an accessor without a bufferView) would send every ray
   // there through all of them.
+  // Which triangles stay, in parallel; then each is written at its place, in parallel (the
+  // arrays grow once).
+  const size_t n = corners.size();
+  std::vector<uint32_t> place(n);  // among the triangles that stay; ~0u: left out
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
+    for (size_t t = range.begin(); t != range.end(); ++t) {
+      const std::array<uint32_t, 3>& c = corners[t];
+      const glm::dvec3 a(points[c[0]]);
+      const glm::dvec3 e = glm::cross(glm::dvec3(points[c[1]]) - a, glm::dvec3(points[c[2]]) - a);
+      place[t] = e.x == 0.0 && e.y == 0.0 && e.z == 0.0 ? ~0u : 0u;
+    }
+  });
+  size_t kept = 0;
+  for (uint32_t& p : place)
+    if (p == 0u) p = uint32_t(kept++);
+  degenerate_ += n - kept;
   Geometry& geometry = scene_.geometry;
-  for (size_t t = 0; t < corners.size(); ++t) {
-    const std::array<uint32_t, 3>& c = corners[t];
-    const glm::dvec3 a(points[c[0]]);
-    const glm::dvec3 n = glm::cross(glm::dvec3(points[c[1]]) - a, glm::dvec3(points[c[2]]) - a);
-    if (n.x == 0.0 && n.y == 0.0 && n.z == 0.0) {
-      ++degenerate_;
-      continue;
+  const size_t first = geometry.size();
+  for (auto& corner : geometry.p)
+    for (auto& axis : corner) axis.resize(first + kept);
+  geometry.material.resize(first + kept, material);
+  if (keep_normals_) normals_.resize(3 * (first + kept));
+  for (uint32_t slot : kept_texcoords_) texcoords_[slot].data.resize(3 * (first + kept));
+  if (colors_.on) colors_.data.resize(3 * (first + kept));
+  if (tangents_.on) tangents_.data.resize(3 * (first + kept));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
+    for (size_t t = range.begin(); t != range.end(); ++t) {
+      if (place[t] == ~0u) continue;
+      const std::array<uint32_t, 3>& c = corners[t];
+      const size_t to = first + place[t];
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t i = c[size_t(k)];
+        const size_t corner = 3 * to + size_t(k);
+        for (int axis = 0; axis < 3; ++axis) geometry.p[k][axis][to] = points[i][axis];
+        if (keep_normals_) normals_[corner] = corner_normals[3 * t + size_t(k)];
+        for (uint32_t slot : kept_texcoords_)
+          texcoords_[slot].data[corner] = v.uv[slot].empty() ? glm::vec2(0.f) : v.uv[slot][i];
+        if (colors_.on) colors_.data[corner] = v.colors.empty() ? glm::vec4(1.f) : v.colors[i];
+        if (tangents_.on)
+          tangents_.data[corner] =
+              corner_tangents.empty() ? glm::vec4(0.f) : corner_tangents[3 * t + size_t(k)];
+      }
     }
-    geometry.add(points[c[0]], points[c[1]], points[c[2]], material);
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t i = c[size_t(k)];
-      if (keep_normals_) normals_.push_back(corner_normals[3 * t + size_t(k)]);
-      for (uint32_t slot : kept_texcoords_)
-        texcoords_[slot].data.push_back(v.uv[slot].empty() ? glm::vec2(0.f) : v.uv[slot][i]);
-      if (colors_.on) colors_.data.push_back(v.colors.empty() ? glm::vec4(1.f) : v.colors[i]);
-      if (tangents_.on)
-        tangents_.data.push_back(corner_tangents.empty() ? glm::vec4(0.f)
-                                                         : corner_tangents[3 * t + size_t(k)]);
-    }
-  }
+  });
 }
 
 }  // namespace dacrt::gltf

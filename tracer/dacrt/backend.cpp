@@ -11,6 +11,8 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <set>
+#include <string>
 
 #include "dacrt/tracer/dacrt/dacrt.h"
 #include "dacrt/tracer/dacrt/top.h"
@@ -24,30 +26,44 @@ using namespace kernel;
 class Dacrt final : public Backend {
  public:
   Dacrt(const Geometry& g, const Options& options, bool sampling)
-      : geometry_(g), params_(DacrtParams::from(options, sampling)) {
-    options.check_known(sampling ? "backend dacrt" : "backend dacrt-naive", DacrtParams::keys());
+      : geometry_(&g),
+        params_(DacrtParams::from(options, sampling)),
+        frames_(frames_option(options, sampling ? "dacrt" : "dacrt-naive", Update::refit)) {
+    std::set<std::string, std::less<>> keys = DacrtParams::keys();
+    keys.insert("frames");
+    options.check_known(sampling ? "backend dacrt" : "backend dacrt-naive", keys);
     auto start = std::chrono::steady_clock::now();
-    bounds_ = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, g.size(), 16384), Box(),
-        [&](const auto& range, Box box) {
-          for (size_t i = range.begin(); i != range.end(); ++i)
-            for (int c = 0; c < 3; ++c) box.extend(g.vertex(i, c));
-          return box;
-        },
-        [](Box a, const Box& b) {
-          a.extend(b);
-          return a;
-        });
-    kernel_ = std::make_unique<Kernel>(Kernel{g, params_, bounds_.magnitude()});
-    // The first chunk's triangle records, and the kept top levels on them, before any copy is
-    // made, so that every chunk's copy has their order (below them each call reorders within
-    // their ranges). This is the backend's build: what every call finds ready.
-    Triangles& first = triangles_.emplace_back();
-    first.encode(g);
-    if (params_.top_triangles > 0 && !bounds_.empty())
-      top_.build(*kernel_, first.refs.data(), uint32_t(g.size()), bounds_, first.centres);
+    build(g);
     build_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  // A frame's new positions. `rebuild` (and `build`, for a new triangle count) is the
+  // constructor's build on the memory the backend has; `refit` keeps the kept top's splits: each
+  // record is encoded again in place (the ranges the top's children own hold the same triangles
+  // in whatever order earlier calls left them), and the top's boxes are recomputed from the
+  // records, bottom-up (TopLevels::refit). Either way the backend starts again as a new one
+  // would: statistics, the calls' random streams.
+  Update update(const Geometry& g) override {
+    if (frames_ == Update::none) return Update::none;
+    std::lock_guard lock(buffer_mutex_);
+    // (`g` may be the object the backend has, re-made: the count it had is the records'.)
+    const Update how = g.size() != triangles_.front().refs.size() ? Update::build : frames_;
+    geometry_ = &g;
+    if (how == Update::refit) {
+      Triangles& first = triangles_.front();
+      // The second chunk's records are copied from the first's after: until then, scratch.
+      bounds_ = first.reencode(g, triangles_.size() > 1 ? triangles_[1].refs : scratch_);
+      kernel_ = std::make_unique<Kernel>(Kernel{g, params_, bounds_.magnitude()});
+      if (!top_.nodes.empty()) top_.refit(first.refs.data());
+    } else {
+      build(g);
+    }
+    for (size_t c = 1; c < triangles_.size(); ++c) triangles_[c] = triangles_.front();
+    calls_ = 0;
+    std::lock_guard stats_lock(stats_mutex_);
+    stats_ = {};
+    return how;
   }
 
   void do_intersect(const RayBatch& rays, HitBatch& hits, const HitFilter* filter) override {
@@ -67,10 +83,34 @@ class Dacrt final : public Backend {
     return s;
   }
 
-  const Geometry& geometry_;
+  const Geometry* geometry_;
   const DacrtParams params_;
+  const Update frames_;
 
  private:
+  // The bounds, the first chunk's triangle records, and the kept top levels on them, before any
+  // copy is made, so that every chunk's copy has their order (below them each call reorders
+  // within their ranges). This is the backend's build: what every call finds ready.
+  void build(const Geometry& g) {
+    bounds_ = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, g.size(), 16384), Box(),
+        [&](const auto& range, Box box) {
+          for (size_t i = range.begin(); i != range.end(); ++i)
+            for (int c = 0; c < 3; ++c) box.extend(g.vertex(i, c));
+          return box;
+        },
+        [](Box a, const Box& b) {
+          a.extend(b);
+          return a;
+        });
+    kernel_ = std::make_unique<Kernel>(Kernel{g, params_, bounds_.magnitude()});
+    Triangles& first = triangles_.empty() ? triangles_.emplace_back() : triangles_.front();
+    first.encode(g);
+    top_.nodes.clear();
+    if (params_.top_triangles > 0 && !bounds_.empty())
+      top_.build(*kernel_, first.refs.data(), uint32_t(g.size()), bounds_, first.centres);
+  }
+
   void trace(const RayBatch& batch, HitBatch* hits, uint8_t* occluded, const HitFilter* filter) {
     const size_t n = batch.size();
     // Records for the live rays, in batch order; the rest never enter the recursion. Built in one
@@ -135,7 +175,7 @@ class Dacrt final : public Backend {
         std::min({threads, size_t(params_.chunks), std::max<size_t>(1, count / params_.task_rays)});
     // A concurrent call cannot copy the kept records (the call that owns them is reordering
     // them), so it encodes its own, which have no kept top.
-    if (triangles->empty()) triangles->emplace_back().encode(geometry_);
+    if (triangles->empty()) triangles->emplace_back().encode(*geometry_);
     const TopLevels* top = own_buffers && !top_.nodes.empty() ? &top_ : nullptr;
     while (triangles->size() < chunks) triangles->push_back(triangles->front());
     const uint64_t call = calls_++;
@@ -157,13 +197,13 @@ class Dacrt final : public Backend {
       if (top && rb < re)
         t.kept_node(0, rb, re, 0);
       else if (!bounds_.empty() && rb < re)
-        t.node(bounds_, own.centres, 0, uint32_t(geometry_.size()), rb, re, 0);
+        t.node(bounds_, own.centres, 0, uint32_t(geometry_->size()), rb, re, 0);
       std::lock_guard lock(total_mutex);
       total += t.stats;
     });
     total.rays = n;
     uint64_t bytes = (own_buffers ? ray_buffer_.size() : own_rays.size()) * sizeof(RayRef) +
-                     triangles->size() * geometry_.size() * sizeof(TriangleRef) +
+                     triangles->size() * geometry_->size() * sizeof(TriangleRef) +
                      (top ? top_.nodes.capacity() * sizeof(TopLevels::Node) : 0);
     std::lock_guard lock(stats_mutex_);
     stats_ += total;
@@ -174,6 +214,7 @@ class Dacrt final : public Backend {
     Array<TriangleRef> refs;  // every triangle, in any order
     Box centres;              // of their boxes
 
+    // Each triangle's record, in index order, and the box of their centres.
     void encode(const Geometry& g) {
       refs.resize(g.size());
       centres = tbb::parallel_reduce(
@@ -191,11 +232,48 @@ class Dacrt final : public Backend {
             return x;
           });
     }
+    // The same records for moved triangles (the same count), each where the one for its triangle
+    // was: encoded in index order into `scratch` (the geometry read in order), then gathered.
+    // Returns the box of the triangles' corners.
+    Box reencode(const Geometry& g, Array<TriangleRef>& scratch) {
+      scratch.resize(g.size());
+      auto unite = [](Box x, const Box& y) {
+        x.extend(y);
+        return x;
+      };
+      const Box corners = tbb::parallel_reduce(
+          tbb::blocked_range<uint32_t>(0, uint32_t(g.size()), 16384), Box(),
+          [&](const auto& range, Box box) {
+            for (uint32_t i = range.begin(); i != range.end(); ++i) {
+              scratch[i] = TriangleRef::encode(g, i);
+              for (int c = 0; c < 3; ++c) box.extend(g.vertex(i, c));
+            }
+            return box;
+          },
+          unite);
+      centres = tbb::parallel_reduce(
+          tbb::blocked_range<uint32_t>(0, uint32_t(g.size()), 16384), Box(),
+          [&](const auto& range, Box box) {
+            constexpr uint32_t ahead = 16;  // random reads: several in flight at once
+            for (uint32_t i = range.begin(); i != range.end(); ++i) {
+              if (i + ahead < range.end()) __builtin_prefetch(&scratch[refs[i + ahead].id]);
+              const TriangleRef& r = refs[i] = scratch[refs[i].id];
+              const float step = r.step();
+              box.extend(glm::vec3(r.center(0, step), r.center(1, step), r.center(2, step)));
+            }
+            return box;
+          },
+          unite);
+      return corners;
+    }
   };
   std::mutex buffer_mutex_;           // held by the call that uses the records below
   std::vector<Triangles> triangles_;  // one per chunk
   Array<RayRef> ray_buffer_;          // on huge pages where they are advised (ray_batch.h)
   TopLevels top_;                     // built with the first records
+  // update()'s, when there is one chunk only (with two, the second's records serve; either way
+  // no more than the `chunks` copies dacrt_memory_bound counts, unless chunks=1).
+  Array<TriangleRef> scratch_;
   Box bounds_;
   std::unique_ptr<Kernel> kernel_;
   double build_seconds_ = 0.0;

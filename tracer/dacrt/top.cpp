@@ -1,6 +1,7 @@
 // The kept top levels of the DACRT tree (see top.h): built once by the SAH, in parallel.
 #include "dacrt/tracer/dacrt/top.h"
 
+#include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
 namespace dacrt::kernel {
@@ -13,6 +14,45 @@ void TopLevels::build(const Kernel& k, TriangleRef* tris, uint32_t n, const Box&
   Traversal t{k, nullptr, nullptr, nullptr, no_rays, nullptr, tris, nullptr, Pcg32(0), {}};
   if (!nodes.empty() && build_node(t, bounds, centres, 0, n, 0) < 0) count_ = 0;
   nodes.resize(count_);
+}
+
+void TopLevels::refit(const TriangleRef* tris) {
+  using Child = Traversal::Split::Child;
+  // The children below the kept levels, from their records, in parallel (n records in all).
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes.size(), 64), [&](const auto& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i)
+      for (Child& c : nodes[i].split.children) {
+        if (c.kept >= 0) continue;
+        Box box, centres;
+        for (uint32_t j = c.tb; j < c.te; ++j) {
+          const TriangleRef& r = tris[j];
+          const float step = r.step();
+          glm::vec3 hi, centre;
+          for (int a = 0; a < 3; ++a) hi[a] = r.hi(a, step), centre[a] = r.center(a, step);
+          box.extend(glm::vec3(r.lo[0], r.lo[1], r.lo[2]));
+          box.extend(hi);
+          centres.extend(centre);
+        }
+        c.box = box, c.centres = centres;
+      }
+  });
+  // A node's index is above its parent's (taken before its children are built): from the last,
+  // every kept child is done before its parent.
+  for (size_t i = nodes.size(); i-- > 0;) {
+    Traversal::Split& split = nodes[i].split;
+    for (Child& c : split.children) {
+      if (c.kept < 0) continue;
+      const Traversal::Split& below = nodes[size_t(c.kept)].split;
+      c.box = below.children[0].box, c.centres = below.children[0].centres;
+      c.box.extend(below.children[1].box), c.centres.extend(below.children[1].centres);
+    }
+    Box centres = split.children[0].centres;
+    centres.extend(split.children[1].centres);
+    const int axis = centres.longest_axis();
+    nodes[i].axis = axis;
+    if (split.children[0].centres.center()[axis] > split.children[1].centres.center()[axis])
+      std::swap(split.children[0], split.children[1]);
+  }
 }
 
 int32_t TopLevels::build_node(Traversal& t, const Box& box, const Box& centres, uint32_t tb,

@@ -32,6 +32,12 @@ struct TopLevels {
 
   // Splits the records tris[0, n) in place down to nodes of fewer than top_triangles triangles.
   void build(const Kernel& k, TriangleRef* tris, uint32_t n, const Box& bounds, const Box& centres);
+  // The same splits for moved triangles: `tris` are the records build() ordered (each child's
+  // range holds the same triangles, in any order), encoded again for the new positions. Every
+  // child's box and centres' box is recomputed from them, bottom-up (exact: the unions the build
+  // would bin for these ranges), and each node's axis and child order are chosen again as the
+  // build chooses them (the longest axis of its centres' box, the lower child first).
+  void refit(const TriangleRef* tris);
 
  private:
   int32_t build_node(Traversal& t, const Box& box, const Box& centres, uint32_t tb, uint32_t te,
