@@ -72,7 +72,7 @@ struct Sampler {
   // The numbers of `dims` (a pair by its first dimension: both are written) for `lanes`
   // vertices, vertex k at (pixel[k], index[k], depth[k]): out[k][dim] is what
   // number(pixel[k], index[k], depth[k], dim) returns, bit for bit. With AVX-512, sampler_lanes
-  // Sobol vertices per instruction.
+  // Sobol vertices per instruction; with AVX2, eight.
   void numbers(const uint32_t* pixel, const uint32_t* index, const uint32_t* depth, size_t lanes,
                std::span<const Dimension> dims, VertexNumbers* out) const;
 };

@@ -267,7 +267,8 @@ TEST_CASE("sampler: seed 0's pixel 0 is scrambled like any other") {
 }
 
 TEST_CASE("sampler: sixteen vertices drawn at once get the numbers drawn one by one, bit for bit") {
-  // With AVX-512 the Sobol lanes are vector code; without it this checks the scalar loop.
+  // With AVX-512 or AVX2 the Sobol lanes are vector code (the one this CPU runs is checked); with
+  // neither this checks the scalar loop.
   std::vector<Dimension> dims;
   for (uint32_t d = 0; d < dimension_count; ++d)
     if (!(d > 0 && dimension_slots[d - 1].pair && dimension_slots[d - 1].component == 0))
