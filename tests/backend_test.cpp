@@ -128,6 +128,10 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
       {{"top_triangles", "0"}},                       // nothing kept: pure per-call DACRT
       {{"top_triangles", "1"}},                       // everything that splits is kept
       {{"top_triangles", "1"}, {"small_nodes", "all"}, {"task_rays", "1"}},
+      {{"walk_rays", "0"}},                                  // no ray walks the kept top alone
+      {{"walk_rays", "100000000"}},                          // every ray walks it from the root
+      {{"walk_rays", "100000000"}, {"top_triangles", "1"}},  // down to leaves of one triangle
+      {{"walk_rays", "100000000"}, {"top_triangles", "1024"}, {"max_depth", "2"}},
   };
   for (const auto& s : settings) {
     Options o;
@@ -206,6 +210,9 @@ TEST_CASE("hit filters (alpha tests): dacrt and dacrt-naive see through what bru
       Options scalar;
       scalar.set("simd", "none");
       compare(g, rays, expected, "dacrt", scalar, &filter);
+      Options walk;  // every ray walks the kept top on its own
+      walk.set("walk_rays", "100000000");
+      compare(g, rays, expected, "dacrt", walk, &filter);
       compare(g, rays, expected, "dacrt-naive", {}, &filter);
     }
     CHECK(filter.calls > 0);
