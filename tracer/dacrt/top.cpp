@@ -42,8 +42,8 @@ int32_t TopLevels::build_node(Traversal& t, const Box& box, const Box& centres, 
     build_child(t, b);
   }
   nodes[index] = {split, centres.longest_axis()};
-  for (int seen = levels_.load(); seen < depth + 1 && !levels_.compare_exchange_weak(seen, depth + 1);) {
-  }
+  for (int seen = levels_.load(); seen < depth + 1;)  // levels_ = max(levels_, depth + 1)
+    if (levels_.compare_exchange_weak(seen, depth + 1)) break;
   return int32_t(index);
 }
 
