@@ -496,9 +496,9 @@ const RenderOption table[] = {
                              backend setting, repeatable; NAME. for one backend of several (dacrt: bins, leaf_rays, leaf_work, leaf_triangles,
                              max_leaf_triangles, sample_size, sample_threshold, small_nodes, filter_skip,
                              cost_traversal, cost_intersect, simd, task_rays, chunks, seed,
-                             max_depth, top_triangles, leaf_lanes, group_rays); embree:
-                             quality, robust; every backend: frames=refit|rebuild|new, how
-                             --frames hands it each frame's geometry
+                             max_depth, top_triangles, leaf_lanes, group_rays, walk_rays);
+                             embree: quality, robust; every backend: frames=refit|rebuild|new,
+                             how --frames hands it each frame's geometry
 )h",
      add_backend_option},
     {"--wavefront", "Ray tracing", V::integer, use_render | use_converge | use_config | use_python, false,

@@ -128,6 +128,10 @@ TEST_CASE("dacrt stays exact with every knob at its extremes, and so does dacrt-
       {{"top_triangles", "0"}},                       // nothing kept: pure per-call DACRT
       {{"top_triangles", "1"}},                       // everything that splits is kept
       {{"top_triangles", "1"}, {"small_nodes", "all"}, {"task_rays", "1"}},
+      {{"walk_rays", "0"}},                                  // no ray walks the kept top alone
+      {{"walk_rays", "100000000"}},                          // every ray walks it from the root
+      {{"walk_rays", "100000000"}, {"top_triangles", "1"}},  // down to leaves of one triangle
+      {{"walk_rays", "100000000"}, {"top_triangles", "1024"}, {"max_depth", "2"}},
   };
   for (const auto& s : settings) {
     Options o;
@@ -206,6 +210,9 @@ TEST_CASE("hit filters (alpha tests): dacrt and dacrt-naive see through what bru
       Options scalar;
       scalar.set("simd", "none");
       compare(g, rays, expected, "dacrt", scalar, &filter);
+      Options walk;  // every ray walks the kept top on its own
+      walk.set("walk_rays", "100000000");
+      compare(g, rays, expected, "dacrt", walk, &filter);
       compare(g, rays, expected, "dacrt-naive", {}, &filter);
     }
     CHECK(filter.calls > 0);
@@ -448,6 +455,8 @@ TEST_CASE("the kept top levels serve every later call exactly, whatever its rays
         Options o;
         o.set("top_triangles", top);
         o.set("task_rays", "64");
+        // With 16, nodes of up to 8 rays send them through the kept top one at a time (walk).
+        o.set("walk_rays", std::string(top) == "16" ? "8" : "0");
         auto b = Backend::create(name, c.geometry, o);
         uint64_t seed = 700;
         std::vector<RayBatch> batches;

@@ -74,6 +74,10 @@ struct DacrtParams {
   // once, by the SAH, so that a call pays for its rays at the top levels, not for every triangle.
   // 0: nothing is kept, every call is pure per-call DACRT.
   int top_triangles = 64;
+  // A kept node reached by at most this many rays of a call sends each of them through the rest
+  // of the kept top on its own (Traversal::walk), a BVH traversal one ray at a time: with few rays
+  // a node's filtering and order cost more than the box tests they share. 0: never.
+  int walk_rays = 0;
 
   static const std::set<std::string, std::less<>>& keys();
   // Reads every key of keys() from the options (filter_skip=paper or a number).

@@ -12,7 +12,7 @@ const std::set<std::string, std::less<>>& DacrtParams::keys() {
       "seed",           "max_depth",      "max_leaf_triangles",
       "small_nodes",    "simd",           "task_rays",
       "chunks",         "top_triangles",  "leaf_lanes",
-      "group_rays"};
+      "group_rays",     "walk_rays"};
   return k;
 }
 
@@ -37,6 +37,8 @@ DacrtParams DacrtParams::from(const Options& o, bool sampling) {
   p.chunks = o.get("chunks", p.chunks);
   p.top_triangles = o.get("top_triangles", p.top_triangles);
   p.group_rays = o.get("group_rays", p.group_rays);
+  p.walk_rays = o.get("walk_rays", p.walk_rays);
+  if (p.walk_rays < 0) throw Error("option walk_rays must be >= 0 (0: never)");
   if (p.group_rays < 0) throw Error("option group_rays must be >= 0 (0: never)");
   if (p.top_triangles < 0) throw Error("option top_triangles must be >= 0 (0: keep no top levels)");
   std::string small = o.get("small_nodes", std::string("sah"));

@@ -10,10 +10,12 @@ void TopLevels::build(const Kernel& k, TriangleRef* tris, uint32_t n, const Box&
                       const Box& centres) {
   nodes.assign(max_nodes(n, k.params), Node{});
   count_ = 0;
+  levels_ = 0;
   static const RayBatch no_rays;
   Traversal t{k, nullptr, nullptr, nullptr, no_rays, nullptr, tris, nullptr, Pcg32(0), {}};
   if (!nodes.empty() && build_node(t, bounds, centres, 0, n, 0) < 0) count_ = 0;
   nodes.resize(count_);
+  levels = nodes.empty() ? 0 : levels_.load();
 }
 
 void TopLevels::refit(const TriangleRef* tris) {
@@ -80,6 +82,8 @@ int32_t TopLevels::build_node(Traversal& t, const Box& box, const Box& centres, 
     build_child(t, b);
   }
   nodes[index] = {split, centres.longest_axis()};
+  for (int seen = levels_.load(); seen < depth + 1;)  // levels_ = max(levels_, depth + 1)
+    if (levels_.compare_exchange_weak(seen, depth + 1)) break;
   return int32_t(index);
 }
 

@@ -24,6 +24,9 @@ struct TopLevels {
     int axis;                // the binning axis: rays heading along it visit the left child first
   };
   std::vector<Node> nodes;  // nodes[0] is the root, when any is kept
+  int levels = 0;           // the depth of the deepest kept node, plus one
+  // Traversal::walk keeps one child per level on its stack: deeper kept trees are not walked.
+  static constexpr int max_walk_depth = 64;
 
   static uint64_t max_nodes(uint64_t triangles, const DacrtParams& params) {
     if (params.top_triangles <= 0) return 0;
@@ -43,6 +46,7 @@ struct TopLevels {
   int32_t build_node(Traversal& t, const Box& box, const Box& centres, uint32_t tb, uint32_t te,
                      int depth);
   std::atomic<uint32_t> count_{0};
+  std::atomic<int> levels_{0};
 };
 
 }  // namespace dacrt::kernel

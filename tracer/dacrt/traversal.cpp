@@ -169,11 +169,92 @@ void Traversal::children(const Split& split, uint32_t rb, uint32_t re, int depth
 }
 
 void Traversal::kept_node(int32_t index, uint32_t rb, uint32_t re, int depth) {
+  if (re - rb <= uint32_t(k.params.walk_rays) && top->levels <= TopLevels::max_walk_depth) {
+    for (uint32_t r = rb; r < re; ++r) walk(index, r, depth);
+    return;
+  }
   const TopLevels::Node& kept = top->nodes[size_t(index)];
   Split split = kept.split;
   order_kept(split, kept.axis, rb, re);
   ++stats.nodes, ++stats.kept_nodes;
   children(split, rb, re, depth);
+}
+
+namespace {
+
+// What a walking ray needs at every node: its record, the inverse direction and pad of the box
+// test (Ray::box_hits), computed once.
+struct Walker {
+  RayRef& ref;
+  glm::vec3 inv;
+  float pad;
+  // Ray::box_hits against the ray's current far, and where the ray enters the box.
+  bool enters(const Box& box, float& near) const {
+    float n = ref.tmin, f = ref.far;
+    for (int a = 0; a < 3; ++a) {
+      const float x = (box.lo[a] - pad - ref.o[a]) * inv[a];
+      const float y = (box.hi[a] + pad - ref.o[a]) * inv[a];
+      n = std::max(n, std::min(x, y));
+      f = std::min(f, std::max(x, y));
+    }
+    near = n;
+    return n <= f;
+  }
+};
+
+}  // namespace
+
+// Below a few rays a node's filtering costs more per ray than the tests it saves (two
+// partitions, vector box tests of mostly empty lanes, the sampled order): the rays leave the
+// batch's recursion and walk the kept tree one at a time, as a BVH traversal would, the child the
+// ray enters first before the other. The second child is tested again after the first with the
+// ray's closest hit so far, as filtering tests it after the first child in children(). The same
+// conservative box test and the same leaves: the same hits.
+void Traversal::walk(int32_t index, uint32_t r, int depth) {
+  RayRef& ref = rays[r];
+  Walker w{ref, Ray::inverse(ref.d), Ray::pad_for(ref.o, k.magnitude)};
+  struct Entry {
+    const Split::Child* child;
+    float near;
+    int depth;
+  };
+  // The children put aside for later, at most one per level of the kept tree.
+  Entry stack[TopLevels::max_walk_depth];
+  int size = 0;
+  const Split::Child* next = nullptr;
+  for (;;) {
+    if (!next) {
+      const TopLevels::Node& n = top->nodes[size_t(index)];
+      ++stats.nodes, ++stats.kept_nodes;
+      stats.box_tests += 2;
+      const Split::Child &a = n.split.children[0], &b = n.split.children[1];
+      float near_a, near_b;
+      const bool in_a = w.enters(a.box, near_a), in_b = w.enters(b.box, near_b);
+      ++depth;
+      if (in_a && in_b) {
+        const bool b_first = near_b < near_a;
+        stack[size++] = {b_first ? &a : &b, b_first ? near_a : near_b, depth};
+        next = b_first ? &b : &a;
+      } else if (in_a || in_b) {
+        next = in_a ? &a : &b;
+      }
+    }
+    if (next) {
+      const Split::Child& c = *next;
+      next = nullptr;
+      if (c.kept >= 0) {
+        index = c.kept;
+        continue;
+      }
+      enter(c, r, r + 1, depth);
+    }
+    // The next child put aside that the ray still reaches with its closest hit so far (an
+    // occluded ray's far is -inf: it reaches none).
+    while (size > 0 && !(stack[size - 1].near <= ref.far)) --size;
+    if (size == 0) return;
+    const Entry& e = stack[--size];
+    next = e.child, depth = e.depth;
+  }
 }
 
 // A large node's children as two tasks. The triangle ranges are disjoint, but a ray may need both

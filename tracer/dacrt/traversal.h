@@ -81,6 +81,9 @@ struct Traversal {
   // A node of the kept top levels: its split is stored; this call's rays only choose the order of
   // its children and whether to filter for them (ray sampling on the two boxes).
   void kept_node(int32_t index, uint32_t rb, uint32_t re, int depth);
+  // A kept node of at most walk_rays rays: each ray walks the kept subtree on its own, the nearer
+  // child first, and the frontier nodes it reaches are entered with that ray alone.
+  void walk(int32_t index, uint32_t r, int depth);
   void enter(const Split::Child& c, uint32_t rb, uint32_t re, int depth) {
     if (c.kept >= 0) return kept_node(c.kept, rb, re, depth);
     node(c.box, c.centres, c.tb, c.te, rb, re, depth);
