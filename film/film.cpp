@@ -210,7 +210,8 @@ std::vector<Film::Source> Film::sources(bool counts) const {
   const char* rgb[3] = {"R", "G", "B"};
   const char* xyz[3] = {"X", "Y", "Z"};
   for (int c = 0; c < 3; ++c)
-    channel(rgb[c], [this, mean, c](size_t p) { return mean(p, fixed_[stride_ * p + at_sum + c]); });
+    channel(rgb[c],
+            [this, mean, c](size_t p) { return mean(p, fixed_[stride_ * p + at_sum + c]); });
   auto first = [this](size_t p, int k) { return fixed_[stride_ * p + at_first + k]; };
   auto over_hits = [this, first](size_t p, int k, double none) {
     return hits_[p] ? from_fixed<value_bits>(first(p, k)) / hits_[p] : none;

@@ -242,10 +242,10 @@ class Film {
     glm::vec3 radiance;
     uint32_t pixel;
   };
-  // Asks for the memory adding s will touch (for reading: without -mprfchw GCC drops a prefetch
-  // for writing, and the line then comes without the others' copies anyway).
+  // Asks for the memory adding s will touch.
   void fetch(const Sample& s) const {
-    const uintptr_t sums = uintptr_t(&fixed_[stride_ * s.pixel]), end = sums + stride_ * sizeof(Fixed);
+    const uintptr_t sums = uintptr_t(&fixed_[stride_ * s.pixel]);
+    const uintptr_t end = sums + stride_ * sizeof(Fixed);
     for (uintptr_t line = sums & ~uintptr_t(63); line < end; line += 64)
       __builtin_prefetch(reinterpret_cast<const void*>(line));
     __builtin_prefetch(&count_[s.pixel]), __builtin_prefetch(&taken_[s.pixel]);

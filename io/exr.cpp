@@ -143,8 +143,9 @@ void write_scanline_rows(std::ostream& stream, const std::string& path, const Im
       frame.insert(rows.floats[c], Imf::Slice::Make(Imf::FLOAT, floats[c].data(), window,
                                                     sizeof(float), sizeof(float) * size_t(width)));
     for (size_t c = 0; c < words.size(); ++c)
-      frame.insert(rows.words[c], Imf::Slice::Make(Imf::UINT, words[c].data(), window,
-                                                   sizeof(uint32_t), sizeof(uint32_t) * size_t(width)));
+      frame.insert(rows.words[c],
+                   Imf::Slice::Make(Imf::UINT, words[c].data(), window, sizeof(uint32_t),
+                                    sizeof(uint32_t) * size_t(width)));
     file.setFrameBuffer(frame);
     file.writePixels(y1 - y0);
   }

@@ -12,7 +12,7 @@
 
 using namespace dacrt;
 
-TEST_CASE("film exr: a film of several bands of rows comes back channel for channel and sum for sum") {
+TEST_CASE("film exr: a film of several bands of rows reads back channel for channel, sum for sum") {
   // 150 rows: two whole bands of 64 and a last one of 22.
   const int width = 5, height = 150;
   const AovSet aovs = AovSet::parse("albedo,normal,depth,position,variance,samples");
