@@ -171,53 +171,82 @@ std::vector<Film::Output> Film::outputs(bool counts) const {
 std::vector<Channel> Film::channels(bool counts, std::vector<std::string>* owners) const {
   std::vector<Channel> out;
   const size_t n = pixels();
+  for (const Source& source : sources(counts)) {
+    Channel ch{source.name, std::vector<float>(n)};
+    tbb::parallel_for(size_t(0), n, [&](size_t p) { ch.values[p] = float(source.value(p)); });
+    out.push_back(std::move(ch));
+    if (owners) owners->push_back(source.owner);
+  }
+  return out;
+}
+
+std::vector<std::string> Film::channel_names(bool counts) const {
+  std::vector<std::string> out;
+  for (const Source& source : sources(counts)) out.push_back(source.name);
+  return out;
+}
+
+void Film::channel_values(bool counts, size_t first, size_t n,
+                          const std::vector<float*>& values) const {
+  const std::vector<Source> all = sources(counts);
+  if (values.size() != all.size())
+    throw Error("channel_values: " + std::to_string(values.size()) + " arrays for " +
+                std::to_string(all.size()) + " channels");
+  tbb::parallel_for(size_t(0), n, [&](size_t k) {
+    for (size_t c = 0; c < all.size(); ++c) values[c][k] = float(all[c].value(first + k));
+  });
+}
+
+std::vector<Film::Source> Film::sources(bool counts) const {
+  std::vector<Source> out;
   // The output the channels made next belong to ("" for the colour).
   std::string owner;
-  // A channel whose value at pixel p is value(p).
-  auto channel = [&](std::string name, auto value) {
-    Channel ch{std::move(name), std::vector<float>(n)};
-    tbb::parallel_for(size_t(0), n, [&](size_t p) { ch.values[p] = float(value(p)); });
-    out.push_back(std::move(ch));
-    if (owners) owners->push_back(owner);
+  auto channel = [&](std::string name, std::function<double(size_t)> value) {
+    out.push_back({std::move(name), owner, std::move(value)});
   };
-  auto mean = [&](size_t p, Fixed sum) {
+  auto mean = [this](size_t p, Fixed sum) {
     return count_[p] ? from_fixed<value_bits>(sum) / count_[p] : 0.0;
   };
   const char* rgb[3] = {"R", "G", "B"};
   const char* xyz[3] = {"X", "Y", "Z"};
   for (int c = 0; c < 3; ++c)
-    channel(rgb[c], [&](size_t p) { return mean(p, fixed_[stride_ * p + at_sum + c]); });
-  auto first = [&](size_t p, int k) { return fixed_[stride_ * p + at_first + k]; };
-  auto over_hits = [&](size_t p, int k, double none) {
+    channel(rgb[c],
+            [this, mean, c](size_t p) { return mean(p, fixed_[stride_ * p + at_sum + c]); });
+  auto first = [this](size_t p, int k) { return fixed_[stride_ * p + at_first + k]; };
+  auto over_hits = [this, first](size_t p, int k, double none) {
     return hits_[p] ? from_fixed<value_bits>(first(p, k)) / hits_[p] : none;
   };
   if (aovs_.has(Aov::albedo)) {
     owner = AovSet::name(Aov::albedo);
     for (int c = 0; c < 3; ++c)
-      channel(std::string("albedo.") + rgb[c], [&](size_t p) { return mean(p, first(p, c)); });
+      channel(std::string("albedo.") + rgb[c],
+              [mean, first, c](size_t p) { return mean(p, first(p, c)); });
   }
   if (aovs_.has(Aov::normal)) {
     owner = AovSet::name(Aov::normal);
     for (int c = 0; c < 3; ++c)
-      channel(std::string("N.") + xyz[c], [&](size_t p) { return mean(p, first(p, 3 + c)); });
+      channel(std::string("N.") + xyz[c],
+              [mean, first, c](size_t p) { return mean(p, first(p, 3 + c)); });
   }
   if (aovs_.has(Aov::depth)) {
     owner = AovSet::name(Aov::depth);
-    channel("Z", [&](size_t p) { return over_hits(p, 6, double(background_depth)); });
+    channel("Z", [over_hits](size_t p) { return over_hits(p, 6, double(background_depth)); });
   }
   if (aovs_.has(Aov::position)) {
     owner = AovSet::name(Aov::position);
     for (int c = 0; c < 3; ++c)
-      channel(std::string("P.") + xyz[c], [&](size_t p) { return over_hits(p, 7 + c, 0.0); });
+      channel(std::string("P.") + xyz[c],
+              [over_hits, c](size_t p) { return over_hits(p, 7 + c, 0.0); });
   }
   if (aovs_.has(Aov::variance)) {
     owner = AovSet::name(Aov::variance);
     for (int c = 0; c < 3; ++c)
-      channel(std::string("variance.") + rgb[c], [&](size_t p) { return variance_of_mean(p, c); });
+      channel(std::string("variance.") + rgb[c],
+              [this, c](size_t p) { return variance_of_mean(p, c); });
   }
   if (counts || aovs_.has(Aov::samples)) {
     owner = AovSet::name(Aov::samples);
-    channel(samples_channel, [&](size_t p) { return double(count_[p]); });
+    channel(samples_channel, [this](size_t p) { return double(count_[p]); });
   }
   return out;
 }

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <glm/glm.hpp>
 #include <string>
 #include <string_view>
@@ -82,34 +83,41 @@ class Film {
 
   // add(pixel_of(i), radiance_of(i), first_of(i)) for i in [0, n), in parallel: the samples are
   // sorted into ranges of pixels (a counting sort), one task per range, so no two tasks add to
-  // one pixel (the sums are exact, so the order they add in never shows). first_of returns a const FirstHit* (null when the film keeps no first-hit values).
+  // one pixel (the sums are exact, so the order they add in never shows). first_of returns a
+  // const FirstHit* (null when the film keeps no first-hit values). The sort gathers each
+  // sample's pixel and radiance beside its place, so that the adding pass reads them in order
+  // and can fetch the pixels' sums ahead of use (the pass waits on memory, not on arithmetic).
   template <class PixelOf, class RadianceOf, class FirstOf>
   void add_in_order(size_t n, PixelOf pixel_of, RadianceOf radiance_of, FirstOf first_of) {
     constexpr size_t block = 8192;
     const size_t ranges = std::clamp<size_t>(pixels() / 64, 1, 1024);
     const size_t blocks = (n + block - 1) / block;
-    auto range_of = [&](size_t i) { return size_t(uint64_t(pixel_of(i)) * ranges / pixels()); };
+    auto range_of = [&](size_t pixel) { return size_t(uint64_t(pixel) * ranges / pixels()); };
     // start[r * blocks + b]: where block b's samples of range r go.
     std::vector<uint32_t>& start = start_;
     start.assign(ranges * blocks + 1, 0);
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i)
-        ++start[range_of(i) * blocks + b + 1];
+        ++start[range_of(pixel_of(i)) * blocks + b + 1];
     });
     for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
     order_.resize(n);
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       std::vector<uint32_t> next(ranges);
       for (size_t r = 0; r < ranges; ++r) next[r] = start[r * blocks + b];
-      for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i)
-        order_[next[range_of(i)]++] = uint32_t(i);
+      for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i) {
+        const size_t pixel = pixel_of(i);
+        order_[next[range_of(pixel)]++] = {first_of(i), radiance_of(i), uint32_t(pixel)};
+      }
     });
     std::atomic<uint64_t> dropped_now{0}, clamped_now{0};
     tbb::parallel_for(size_t(0), ranges, [&](size_t r) {
       uint64_t own[3] = {};
+      constexpr uint32_t ahead = 12;  // samples whose sums are fetched before they are added
       for (uint32_t k = start[r * blocks], end = start[(r + 1) * blocks]; k < end; ++k) {
-        const size_t i = order_[k];
-        ++own[int(accumulate(pixel_of(i), radiance_of(i), first_of(i)))];
+        if (k + ahead < end) fetch(order_[k + ahead]);
+        const Sample& s = order_[k];
+        ++own[int(accumulate(s.pixel, s.radiance, s.first))];
       }
       dropped_now += own[int(Added::dropped)], clamped_now += own[int(Added::clamped)];
     });
@@ -170,10 +178,20 @@ class Film {
     std::vector<Channel> channels;
   };
   std::vector<Output> outputs(bool counts = false) const;
+  // The names of channels(counts), and their values at pixels [first, first + n): values[c]
+  // has room for n values of channel c (for writing a band of rows at a time).
+  std::vector<std::string> channel_names(bool counts = false) const;
+  void channel_values(bool counts, size_t first, size_t n, const std::vector<float*>& values) const;
   // How many channels channels() returns, at most (the samples channel counted).
   static int channel_count(AovSet aovs);
 
  private:
+  // A channel: its name, the output it belongs to and its value at a pixel.
+  struct Source {
+    std::string name, owner;
+    std::function<double(size_t)> value;
+  };
+  std::vector<Source> sources(bool counts) const;
   // channels(), and the output each belongs to in `owners` (when given).
   std::vector<Channel> channels(bool counts, std::vector<std::string>* owners) const;
   // Adds a sample: added, clamped (added with values clamped) or dropped (not finite, nothing
@@ -218,9 +236,29 @@ class Film {
   static constexpr size_t at_sum = 0, at_square = 3, at_mean_square = 6, at_first = 7,
                           first_count = 10;
 
+  // A sample as add_in_order sorted it.
+  struct Sample {
+    const FirstHit* first;
+    glm::vec3 radiance;
+    uint32_t pixel;
+  };
+  // Asks for the memory adding s will touch.
+  void fetch(const Sample& s) const {
+    const uintptr_t sums = uintptr_t(&fixed_[stride_ * s.pixel]);
+    const uintptr_t end = sums + stride_ * sizeof(Fixed);
+    for (uintptr_t line = sums & ~uintptr_t(63); line < end; line += 64)
+      __builtin_prefetch(reinterpret_cast<const void*>(line));
+    __builtin_prefetch(&count_[s.pixel]), __builtin_prefetch(&taken_[s.pixel]);
+    if (s.first && stride_ > at_first) {
+      __builtin_prefetch(s.first), __builtin_prefetch(&s.first->hit);
+      __builtin_prefetch(&hits_[s.pixel]);
+    }
+  }
+
   int width_, height_;
   AovSet aovs_;
-  std::vector<uint32_t> order_, start_;  // add_in_order's scratch
+  std::vector<Sample> order_;    // add_in_order's scratch
+  std::vector<uint32_t> start_;  // add_in_order's scratch
   size_t stride_;                        // sums per pixel: at_first, or more with first hits
   std::vector<Fixed> fixed_;             // stride_ per pixel
   std::vector<uint32_t> count_, taken_;  // samples added, samples taken (dropped ones too)

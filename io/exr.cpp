@@ -59,24 +59,16 @@ Error write_error(const std::string& path, const std::string& reason) {
 }
 
 Imf::Header make_header(const std::string& path, int width, int height,
-                        const std::vector<Channel>& channels, const ExrMetadata& metadata,
-                        const std::vector<WordChannel>& words) {
+                        const std::vector<std::string>& floats,
+                        const std::vector<std::string>& words, const ExrMetadata& metadata) {
   Imf::Header header(width, height, 1.f, Imath::V2f(0, 0), 1.f, Imf::INCREASING_Y,
                      Imf::ZIP_COMPRESSION);
-  for (const Channel& c : channels) {
-    if (c.name.empty() || header.channels().findChannel(c.name))
-      throw write_error(path, "channel name '" + c.name + "' is empty or repeated");
-    if (c.values.size() != size_t(width) * size_t(height))
-      throw write_error(path, "channel " + c.name + " has " + std::to_string(c.values.size()) +
-                                  " values for " + std::to_string(width) + "x" +
-                                  std::to_string(height) + " pixels");
-    header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
-  }
-  for (const WordChannel& c : words) {
-    if (c.name.empty() || header.channels().findChannel(c.name))
-      throw write_error(path, "channel name '" + c.name + "' is empty or repeated");
-    header.channels().insert(c.name, Imf::Channel(Imf::UINT));
-  }
+  for (const std::vector<std::string>* names : {&floats, &words})
+    for (const std::string& name : *names) {
+      if (name.empty() || header.channels().findChannel(name))
+        throw write_error(path, "channel name '" + name + "' is empty or repeated");
+      header.channels().insert(name, Imf::Channel(names == &floats ? Imf::FLOAT : Imf::UINT));
+    }
   Imf::addChromaticities(header, Imf::Chromaticities());  // the default is Rec.709 with D65 white
   header.insert("spp", Imf::IntAttribute(metadata.spp));
   header.insert("backend", Imf::StringAttribute(metadata.backend));
@@ -126,6 +118,39 @@ void write_scanlines(std::ostream& stream, const std::string& path, const Imf::H
   file.writePixels(header.dataWindow().max.y + 1);
 }
 
+// The rows of a band at a time: 64 rows (four of ZIP's blocks of 16, so that each band
+// compresses on its own threads).
+void write_scanline_rows(std::ostream& stream, const std::string& path, const Imf::Header& header,
+                         int width, int height, const ExrRows& rows) {
+  use_threads();
+  StreamOut exr_stream(stream, path);
+  Imf::OutputFile file(exr_stream, header);
+  constexpr int band = 64;
+  const size_t most = size_t(width) * size_t(std::min(band, height));
+  std::vector<std::vector<float>> floats(rows.floats.size(), std::vector<float>(most));
+  std::vector<std::vector<uint32_t>> words(rows.words.size(), std::vector<uint32_t>(most));
+  std::vector<float*> float_rows;
+  std::vector<uint32_t*> word_rows;
+  for (auto& f : floats) float_rows.push_back(f.data());
+  for (auto& w : words) word_rows.push_back(w.data());
+  for (int y0 = 0; y0 < height; y0 += band) {
+    const int y1 = std::min(height, y0 + band);
+    rows.fill(y0, y1, float_rows, word_rows);
+    // Slice::Make places the window's first pixel, (0, y0), at the buffer's start.
+    const Imath::Box2i window(Imath::V2i(0, y0), Imath::V2i(width - 1, y1 - 1));
+    Imf::FrameBuffer frame;
+    for (size_t c = 0; c < floats.size(); ++c)
+      frame.insert(rows.floats[c], Imf::Slice::Make(Imf::FLOAT, floats[c].data(), window,
+                                                    sizeof(float), sizeof(float) * size_t(width)));
+    for (size_t c = 0; c < words.size(); ++c)
+      frame.insert(rows.words[c],
+                   Imf::Slice::Make(Imf::UINT, words[c].data(), window, sizeof(uint32_t),
+                                    sizeof(uint32_t) * size_t(width)));
+    file.setFrameBuffer(frame);
+    file.writePixels(y1 - y0);
+  }
+}
+
 // An Imf::IStream over a std::istream (a file, or bytes in memory for the fuzzer), reporting
 // errors as Imf::StdIFStream does.
 class StreamIn : public Imf::IStream {
@@ -170,10 +195,28 @@ void write_exr(const std::string& path, const Image& image, const ExrMetadata& m
 void write_exr(const std::string& path, int width, int height, const std::vector<Channel>& channels,
                const ExrMetadata& metadata, const std::vector<WordChannel>& words) {
   if (width <= 0 || height <= 0) throw write_error(path, "the image is empty");
-  const Imf::Header header = make_header(path, width, height, channels, metadata, words);
+  std::vector<std::string> float_names, word_names;
+  for (const Channel& c : channels) {
+    if (c.values.size() != size_t(width) * size_t(height))
+      throw write_error(path, "channel " + c.name + " has " + std::to_string(c.values.size()) +
+                                  " values for " + std::to_string(width) + "x" +
+                                  std::to_string(height) + " pixels");
+    float_names.push_back(c.name);
+  }
+  for (const WordChannel& c : words) word_names.push_back(c.name);
+  const Imf::Header header = make_header(path, width, height, float_names, word_names, metadata);
   // OutputFile's destructor writes the line offsets; the stream is checked after that.
   write_atomically(path, "EXR", [&](std::ostream& stream) {
     write_scanlines(stream, path, header, width, channels, words);
+  });
+}
+
+void write_exr(const std::string& path, int width, int height, const ExrRows& rows,
+               const ExrMetadata& metadata) {
+  if (width <= 0 || height <= 0) throw write_error(path, "the image is empty");
+  const Imf::Header header = make_header(path, width, height, rows.floats, rows.words, metadata);
+  write_atomically(path, "EXR", [&](std::ostream& stream) {
+    write_scanline_rows(stream, path, header, width, height, rows);
   });
 }
 

@@ -1,6 +1,7 @@
 #include "dacrt/io/film_exr.h"
 
 #include <charconv>
+#include <cstring>
 #include <system_error>
 
 #include "dacrt/util/error.h"
@@ -32,8 +33,22 @@ void write_film_exr(const std::string& path, const Film& film, ExrMetadata metad
   metadata.extra.push_back({"samplesDropped", std::to_string(film.dropped())});
   metadata.extra.push_back({"samplesClamped", std::to_string(film.clamped())});
   if (exact) metadata.extra.push_back({"exactSums", exact_sums_format});
-  write_exr(path, film.width(), film.height(), film.channels(film.min_count() != film.max_count()),
-            metadata, exact ? film_words(film) : std::vector<WordChannel>{});
+  // A band of rows at a time: the float channels of a whole film of every AOV would hold
+  // 68 bytes a pixel beside the film's sums.
+  const bool counts = film.min_count() != film.max_count();
+  const std::vector<WordChannel> words = exact ? film_words(film) : std::vector<WordChannel>{};
+  ExrRows rows{film.channel_names(counts), {}, {}};
+  for (const WordChannel& w : words) rows.words.push_back(w.name);
+  const size_t width = size_t(film.width());
+  rows.fill = [&](int y0, int y1, const std::vector<float*>& floats,
+                  const std::vector<uint32_t*>& out) {
+    const size_t first = size_t(y0) * width, n = size_t(y1 - y0) * width;
+    film.channel_values(counts, first, n, floats);
+    for (size_t c = 0; c < words.size(); ++c)
+      for (size_t k = 0; k < n; ++k)
+        std::memcpy(&out[c][k], words[c].base + (first + k) * words[c].stride, sizeof(uint32_t));
+  };
+  write_exr(path, film.width(), film.height(), rows, metadata);
 }
 
 ExrHeader read_sums_header(const std::string& path, const std::string& purpose) {
