@@ -61,6 +61,13 @@ NOT_RUN = {
                                                     "repeats",
     ("benchmarks.md", "tools/backend-table.sh 384 16 3"): "long: every scene of ../shared with "
                                                           "every backend",
+    ("benchmarks.md", 'BACKENDS="dacrt embree" NO_BENCH=1 tools/backend-table.sh 384 64 3'):
+        "long: every scene of ../shared at 64 spp, three runs of each backend",
+    ("benchmarks.md", 'BACKENDS="dacrt embree" NO_BENCH=1 tools/backend-table.sh 1024 64 3'):
+        "long: every scene of ../shared at 1024 x 1024 and 64 spp, three runs of each backend",
+    ("benchmarks.md", 'DACRT_OPTIONS="walk_rays=4" BACKENDS="dacrt embree" '
+                      'tools/backend-table.sh 1024 64 3'):
+        "long: every scene of ../shared at 1024 x 1024 and 64 spp, three runs of each backend",
     ("benchmarks.md", "dacrt render ../shared/scenes/mcguire/conference/conference.glb "
                       "--look-from 1600,420,300 --look-at -600,150,-500 --fov 55 --width 1920 "
                       "--height 1080 --spp 64 --aov albedo,normal,depth,position,variance,samples "
