@@ -274,11 +274,16 @@ TEST_CASE(
     Geometry thin = slivers(400, 95);
     cases.push_back({"slivers", thin, surface_rays(thin, 3000, 96, true)});
   }
+  // The AVX2 candidates (a filter), and the lanes' answers with AVX2 and with AVX-512.
+  enum Test { candidates_avx2, hits_avx2, hits_avx512 };
   for (const Case& c : cases)
     for (const int width : {8, 16})
-      for (const bool wide : {false, true}) {
+      for (const Test test : {candidates_avx2, hits_avx2, hits_avx512}) {
+        const bool wide = test == hits_avx512, hits = test != candidates_avx2;
         if (wide && (width == 8 || !avx512_available())) continue;
-        INFO(std::string(c.name) << ", blocks of " << width << (wide ? ", AVX-512" : ", AVX2"));
+        if (!wide && !avx2_available()) continue;
+        INFO(std::string(c.name) << ", blocks of " << width
+                                 << (wide ? ", AVX-512" : hits ? ", AVX2 hits" : ", AVX2"));
         size_t accepted = 0, candidates = 0, dropped = 0, tested = 0, sure = 0, wrong_sure = 0;
         size_t exact = 0, wrong_exact = 0;
         for (size_t j0 = 0; j0 < c.g.size(); j0 += width) {
@@ -289,16 +294,21 @@ TEST_CASE(
           block.load(c.g, ids, n);
           for (size_t i = 0; i < c.rays.size(); ++i) {
             const Ray ray = Ray::shear(c.rays, i);
-            const uint32_t mask =
-                wide ? block_candidates_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i])
-                     : block_candidates(block, ray, c.rays.tmin[i], c.rays.tmax[i]);
             BlockHits bh{};
-            if (wide) {
-              block_hits_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i], bh);
+            uint32_t mask;
+            if (hits) {
+              if (wide)
+                block_hits_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i], bh);
+              else
+                block_hits_avx2(block, ray, c.rays.tmin[i], c.rays.tmax[i], bh);
               CHECK((bh.sure & bh.unsure) == 0u);
               CHECK((bh.sure & bh.exact) == 0u);
               CHECK((bh.exact & bh.unsure) == 0u);
-              CHECK((bh.sure | bh.exact | bh.unsure) == mask);
+              mask = bh.sure | bh.exact | bh.unsure;
+              if (wide)
+                CHECK(block_candidates_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i]) == mask);
+            } else {
+              mask = block_candidates(block, ray, c.rays.tmin[i], c.rays.tmax[i]);
             }
             for (int l = 0; l < n; ++l) {
               TriangleHit h;
@@ -338,10 +348,10 @@ TEST_CASE(
         CHECK(wrong_exact == 0);
         // Rays leaving a surface meet their own triangle at t within its error of 0: exact lanes.
         const std::string name = c.name;
-        if (wide && (name == "grid, from the surface" || name == "grid, near the surface"))
+        if (hits && (name == "grid, from the surface" || name == "grid, near the surface"))
           CHECK(exact > 0);
         // On general triangles most hits skip the scalar test.
-        if (wide && std::string(c.name) == "soup") CHECK(sure > accepted * 9 / 10);
+        if (hits && std::string(c.name) == "soup") CHECK(sure > accepted * 9 / 10);
         INFO("accepted " << accepted << ", candidates " << candidates << ", tested " << tested);
         // A filter, not a pass-through: on general triangles almost every candidate is a hit.
         // (Rays in the grid's plane see every triangle edge-on, all edge functions zero: all
@@ -353,8 +363,8 @@ TEST_CASE(
 // An edge function that rounds to 0 in float but not in double: the scalar test decides in double
 // (here: the origin is just outside, a miss), so the lane must go to it, not be taken as sure.
 TEST_CASE("a lane whose edge function rounds to zero is never a sure hit of the vector test") {
-  if (!avx512_available()) {
-    MESSAGE("skipped: this CPU has no AVX-512");
+  if (!avx2_available()) {
+    MESSAGE("skipped: this CPU has no AVX2");
     return;
   }
   const float e = 0x1p-23f;
@@ -369,11 +379,18 @@ TEST_CASE("a lane whose edge function rounds to zero is never a sure hit of the 
   const uint32_t ids[1] = {0};
   TriangleBlock block;
   block.load(g, ids, 1);
-  BlockHits bh{};
-  block_hits_avx512(block, r, 0.f, INFINITY, bh);
-  CHECK(bh.sure == 0u);
-  CHECK(bh.exact == 0u);
-  CHECK(bh.unsure == 1u);
+  for (const bool wide : {false, true}) {
+    if (wide && !avx512_available()) continue;
+    INFO((wide ? "AVX-512" : "AVX2"));
+    BlockHits bh{};
+    if (wide)
+      block_hits_avx512(block, r, 0.f, INFINITY, bh);
+    else
+      block_hits_avx2(block, r, 0.f, INFINITY, bh);
+    CHECK(bh.sure == 0u);
+    CHECK(bh.exact == 0u);
+    CHECK(bh.unsure == 1u);
+  }
 }
 
 // A ray lying in the plane of two triangles (the grazing plane of tests/stress.h, plane ray 1019):

@@ -63,6 +63,8 @@ struct BlockHits {
 };
 void block_hits_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax,
                        BlockHits& out);
+// The same answers with AVX2, eight lanes per instruction. Only call when avx2_available().
+void block_hits_avx2(const TriangleBlock& b, const Ray& r, float tmin, float tmax, BlockHits& out);
 
 // Sixteen rays of one shear class (the same kx, ky, kz: Ray::shear_class) in structure-of-arrays
 // form, for group_hits_avx512: the transpose of TriangleBlock, for a leaf with many rays.
@@ -104,6 +106,10 @@ struct GroupHits {
 // time. Returns how many triangles were tested. Only call when avx512_available().
 int group_hits_avx512(const TriangleBlock* blocks, int nb, RayGroup& g, bool any_hit,
                       GroupHits& out);
+// The same for the first eight lanes of g (g.used within bits 0..7), with AVX2. Only call when
+// avx2_available().
+int group_hits_avx2(const TriangleBlock* blocks, int nb, RayGroup& g, bool any_hit,
+                    GroupHits& out);
 
 // intersect_triangle's answer on an `exact` lane l (its corners p0, p1, p2), from the lane's float
 // edge functions e1, e2 and det: t in double, in [tmin, tmax], with the lane's float u and v.

@@ -10,6 +10,25 @@
 
 namespace dacrt::kernel {
 
+// The first eight floats of eight records (o, d, tmin, far), one field per register: record k's
+// value in lane k. Each record's two halves are loaded whole and transposed in registers (two 4×4
+// transposes per 128-bit half): eight gathers of eight lanes each cost several times as much on
+// CPUs whose gathers are microcoded.
+__attribute__((target("avx2"))) inline void load_fields(const float* r, __m256 (&f)[8]) {
+  for (int half = 0; half < 2; ++half) {
+    __m256 row[4];  // record k's floats [4 half, 4 half + 4) in the low lane, record k + 4's high
+    for (int k = 0; k < 4; ++k)
+      row[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(r + 9 * k + 4 * half)),
+                                    _mm_loadu_ps(r + 9 * (k + 4) + 4 * half), 1);
+    const __m256 t0 = _mm256_unpacklo_ps(row[0], row[1]), t1 = _mm256_unpackhi_ps(row[0], row[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(row[2], row[3]), t3 = _mm256_unpackhi_ps(row[2], row[3]);
+    f[4 * half + 0] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+    f[4 * half + 1] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+    f[4 * half + 2] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+    f[4 * half + 3] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
+  }
+}
+
 // Ray::box_hits for the records p[0..n), n <= 64, eight per AVX2 instruction: the same operations
 // in the same order (_mm256_min_ps(b, a) is std::min(a, b) exactly, NaN and signed zeros
 // included), so the mask is bit for bit the scalar test's. Bit i is p[i]; nothing past p[n - 1] is
@@ -19,29 +38,35 @@ __attribute__((target("avx2"))) uint64_t box_mask_avx2(const RayRef* p, int n, c
   static_assert(sizeof(RayRef) == 9 * sizeof(float) && offsetof(RayRef, d) == 12 &&
                 offsetof(RayRef, tmin) == 24 && offsetof(RayRef, far) == 28);
   const float* base = reinterpret_cast<const float*>(p);
-  const __m256i stride = _mm256_setr_epi32(0, 9, 18, 27, 36, 45, 54, 63);
   __m256 lo[3], hi[3];
   for (int a = 0; a < 3; ++a) lo[a] = _mm256_set1_ps(box.lo[a]), hi[a] = _mm256_set1_ps(box.hi[a]);
   const __m256 sign = _mm256_set1_ps(-0.f), mag = _mm256_set1_ps(magnitude),
                scale = _mm256_set1_ps(0x1p-16f), tiny = _mm256_set1_ps(1e-30f),
                one = _mm256_set1_ps(1.f);
-  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   uint64_t mask = 0;
   for (int g = 0; 8 * g < n; ++g) {
     const float* r = base + 72 * g;
-    // Lanes past the last record gather nothing (and give 0, a ray that hits nothing: dropped).
-    const __m256 live = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(n - 8 * g), lane));
+    // A last group of fewer than eight records is copied into zeros; its empty lanes are masked
+    // off below.
+    const int left = n - 8 * g;
+    alignas(32) float tail[72];
+    if (left < 8) {
+      std::fill(tail, tail + 72, 0.f);
+      std::copy(r, r + 9 * left, tail);
+      r = tail;
+    }
+    __m256 f[8];
+    load_fields(r, f);
     __m256 o[3], inv[3];
     for (int a = 0; a < 3; ++a) {
-      o[a] = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + a, stride, live, 4);
+      o[a] = f[a];
       // Ray::inverse: 1/d, with |d| < 1e-30 replaced by ±1e-30
-      const __m256 d = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + 3 + a, stride, live, 4);
+      const __m256 d = f[3 + a];
       const __m256 small = _mm256_cmp_ps(_mm256_andnot_ps(sign, d), tiny, _CMP_LT_OQ);
       const __m256 clamped = _mm256_or_ps(_mm256_and_ps(sign, d), tiny);
       inv[a] = _mm256_div_ps(one, _mm256_blendv_ps(d, clamped, small));
     }
-    __m256 near = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + 6, stride, live, 4),
-           far = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), r + 7, stride, live, 4);
+    __m256 near = f[6], far = f[7];
     // Ray::pad_for: 2^-16 (max |o| + magnitude)
     const __m256 om =
         _mm256_max_ps(_mm256_max_ps(_mm256_andnot_ps(sign, o[0]), _mm256_andnot_ps(sign, o[1])),
@@ -53,8 +78,9 @@ __attribute__((target("avx2"))) uint64_t box_mask_avx2(const RayRef* p, int n, c
       near = _mm256_max_ps(_mm256_min_ps(tb, ta), near);  // std::max(near, std::min(ta, tb))
       far = _mm256_min_ps(_mm256_max_ps(tb, ta), far);    // std::min(far, std::max(ta, tb))
     }
-    const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(near, far, _CMP_LE_OQ), live);
-    mask |= uint64_t(uint32_t(_mm256_movemask_ps(hit))) << (8 * g);
+    uint32_t hit = uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(near, far, _CMP_LE_OQ)));
+    if (left < 8) hit &= (1u << left) - 1u;
+    mask |= uint64_t(hit) << (8 * g);
   }
   return mask;
 }

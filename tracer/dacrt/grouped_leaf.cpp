@@ -1,6 +1,7 @@
 // A leaf of many rays, sixteen rays at a time against one triangle at a time (group_hits_avx512):
 // the rays' records are read sixteen per AVX-512 instruction and sorted into six buckets by their
-// shear class (Ray::shear_class), and each full bucket is one RayGroup. The lanes the vector test
+// shear class (Ray::shear_class), and each full bucket is one RayGroup. With AVX2 only, eight rays
+// at a time (group_hits_avx2), bucketed one by one. The lanes the vector test
 // leaves to the scalar one are decided one at a time, as leaf() decides them, and each ray's
 // closest hit is recorded once, with closer(): the answers are leaf()'s, bit for bit.
 #include <bit>
@@ -110,7 +111,24 @@ struct Groups {
     }
     _mm512_store_ps(group.tmin, field(base, at, 6));
     _mm512_store_ps(group.tmax, field(base, at, 7));
-    const int tested = group_hits_avx512(blocks, nb, group, any_hit, out);
+    answer(ray, n, group_hits_avx512(blocks, nb, group, any_hit, out));
+  }
+
+  // The same for at most eight records, tested with AVX2 (their fields copied one by one).
+  void run8(int cls, const uint32_t* ray, int n) {
+    const int8_t* axes = Ray::class_axes[cls];
+    group.kx = axes[0], group.ky = axes[1], group.kz = axes[2];
+    group.used = (1u << n) - 1u;
+    for (int l = 0; l < 8; ++l) {
+      const RayRef& r = t.rays[ray[l < n ? l : 0]];  // unused lanes repeat lane 0
+      for (int a = 0; a < 3; ++a) group.o[a][l] = r.o[axes[a]], group.d[a][l] = r.d[axes[a]];
+      group.tmin[l] = r.tmin, group.tmax[l] = r.far;
+    }
+    answer(ray, n, group_hits_avx2(blocks, nb, group, any_hit, out));
+  }
+
+  // The odd lanes decided one at a time, and each record's answer: `tested` triangles for each.
+  void answer(const uint32_t* ray, int n, int tested) {
     t.stats.triangle_tests += uint64_t(tested) * uint64_t(n);
     odd.decide(t.k.geometry, group, out, t.rays, ray, any_hit);
     for (int l = 0; l < n; ++l) {
@@ -182,11 +200,30 @@ __attribute__((target("avx512f"))) void Traversal::grouped_leaf(const TriangleBl
     if (count[c] > 0) groups.run(c, bucket[c], count[c]);
 }
 
+// grouped_leaf with AVX2: eight rays at a time, bucketed by their class one by one.
+void Traversal::grouped_leaf_avx2(const TriangleBlock* blocks, int nb, uint32_t rb, uint32_t re) {
+  Groups groups{
+      *this, blocks, nb, rb, reinterpret_cast<const float*>(rays + rb), occluded != nullptr,
+      {},    {},     {}};
+  uint32_t bucket[6][8];  // record indices, by class
+  int count[6] = {};
+  for (uint32_t r = rb; r < re; ++r) {
+    const RayRef& ref = rays[r];
+    if (!(ref.far >= ref.tmin)) continue;  // occluded already
+    const int c = Ray::shear_class(ref.d);
+    bucket[c][count[c]++] = r;
+    if (count[c] == 8) groups.run8(c, bucket[c], 8), count[c] = 0;
+  }
+  for (int c = 0; c < 6; ++c)
+    if (count[c] > 0) groups.run8(c, bucket[c], count[c]);
+}
+
 #pragma GCC diagnostic pop
 
 #else
 
 void Traversal::grouped_leaf(const TriangleBlock*, int, uint32_t, uint32_t) {}  // never called
+void Traversal::grouped_leaf_avx2(const TriangleBlock*, int, uint32_t, uint32_t) {}
 
 #endif
 

@@ -47,10 +47,10 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
   }
   // Up to 64 triangles at a time in blocks of sixteen, loaded once for all the leaf's rays, and
   // tested sixteen lanes per instruction with AVX-512 (else eight with AVX2): one ray against a
-  // block, or, in a leaf of many rays (group_rays), sixteen rays against one triangle.
+  // block, or, in a leaf of many rays (group_rays), sixteen (eight) rays against one triangle.
   const bool wide = k.params.simd >= Simd::avx512 && avx512_available();
   // (grouped_leaf addresses its rays by 32-bit offsets: at most 2^27 records.)
-  const bool grouped = wide && !hit_filter && k.params.group_rays > 0 &&
+  const bool grouped = !hit_filter && k.params.group_rays > 0 &&
                        re - rb >= uint32_t(k.params.group_rays) && re - rb <= (1u << 27);
   constexpr uint32_t group = 64, lanes = TriangleBlock::lanes;
   std::array<TriangleBlock, group / lanes> blocks;
@@ -72,7 +72,10 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
       blocks[nb].load(g, ids, count);
     }
     if (grouped) {
-      grouped_leaf(blocks.data(), nb, rb, re);
+      if (wide)
+        grouped_leaf(blocks.data(), nb, rb, re);
+      else
+        grouped_leaf_avx2(blocks.data(), nb, rb, re);
       continue;
     }
     for (uint32_t r = rb; r < re; ++r) {
@@ -82,18 +85,16 @@ void Traversal::leaf(uint32_t tb, uint32_t te, uint32_t rb, uint32_t re) {
       for (int b = 0; b < nb && ref.far >= ref.tmin; ++b) {
         const TriangleBlock& block = blocks[b];
         stats.triangle_tests += block.n;
-        // Candidates, then the scalar test on each, in lane order (the tie rule makes the order
-        // irrelevant for the answer). With AVX-512 the lanes whose answer the vector test already
-        // knows skip the scalar test: sure ones have their t, u and v bit for bit, exact ones
-        // only need t in double.
-        uint32_t sure = 0, exact = 0, candidates;
+        // The vector test's lanes, then each candidate in lane order (the tie rule makes the
+        // order irrelevant for the answer): sure lanes have their t, u and v bit for bit, exact
+        // ones only need t in double, the rest take the scalar test.
         BlockHits bh;
-        if (wide) {
+        if (wide)
           block_hits_avx512(block, ray, ref.tmin, ref.far, bh);
-          sure = bh.sure, exact = bh.exact, candidates = bh.sure | bh.exact | bh.unsure;
-        } else {
-          candidates = block_candidates(block, ray, ref.tmin, ref.far);
-        }
+        else
+          block_hits_avx2(block, ray, ref.tmin, ref.far, bh);
+        const uint32_t sure = bh.sure, exact = bh.exact,
+                       candidates = bh.sure | bh.exact | bh.unsure;
         for (uint32_t m = candidates; m && ref.far >= ref.tmin; m &= m - 1) {
           const int l = std::countr_zero(m);
           const uint32_t tri = block.id[l];

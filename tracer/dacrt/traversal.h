@@ -115,8 +115,10 @@ struct Traversal {
     hits->t[i] = h.t, hits->u[i] = h.u, hits->v[i] = h.v, hits->prim[i] = tri;
   }
   // leaf() for the rays [rb, re) and the triangles of blocks[0..nb), sixteen rays at a time
-  // (grouped_leaf.cpp; AVX-512 only, no hit filter, at most 2^27 rays).
+  // (grouped_leaf.cpp; AVX-512, no hit filter, at most 2^27 rays).
   void grouped_leaf(const TriangleBlock* blocks, int nb, uint32_t rb, uint32_t re);
+  // The same, eight rays at a time with AVX2.
+  void grouped_leaf_avx2(const TriangleBlock* blocks, int nb, uint32_t rb, uint32_t re);
   uint32_t filter(const Box& box, uint32_t rb, uint32_t re, bool hits_first = true);
   void sample_splits(const Box* left, const Box* right, int n, uint32_t rb, uint32_t samples,
                      SplitScratch::Counts& counts);
