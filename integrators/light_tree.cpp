@@ -141,6 +141,51 @@ float lane_importance(const LightTree::Node& b, int i, const LightContext& at) {
   return vmin(result, FLT_MAX);
 }
 
+// How a node splits `range` among its children by their importance: child i gets
+// [bound[i], bound[i + 1]), bound[0] = 0 and bound[8] = range. One unit first to each child of
+// positive importance (when the range has as many); the rest in proportion to the importance
+// quantised to 2⁻²⁰ of the greatest, rounded at the cumulative sums (integers, so exact in any
+// order: the parts add up to the range, and a child of importance 0 gets nothing). All in float
+// and int32, eight lanes at once with AVX2, the same operations lane by lane otherwise. range
+// ≤ 2²⁴ (the alias table's units: float holds it exactly).
+constexpr float quanta = 0x1p20f;
+
+// Equal parts of the range among the children, when none has positive importance.
+void split_equally(uint32_t count, uint32_t range, uint32_t* bound) {
+  bound[0] = 0;
+  for (uint32_t i = 0; i < uint32_t(LightTree::width); ++i)
+    bound[i + 1] = uint32_t(uint64_t(range) * std::min(i + 1, count) / count);
+}
+
+void split_lanes(const float* importance, uint32_t count, uint32_t range, uint32_t* bound) {
+  constexpr int width = LightTree::width;
+  float most = importance[0];
+  uint32_t n_positive = 0;
+  for (int i = 0; i < width; ++i) {
+    most = vmax(most, importance[i]);
+    n_positive += importance[i] > 0.f ? 1 : 0;
+  }
+  if (!(most > 0.f)) return split_equally(count, range, bound);
+  const uint32_t reserved = range >= n_positive ? 1 : 0;
+  const uint32_t rest = range - reserved * n_positive;
+  std::array<int32_t, width> sums, seen;
+  int32_t sum = 0, seen_sum = 0;
+  for (int i = 0; i < width; ++i) {
+    sums[size_t(i)] = sum += int32_t(std::floor(importance[i] / most * quanta));
+    seen_sum += importance[i] > 0.f ? int32_t(reserved) : 0;
+    seen[size_t(i)] = seen_sum;
+  }
+  const int32_t total = sum;
+  const float scale = float(rest) / float(total);
+  bound[0] = 0;
+  for (int i = 0; i < width; ++i) {
+    int32_t b = int32_t(std::floor(float(sums[size_t(i)]) * scale + 0.5f));
+    b = std::min(b, int32_t(rest));
+    if (sums[size_t(i)] == total) b = int32_t(rest);
+    bound[i + 1] = uint32_t(b + seen[size_t(i)]);
+  }
+}
+
 #ifdef DACRT_LIGHT_TREE_X86
 #define DACRT_AVX2 __attribute__((target("avx2")))
 
@@ -163,7 +208,7 @@ DACRT_AVX2 inline __m256 sub_clamped8(__m256 a, __m256 b, __m256 if_greater, __m
 }
 
 // lane_importance for the eight lanes at once.
-DACRT_AVX2 void importances_avx2(const LightTree::Node& b, const LightContext& at, float* out) {
+DACRT_AVX2 inline __m256 importance8(const LightTree::Node& b, const LightContext& at) {
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f);
   const __m256 tx = _mm256_sub_ps(_mm256_set1_ps(at.p.x), _mm256_load_ps(b.cx));
   const __m256 ty = _mm256_sub_ps(_mm256_set1_ps(at.p.y), _mm256_load_ps(b.cy));
@@ -205,39 +250,69 @@ DACRT_AVX2 void importances_avx2(const LightTree::Node& b, const LightContext& a
       _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(cos_pi, zero, _CMP_GT_OQ),
                                   _mm256_cmp_ps(cos_p, _mm256_load_ps(b.cos_e), _CMP_GT_OQ)),
                     _mm256_cmp_ps(result, result, _CMP_ORD_Q));
-  _mm256_storeu_ps(out, _mm256_and_ps(valid, _mm256_min_ps(result, _mm256_set1_ps(FLT_MAX))));
+  return _mm256_and_ps(valid, _mm256_min_ps(result, _mm256_set1_ps(FLT_MAX)));
+}
+
+DACRT_AVX2 void importances_avx2(const LightTree::Node& b, const LightContext& at, float* out) {
+  _mm256_storeu_ps(out, importance8(b, at));
+}
+
+// Inclusive prefix sums of eight lanes (exact: integers).
+DACRT_AVX2 inline __m256i prefix8(__m256i x) {
+  const __m256i zero = _mm256_setzero_si256();
+  x = _mm256_add_epi32(x, _mm256_blend_epi32(_mm256_permutevar8x32_epi32(
+                                                 x, _mm256_setr_epi32(0, 0, 1, 2, 3, 4, 5, 6)),
+                                             zero, 0x01));
+  x = _mm256_add_epi32(x, _mm256_blend_epi32(_mm256_permutevar8x32_epi32(
+                                                 x, _mm256_setr_epi32(0, 0, 0, 1, 2, 3, 4, 5)),
+                                             zero, 0x03));
+  x = _mm256_add_epi32(x, _mm256_blend_epi32(_mm256_permutevar8x32_epi32(
+                                                 x, _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 2, 3)),
+                                             zero, 0x0f));
+  return x;
+}
+
+DACRT_AVX2 inline float max8(__m256 x) {
+  __m128 m = _mm_max_ps(_mm256_castps256_ps128(x), _mm256_extractf128_ps(x, 1));
+  m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+  m = _mm_max_ss(m, _mm_shuffle_ps(m, m, 1));
+  return _mm_cvtss_f32(m);
+}
+
+// split_lanes (below) of the eight lanes at once; false when no child has positive importance.
+DACRT_AVX2 bool split_avx2(__m256 importance, uint32_t range, uint32_t* bound) {
+  const float most = max8(importance);
+  if (!(most > 0.f)) return false;
+  const __m256 q = _mm256_floor_ps(_mm256_mul_ps(_mm256_div_ps(importance, _mm256_set1_ps(most)),
+                                                 _mm256_set1_ps(quanta)));
+  const __m256 positive = _mm256_cmp_ps(importance, _mm256_setzero_ps(), _CMP_GT_OQ);
+  const uint32_t n_positive = uint32_t(__builtin_popcount(unsigned(_mm256_movemask_ps(positive))));
+  const uint32_t reserved = range >= n_positive ? 1 : 0;
+  const uint32_t rest = range - reserved * n_positive;
+  const __m256i sums = prefix8(_mm256_cvttps_epi32(q));
+  const __m256i seen = prefix8(_mm256_and_si256(_mm256_castps_si256(positive),
+                                                _mm256_set1_epi32(int(reserved))));
+  const int total = _mm256_extract_epi32(sums, 7);
+  const float scale = float(rest) / float(total);
+  __m256i b = _mm256_cvttps_epi32(_mm256_floor_ps(_mm256_add_ps(
+      _mm256_mul_ps(_mm256_cvtepi32_ps(sums), _mm256_set1_ps(scale)), _mm256_set1_ps(0.5f))));
+  const __m256i all = _mm256_set1_epi32(int(rest));
+  b = _mm256_min_epi32(b, all);
+  b = _mm256_blendv_epi8(b, all, _mm256_cmpeq_epi32(sums, _mm256_set1_epi32(total)));
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(bound + 1), _mm256_add_epi32(b, seen));
+  bound[0] = 0;
+  return true;
+}
+
+DACRT_AVX2 void level_avx2(const LightTree::Node& n, const LightContext& at, uint32_t range,
+                           uint32_t* bound) {
+  if (!split_avx2(importance8(n, at), range, bound)) split_equally(n.count, range, bound);
 }
 #else
 bool avx2_available() { return false; }
 void importances_avx2(const LightTree::Node&, const LightContext&, float*) {}
+void level_avx2(const LightTree::Node&, const LightContext&, uint32_t, uint32_t*) {}
 #endif
-
-// Splits `range` among a node's `count` children by their importance: child i gets
-// [bound[i], bound[i + 1]). One unit first to each child of positive importance (when the range
-// has as many), the rest in proportion, rounded at the cumulative sums (so the parts add up to
-// the range exactly and a child of importance 0 gets nothing); equal parts when all are 0.
-void split(const float* importance, uint32_t count, uint32_t range, uint32_t* bound) {
-  double total = 0.0;
-  uint32_t positive = 0;
-  for (uint32_t i = 0; i < count; ++i)
-    if (importance[i] > 0.f) total += double(importance[i]), ++positive;
-  bound[0] = 0;
-  if (positive == 0) {
-    for (uint32_t i = 0; i < count; ++i) bound[i + 1] = uint32_t(uint64_t(range) * (i + 1) / count);
-    return;
-  }
-  const uint32_t reserved = range >= positive ? 1 : 0;
-  const uint32_t rest = range - reserved * positive;
-  const double scale = double(rest) / total;
-  double sum = 0.0;
-  uint32_t seen = 0;
-  for (uint32_t i = 0; i + 1 < count; ++i) {
-    if (importance[i] > 0.f) sum += double(importance[i]), seen += reserved;
-    // (sum · scale ≤ rest < 2³²: the conversion truncates, which is floor here)
-    bound[i + 1] = std::min(rest, uint32_t(uint64_t(sum * scale + 0.5))) + seen;
-  }
-  bound[count] = range;
-}
 
 }  // namespace
 
@@ -417,6 +492,14 @@ void LightTree::importances(const Node& n, const LightContext& at, float out[wid
   for (int i = 0; i < width; ++i) out[i] = lane_importance(n, i, at);
 }
 
+void LightTree::level(const Node& n, const LightContext& at, uint32_t range,
+                      uint32_t bound[width + 1]) const {
+  if (avx2_) return level_avx2(n, at, range, bound);
+  float importance[width];
+  for (int i = 0; i < width; ++i) importance[i] = lane_importance(n, i, at);
+  split_lanes(importance, n.count, range, bound);
+}
+
 void LightTree::child_importance(uint32_t node, const LightContext& at, float out[width]) const {
   importances(nodes_[node], at, out);
 }
@@ -425,12 +508,10 @@ LightTree::Pick LightTree::sample(uint32_t k, uint32_t range, const LightContext
   uint32_t node = 0;
   for (;;) {
     const Node& n = nodes_[node];
-    alignas(32) float importance[width];
-    importances(n, at, importance);
     uint32_t bound[width + 1];
-    split(importance, n.count, range, bound);
-    uint32_t lane = 0;
-    while (k >= bound[lane + 1]) ++lane;
+    level(n, at, range, bound);
+    uint32_t lane = 0;  // (bound[lane + 1] > k from the first child of a part on)
+    for (int i = 1; i < width; ++i) lane += bound[i] <= k ? 1 : 0;
     k -= bound[lane], range = bound[lane + 1] - bound[lane];
     if (n.child[lane] & leaf_bit) return {n.child[lane] & ~leaf_bit, range};
     node = n.child[lane];
@@ -447,10 +528,8 @@ uint32_t LightTree::units(uint32_t entry, uint32_t range, const LightContext& at
   while (n > 0 && range > 0) {
     const uint32_t node_lane = path[size_t(--n)];
     const Node& node = nodes_[node_lane / width];
-    alignas(32) float importance[width];
-    importances(node, at, importance);
     uint32_t bound[width + 1];
-    split(importance, node.count, range, bound);
+    level(node, at, range, bound);
     const uint32_t lane = node_lane % width;
     range = bound[lane + 1] - bound[lane];
   }

@@ -104,6 +104,9 @@ class LightTree {
                  size_t last, std::span<const Bounds> emitters, int depth);
   uint32_t collapse(const std::vector<Binary>& binary, uint32_t root, int depth);
   void importances(const Node& n, const LightContext& at, float out[width]) const;
+  // The parts of `range` a node gives its children from `at`: child i gets [bound[i],
+  // bound[i + 1]).
+  void level(const Node& n, const LightContext& at, uint32_t range, uint32_t bound[width + 1]) const;
 
   std::vector<Node> nodes_;
   std::vector<uint32_t> up_;    // by node: its parent's index × 8 + its lane (the root's: 0)
