@@ -31,8 +31,7 @@ namespace dacrt {
 
 // How next-event estimation chooses an emitter (integrators/lights.h, --light-sampler).
 enum class LightPicking : uint8_t {
-  automatic,  // the tree from LightSampler::tree_threshold emitters on, unless next-event
-              // estimation samples an environment too (LightSampling); else power
+  automatic,  // the tree from LightSampler::tree_threshold emitters on, else power
   tree,       // this tree
   power,      // an alias table by power, the same from every point
 };
