@@ -12,7 +12,7 @@
 // a node has up to eight children (emitters or nodes) side by side: a pick evaluates eight
 // children's importance at once (AVX2 where the CPU has it; lane by lane otherwise, with the
 // same operations in the same order, so the same bits) and walks about a third of the binary
-// tree's levels. (On 4000 lamps, tools/make_many_lights.py: 21 binary levels, 7 wide ones.)
+// tree's levels. (On 4000 lamps, tools/make_many_lights.py: 21 binary levels, 6 wide ones.)
 //
 // The pick is exact in the alias table's way (util/alias_table.h): the uniform's 24 bits are an
 // integer k in [0, R) with R = 2²⁴ (or the units the caller gives the tree), and each node hands
