@@ -65,7 +65,7 @@ class LightTree {
   size_t nodes() const { return nodes_.size(); }
 
   // The entry picked by k in [0, range) from `at`, and its probability in units (range being
-  // all of the tree's): the part of [0, range) that picks it.
+  // all of the tree's, at most 2²⁴): the part of [0, range) that picks it.
   struct Pick {
     uint32_t entry, units;
   };
