@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "chi2.h"
@@ -80,9 +81,10 @@ TEST_CASE("light tree: every k of a range picks the leaf whose units() it counts
       b.two_sided = i % 3 == 0;
       leaves.push_back(b);
     }
-    const LightTree tree(leaves);
+    LightTree tree(leaves);
     for (int point = 0; point < 20; ++point) {
       const LightContext at = random_context(rng);
+      tree.set_vectorised(point % 2 == 0);  // (where the CPU has AVX2; lane by lane else)
       const uint32_t range = 1u << (6 + point % 7);
       std::vector<uint32_t> count(size_t(n), 0);
       for (uint32_t k = 0; k < range; ++k) {
@@ -161,17 +163,148 @@ TEST_CASE("light sampler: auto picks by power below the threshold and by the tre
   CHECK(!LightSampler(many, many.lights, LightPicking::power).tree());
 }
 
-TEST_CASE("light sampling: beside a sampled environment auto picks by power") {
+TEST_CASE("light sampling: beside a sampled environment auto chooses as without one") {
   Pcg32 rng(4);
+  const Scene few = random_lamps(rng, 2);
   const Scene many = random_lamps(rng, 2 * int(LightSampler::tree_threshold));
   Image sky(1, 1);
   sky.rgb = {0.5f, 0.5f, 0.5f};
   const EnvironmentMap map(sky, "sky");
   CHECK(LightSampling(many, many.lights, nullptr).by_point());
-  CHECK(!LightSampling(many, many.lights, &map).by_point());
-  CHECK(LightSampling(many, many.lights, &map, TriangleSampling::solid_angle_if_large,
-                      LightPicking::tree)
-            .by_point());
+  CHECK(LightSampling(many, many.lights, &map).by_point());
+  CHECK(!LightSampling(few, few.lights, &map).by_point());
+  CHECK(!LightSampling(many, many.lights, &map, TriangleSampling::solid_angle_if_large,
+                       LightPicking::power)
+             .by_point());
+  // The map keeps its half of the shadow rays: the emitters' pmf is the tree's, halved.
+  const LightSampling with_map(many, many.lights, &map);
+  const LightContext at{glm::vec3(0.5f), glm::vec3(0.f, 0.f, 1.f)};
+  double sum = 0.0;
+  for (size_t e = 0; e < with_map.sampler().triangles(); ++e) {
+    const uint32_t tri = with_map.sampler().triangle(e);
+    const Geometry& g = many.geometry;
+    const float pdf = with_map.emitter_pdf(glm::vec3(0.5f), tri, 1.f, 1.f, g.area(tri), at);
+    sum += with_map.sampler().pmf(tri, at);
+    if (pdf > 0.f && with_map.sampled_solid_angle(glm::vec3(0.5f), tri) == 0.0)
+      CHECK(pdf == doctest::Approx(0.5 * with_map.sampler().pmf(tri, at) / g.area(tri)));
+  }
+  CHECK(sum > 0.0);
+}
+
+namespace {
+
+// Emitters of every kind the tree bounds: triangles' boxes, points (an empty box), spots (a cone
+// and a falloff), one- and two-sided, some of power near the least float.
+std::vector<LightTree::Bounds> random_bounds(Pcg32& rng, int n) {
+  std::vector<LightTree::Bounds> leaves;
+  for (int i = 0; i < n; ++i) {
+    LightTree::Bounds b;
+    b.lo = in_box(rng, 4.f);
+    b.hi = b.lo + (i % 4 == 0 ? glm::vec3(0.f) : 0.4f * rng.uniform() * glm::vec3(1.f, 0.5f, 2.f));
+    b.power = i % 9 == 0 ? 1e-37f : 0.01f + rng.uniform() * rng.uniform();
+    b.w = unit(rng);
+    b.cos_o = i % 5 == 0 ? -1.f : i % 5 == 1 ? 0.8f : 1.f;
+    b.cos_e = i % 7 == 0 ? 0.9f : 0.f;
+    b.two_sided = i % 3 == 0;
+    leaves.push_back(b);
+  }
+  return leaves;
+}
+
+}  // namespace
+
+TEST_CASE("light tree: eight children at once (AVX2) give lane by lane's bits") {
+  LightTree probe;
+  probe.set_vectorised(true);
+  if (!probe.vectorised()) {
+    MESSAGE("no AVX2 on this CPU: one way only");
+    return;
+  }
+  Pcg32 rng(21);
+  size_t differ = 0, compared = 0, positive = 0;
+  for (int scene_index = 0; scene_index < 6; ++scene_index) {
+    const std::vector<LightTree::Bounds> leaves = random_bounds(rng, 3 + 40 * scene_index);
+    LightTree tree(leaves);
+    for (int point = 0; point < 200; ++point) {
+      LightContext at = random_context(rng);
+      // Some points on an emitter's centre or corner, inside its box or on its plane.
+      const LightTree::Bounds& b = leaves[size_t(point) % leaves.size()];
+      if (point % 4 == 1) at.p = 0.5f * (b.lo + b.hi);
+      if (point % 4 == 2) at.p = b.lo;
+      for (uint32_t node = 0; node < tree.nodes(); ++node) {
+        float lanes[LightTree::width], simd[LightTree::width];
+        tree.set_vectorised(false);
+        tree.child_importance(node, at, lanes);
+        tree.set_vectorised(true);
+        tree.child_importance(node, at, simd);
+        for (int i = 0; i < LightTree::width; ++i, ++compared) {
+          differ += std::memcmp(&lanes[i], &simd[i], sizeof(float)) != 0;
+          positive += lanes[i] > 0.f;
+        }
+      }
+      for (const uint32_t range : {1u << 24, 1000u, 7u}) {
+        for (uint32_t e = 0; e < leaves.size(); ++e) {
+          tree.set_vectorised(false);
+          const uint32_t a = tree.units(e, range, at);
+          tree.set_vectorised(true);
+          if (a != tree.units(e, range, at)) ++differ;
+        }
+        for (uint32_t k = 0; k < range; k += range / 97 + 1) {
+          tree.set_vectorised(false);
+          const LightTree::Pick a = tree.sample(k, range, at);
+          tree.set_vectorised(true);
+          const LightTree::Pick b = tree.sample(k, range, at);
+          if (a.entry != b.entry || a.units != b.units) ++differ;
+        }
+      }
+    }
+  }
+  CHECK(differ == 0);
+  CHECK(positive > compared / 4);
+}
+
+TEST_CASE("light tree: a node has up to eight children, so thousands of emitters take few levels") {
+  std::vector<LightTree::Bounds> grid;
+  for (int i = 0; i < 64; ++i)
+    for (int j = 0; j < 64; ++j) {
+      LightTree::Bounds b;
+      b.lo = glm::vec3(float(i), float(j), 2.f), b.hi = b.lo + glm::vec3(0.1f, 0.1f, 0.f);
+      b.power = 1.f, b.w = glm::vec3(0.f, 0.f, -1.f);
+      grid.push_back(b);
+    }
+  const LightTree tree(grid);
+  CHECK(tree.size() == 4096);
+  CHECK(tree.depth() <= 4);  // (binary: 12 levels at least)
+  CHECK(tree.nodes() < 4096 / 2);  // (binary: 4095 inner nodes)
+}
+
+TEST_CASE("light tree: a child of positive importance gets a unit, one of none gets none") {
+  std::vector<LightTree::Bounds> leaves(4);
+  for (LightTree::Bounds& b : leaves) b.w = glm::vec3(0.f, 0.f, -1.f), b.power = 1.f;
+  leaves[0].lo = leaves[0].hi = glm::vec3(0.f, 0.f, 1.f);  // overhead
+  leaves[1].lo = leaves[1].hi = glm::vec3(3e3f, 0.f, 1.f), leaves[1].power = 1e-20f;  // far, dim
+  leaves[2].lo = leaves[2].hi = glm::vec3(0.f, 1.f, 1.f), leaves[2].w = glm::vec3(0.f, 0.f, 1.f);
+  leaves[3].lo = leaves[3].hi = glm::vec3(0.f, -1.f, -1.f);  // below the point's horizon
+  LightTree tree(leaves);
+  for (const bool simd : {false, true}) {
+    tree.set_vectorised(simd);
+    const LightContext at{glm::vec3(0.f), glm::vec3(0.f, 0.f, 1.f)};
+    CHECK(LightTree::importance(leaves[1], at) > 0.f);
+    CHECK(tree.units(1, 1u << 24, at) == 1);
+    CHECK(tree.units(2, 1u << 24, at) == 0);  // facing away
+    CHECK(tree.units(3, 1u << 24, at) == 0);
+    CHECK(tree.units(0, 1u << 24, at) == (1u << 24) - 1);
+    CHECK(tree.units(1, 1, at) == 0);  // (a range of one unit: the greatest takes it)
+    CHECK(tree.units(0, 1, at) == 1);
+    // From where none can light: equal parts.
+    const LightContext under{glm::vec3(0.f, 0.f, 5.f), glm::vec3(0.f, 0.f, 1.f)};
+    uint32_t sum = 0;
+    for (uint32_t e = 0; e < 4; ++e) {
+      CHECK(tree.units(e, 1000, under) >= 1000 / 4);
+      sum += tree.units(e, 1000, under);
+    }
+    CHECK(sum == 1000);
+  }
 }
 
 namespace {

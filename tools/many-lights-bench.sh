@@ -7,7 +7,8 @@
 # - the conference room under 72 point lights (/work/shared/scenes/mcguire/conference, or
 #   $CONFERENCE; skipped when absent).
 # Prints, per scene, both configurations' noise at the longest time both ran and the ratio of
-# their noise² at that equal time (tree over power: below 1 the tree wins).
+# their noise² at that equal time (tree over power: below 1 the tree wins), and the ratio of
+# their seconds for the same samples (what the tree's picks cost).
 #
 #   tools/many-lights-bench.sh [DACRT] [OUTDIR]
 #
@@ -49,12 +50,20 @@ def at(curve, t):
             return math.exp(math.log(e0) + f * (math.log(e1) - math.log(e0)))
     return curve[-1][1]
 power, tree = at(curves["light-sampler=power"], t), at(curves["light-sampler=tree"], t)
-print("| %s | %.2f s | %.4g | %.4g | %.3f |" % (sys.argv[2], t, power, tree, (tree / power) ** 2))
+# The cost of the tree's picks: seconds per sample, tree over power, at the most samples both
+# rendered.
+seconds = {}
+for r in rows:
+    seconds.setdefault(r["config"], {})[int(r["spp"])] = float(r["seconds"])
+p, q = seconds["light-sampler=power"], seconds["light-sampler=tree"]
+spp = max(set(p) & set(q))
+print("| %s | %.2f s | %.4g | %.4g | %.3f | %.2f (%d spp) |" %
+      (sys.argv[2], t, power, tree, (tree / power) ** 2, q[spp] / p[spp], spp))
 EOF
 }
 
-echo "| scene | equal time | noise, power | noise, tree | noise² tree / power |"
-echo "|---|---|---|---|---|"
+echo "| scene | equal time | noise, power | noise, tree | noise² tree / power | time per sample, tree / power |"
+echo "|---|---|---|---|---|---|"
 for n in $lamps; do
   scene="$out/many-lights-$n.gltf"
   python3 "$here/make_many_lights.py" "$scene" --lamps "$n"
