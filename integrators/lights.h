@@ -31,9 +31,10 @@ class LightSampler {
  public:
   // automatic picks by the tree from this many emitters on (triangles and punctual lights). On
   // a floor under n lamps of two triangles each, spread over 40 m (tools/make_many_lights.py),
-  // the tree's noise² at equal time was 0.20x the alias table's for n = 4, 0.09x for 16, 0.28x
-  // for 64, 0.61x for 256 and 0.70x for 4000 (docs/benchmarks.md, "Many lights"). Below, a
-  // lamp or three (the Cornell box's two triangles) keep the alias table and their images.
+  // the eight-wide tree's noise² at equal time was 0.38x the alias table's for n = 4 (within
+  // the noise), 0.02x for 16, 0.10x for 64, 0.37x for 256 and 0.18–0.30x for 4000
+  // (docs/benchmarks.md, "Many lights"). Below, a lamp or three (the Cornell box's two
+  // triangles) keep the alias table and their images.
   static constexpr size_t tree_threshold = 8;
 
   // The scene's emissive triangles and `lights` (a render's: Shot::lights).
