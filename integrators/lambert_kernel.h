@@ -5,9 +5,10 @@
 // vabs, vsqrt, sel (per-lane select), unmask, next_up and next_down. Only correctly rounded IEEE
 // operations are used, so a lane's answer does not depend on the lane type.
 //
-// Included by exactly two files, each of which compiles it for its lane type: lambert_lanes.cpp
-// (one float) and lambert_lanes_avx512.cpp (sixteen, under its target pragma). Everything is in an
-// anonymous namespace: each file has its own copy, compiled for its own instruction set.
+// Included by exactly three files, each of which compiles it for its lane type: lambert_lanes.cpp
+// (one float), lambert_lanes_avx2.cpp (eight) and lambert_lanes_avx512.cpp (sixteen), the last two
+// under their target pragmas. Everything is in an anonymous namespace: each file has its own copy,
+// compiled for its own instruction set.
 #pragma once
 
 #include <bit>

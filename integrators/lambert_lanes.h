@@ -7,9 +7,10 @@
 // One vertex: Russian roulette; the hit point, its normals and its spawn point; next-event
 // estimation (a uniform point on the emitter's area, weighed against BSDF sampling by the power
 // heuristic; the shadow segment between the two offset points); cosine-weighted BSDF sampling.
-// The same code (integrators/lambert_kernel.h) runs on one lane of floats and, with AVX-512, on
-// sixteen lanes per instruction, with the same IEEE operations in the same order, so the answers
-// are the same bit for bit on every CPU; which lanes it takes is part of those answers.
+// The same code (integrators/lambert_kernel.h) runs on one lane of floats, with AVX2 on eight lanes
+// per instruction (twice) and with AVX-512 on sixteen, with the same IEEE operations in the same
+// order, so the answers are the same bit for bit on every CPU; which lanes it takes is part of
+// those answers.
 #pragma once
 
 #include <cstdint>
@@ -69,11 +70,23 @@ struct LambertScene {
   float roulette_scale;  // 1 / PathTracer::roulette_floor: p = min(1, max(β) × roulette_scale)
 };
 
-// True if this CPU runs the AVX-512 lanes (AVX512F and AVX512DQ).
+// The kernel's instances: one float at a time (any CPU), eight lanes with AVX2, sixteen with
+// AVX-512 (AVX512F and AVX512DQ).
+enum class LambertLanes { one, avx2, avx512 };
+inline constexpr LambertLanes lambert_instances[] = {LambertLanes::one, LambertLanes::avx2,
+                                                     LambertLanes::avx512};
+const char* name(LambertLanes instance);
+// True if this CPU runs that instance.
+bool lambert_available(LambertLanes instance);
 bool lambert_avx512_available();
-// Shades the lanes [0, lanes) of `in`: with AVX-512 all at once, else one by one (the same bits).
+// The widest instance this CPU runs (what shade_lambert uses).
+LambertLanes lambert_widest();
+// Shades the lanes [0, lanes) of `in` by the widest instance this CPU runs (the same bits as any).
 void shade_lambert(const LambertScene& scene, const LambertIn& in, int lanes, LambertOut& out);
-// The same, one lane at a time whatever the CPU (for the tests).
+// The same by one instance, which the CPU must run (for the tests).
+void shade_lambert(LambertLanes instance, const LambertScene& scene, const LambertIn& in,
+                   int lanes, LambertOut& out);
+// The same, one lane at a time whatever the CPU.
 void shade_lambert_scalar(const LambertScene& scene, const LambertIn& in, int lanes,
                           LambertOut& out);
 
