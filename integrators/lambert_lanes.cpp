@@ -9,6 +9,7 @@ bool lambert_avx2_available();
 void shade_lambert_avx2(const LambertScene& scene, const LambertIn& in, int lanes,
                         LambertOut& out);
 void shade_lambert_avx512(const LambertScene& scene, const LambertIn& in, LambertOut& out);
+void sample_brdf_avx2(const BrdfIn& in, int lanes, BrdfOut& out);
 
 namespace {
 
@@ -65,6 +66,22 @@ void shade_lambert(LambertLanes instance, const LambertScene& scene, const Lambe
 
 void shade_lambert(const LambertScene& scene, const LambertIn& in, int lanes, LambertOut& out) {
   shade_lambert(lambert_widest(), scene, in, lanes, out);
+}
+
+void sample_brdf(LambertLanes instance, const BrdfIn& in, int lanes, BrdfOut& out) {
+  if (instance == LambertLanes::one) {
+    out.sampled = 0;
+    for (int k = 0; k < lanes; ++k) brdf_sample<OneLane>(in, k, out);
+    return;
+  }
+  sample_brdf_avx2(in, lanes, out);
+  out.sampled &= lanes >= 32 ? ~0u : (1u << lanes) - 1u;
+}
+
+void sample_brdf(const BrdfIn& in, int lanes, BrdfOut& out) {
+  static const LambertLanes widest =
+      lambert_avx2_available() ? LambertLanes::avx2 : LambertLanes::one;
+  sample_brdf(widest, in, lanes, out);
 }
 
 }  // namespace dacrt

@@ -1,10 +1,11 @@
-// The Lambert lanes with AVX2: integrators/lambert_kernel.h on eight lanes per instruction, run
-// twice for the sixteen lanes of a LambertIn. Everything below the pragma is compiled for AVX2
+// The Lambert lanes and the BRDF lanes with AVX2: integrators/lambert_kernel.h on eight lanes per
+// instruction, run twice for the sixteen lanes of a LambertIn or a BrdfIn. Everything below the pragma is compiled for AVX2
 // (not FMA: a fused multiply-add rounds once where the kernel rounds twice) and called only where
 // the CPU has it.
 #include <immintrin.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 
 #include "dacrt/integrators/lambert_lanes.h"
@@ -71,6 +72,9 @@ inline M8 operator>(V8 a, V8 b) {
 inline M8 operator>=(V8 a, V8 b) {
   return {_mm256_cmp_ps(a.v, b.v, _CMP_GE_OQ)};
 }
+inline M8 operator==(V8 a, V8 b) {
+  return {_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)};
+}
 inline M8 operator!=(V8 a, V8 b) {
   return {_mm256_cmp_ps(a.v, b.v, _CMP_NEQ_UQ)};
 }
@@ -105,6 +109,13 @@ inline V8 next_up(V8 x) {
 inline V8 next_down(V8 x) {
   return -next_up(-x);
 }
+// std::cos and std::sin, lane by lane.
+inline void vcos_sin(V8 x, V8& c, V8& s) {
+  alignas(32) float in[8], cos[8], sin[8];
+  _mm256_store_ps(in, x.v);
+  for (int k = 0; k < 8; ++k) cos[k] = std::cos(in[k]), sin[k] = std::sin(in[k]);
+  c = _mm256_load_ps(cos), s = _mm256_load_ps(sin);
+}
 
 }  // namespace
 }  // namespace dacrt
@@ -131,6 +142,12 @@ void shade_lambert_avx2(const LambertScene& scene, const LambertIn& in, int lane
   out.taken = out.shadow = out.bounce = 0;
   lambert_vertex<EightLanes>(scene, in, 0, out);
   if (lanes > 8) lambert_vertex<EightLanes>(scene, in, 8, out);
+}
+
+void sample_brdf_avx2(const BrdfIn& in, int lanes, BrdfOut& out) {
+  out.sampled = 0;
+  brdf_sample<EightLanes>(in, 0, out);
+  if (lanes > 8) brdf_sample<EightLanes>(in, 8, out);
 }
 
 #pragma GCC pop_options

@@ -13,6 +13,8 @@
 #include <vector>
 #include <glm/glm.hpp>
 
+#include "dacrt/materials/gltf_brdf.h"
+#include "dacrt/materials/sampling.h"
 #include "dacrt/util/random.h"
 
 using namespace dacrt;
@@ -136,5 +138,90 @@ TEST_CASE(
     CHECK(taken > lanes_run / 2);
     CHECK(shadows > lanes_run / 20);  // (lights are off in half the runs)
     CHECK(bounces > lanes_run / 4);
+  }
+}
+
+TEST_CASE("brdf lanes: each instance this CPU runs gives GltfBrdf::sample's answers, bit for bit") {
+  std::vector<LambertLanes> instances{LambertLanes::one};
+  if (lambert_available(LambertLanes::avx2)) instances.push_back(LambertLanes::avx2);
+  for (const LambertLanes instance : instances) {
+    INFO("instance " << std::string(name(instance)));
+    Draw r{0xb5df};
+    int lanes_run = 0, sampled = 0, specular = 0, plain = 0;
+    for (int round = 0; round < 400; ++round) {
+      BrdfIn in{};
+      struct Expected {
+        bool sampled;
+        glm::vec3 wi, weight;
+        float pdf;
+      } expected[BrdfIn::lanes];
+      const int lanes = round % 5 == 4 ? 1 + round % 16 : 16;
+      for (int k = 0; k < BrdfIn::lanes; ++k) {
+        const int kind = (round * 16 + k) % 19;
+        BrdfParams p;
+        p.base_color = glm::vec3(r(), r(), r());
+        p.metallic = kind == 1 ? 0.f : kind == 2 ? 1.f : r();
+        p.roughness = kind == 3 ? 0.f : kind == 4 ? 1.f : r();
+        p.ior = r.in(1.f, 3.f);
+        if (kind == 5) p.specular = r(), p.specular_color = glm::vec3(r(), r(), r());
+        if (kind == 6) p.base_color = glm::vec3(0.f);
+        if (kind == 7) p.clearcoat = 0.5f;  // not plain: the lane is not taken
+        const GltfBrdf brdf(p);
+        glm::vec3 wo = glm::normalize(glm::vec3(r.in(-1, 1), r.in(-1, 1), r.in(0, 1)));
+        if (kind == 8) wo = glm::vec3(0.f, 0.f, 1.f);  // (the visible normal's t1 fallback)
+        if (kind == 9) wo.z = -wo.z;                   // below: no sample
+        if (kind == 10) wo = glm::normalize(glm::vec3(1.f, 0.f, 1e-4f));  // grazing
+        float u_lobe = r(), u1 = r(), u2 = r();
+        if (kind == 11) u1 = 0.f;
+        if (kind == 12) u2 = 0.5f, u1 = 0.5f;
+        if (kind == 13) u_lobe = 0.f;
+        const Frame frame(glm::normalize(glm::vec3(r.in(-1, 1), r.in(-1, 1), r.in(-1, 1))));
+        glm::vec3 ng = glm::normalize(frame.n + 0.5f * glm::vec3(r.in(-1, 1), r.in(-1, 1), 0.f));
+        if (kind == 14) ng = -ng;
+        in.ok[k] = brdf.plain();
+        plain += k < lanes && brdf.plain();
+        for (int a = 0; a < 3; ++a) {
+          in.wo[a][k] = wo[a], in.base[a][k] = brdf.base()[a], in.f0[a][k] = brdf.f0()[a];
+          in.frame[0][a][k] = frame.s[a], in.frame[1][a][k] = frame.t[a];
+          in.frame[2][a][k] = frame.n[a], in.ng[a][k] = ng[a];
+        }
+        in.u_lobe[k] = u_lobe, in.u[0][k] = u1, in.u[1][k] = u2;
+        in.metallic[k] = brdf.metallic(), in.alpha[k] = brdf.alpha(), in.f90[k] = brdf.f90();
+        // What PathTracer::material does with the one-at-a-time BRDF.
+        const auto s = brdf.sample(wo, u_lobe, u1, u2);
+        Expected& e = expected[k];
+        e.sampled = false;
+        if (brdf.plain() && s) {
+          e.wi = frame.to_world(s->wi), e.weight = s->weight, e.pdf = s->pdf;
+          e.sampled = s->wi.z > 0.f && glm::dot(e.wi, ng) > 0.f;
+          specular += e.sampled && u_lobe < 0.5f * brdf.metallic();  // (surely the GGX lobe)
+        }
+      }
+      BrdfOut out;
+      sample_brdf(instance, in, lanes, out);
+      INFO("round " << round);
+      auto same = [](float a, float b) {
+        return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b);
+      };
+      int differ = 0;
+      for (int k = 0; k < lanes; ++k) {
+        const bool lane = out.sampled >> k & 1;
+        CHECK(lane == expected[k].sampled);
+        if (!lane || !expected[k].sampled) continue;
+        for (int a = 0; a < 3; ++a) {
+          differ += !same(out.wi[a][k], expected[k].wi[a]);
+          differ += !same(out.weight[a][k], expected[k].weight[a]);
+        }
+        differ += !same(out.pdf[k], expected[k].pdf);
+        ++sampled;
+      }
+      CHECK((out.sampled >> lanes) == 0u);
+      CHECK(differ == 0);
+      lanes_run += lanes;
+    }
+    // Not vacuous: most lanes are plain and sampled, many by the specular lobe.
+    CHECK(plain > lanes_run * 3 / 4);
+    CHECK(sampled > lanes_run / 3);
+    CHECK(specular > lanes_run / 20);
   }
 }
