@@ -1,7 +1,7 @@
 // The Lambert lanes and the BRDF lanes with AVX2: integrators/lambert_kernel.h on eight lanes per
-// instruction, run twice for the sixteen lanes of a LambertIn or a BrdfIn. Everything below the pragma is compiled for AVX2
-// (not FMA: a fused multiply-add rounds once where the kernel rounds twice) and called only where
-// the CPU has it.
+// instruction, run twice for the sixteen lanes of a LambertIn or a BrdfIn. Everything below the
+// pragma is compiled for AVX2 (not FMA: a fused multiply-add rounds once where the kernel rounds
+// twice) and called only where the CPU has it.
 #include <immintrin.h>
 
 #include <bit>
