@@ -2,15 +2,18 @@
 //   L::F     a float per lane, with + − × ÷ and comparisons giving an L::M (a lane mask);
 //   L::load / L::store / L::mask  between F (or M) and lane k of the LambertIn/LambertOut arrays;
 // and, found by overload, vmin, vmax (x86's minps/maxps: the second operand on a tie or a NaN),
-// vabs, vsqrt, sel (per-lane select), unmask, next_up and next_down. Only correctly rounded IEEE
+// vabs, vsqrt, sel (per-lane select), unmask, next_up and next_down; the BRDF lanes (brdf_sample,
+// below) also vcos_sin. Only correctly rounded IEEE
 // operations are used, so a lane's answer does not depend on the lane type.
 //
-// Included by exactly two files, each of which compiles it for its lane type: lambert_lanes.cpp
-// (one float) and lambert_lanes_avx512.cpp (sixteen, under its target pragma). Everything is in an
-// anonymous namespace: each file has its own copy, compiled for its own instruction set.
+// Included by exactly three files, each of which compiles it for its lane type: lambert_lanes.cpp
+// (one float), lambert_lanes_avx2.cpp (eight) and lambert_lanes_avx512.cpp (sixteen), the last two
+// under their target pragmas. Everything is in an anonymous namespace: each file has its own copy,
+// compiled for its own instruction set.
 #pragma once
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 
 #include "dacrt/integrators/lambert_lanes.h"
@@ -45,6 +48,10 @@ inline float next_up(float v) {
 }
 inline float next_down(float v) {
   return -next_up(-v);
+}
+// std::cos and std::sin (lane types call them lane by lane: no vector code rounds as they do).
+inline void vcos_sin(float x, float& c, float& s) {
+  c = std::cos(x), s = std::sin(x);
 }
 
 template <class F>
@@ -270,6 +277,164 @@ void lambert_vertex(const LambertScene& scene, const LambertIn& in, int k, Lambe
   L::mask(out.taken, k, taken);
   L::mask(out.shadow, k, taken & shadow);
   L::mask(out.bounce, k, taken & bounce);
+}
+
+
+// The BRDF lanes (integrators/lambert_lanes.h): GltfBrdf::sample of a plain BRDF, operation for
+// operation (materials/gltf_brdf.cpp: base_sample, lobes, fresnel, base_pdf, specular_pdf,
+// base_eval, the GGX pieces), then Frame::to_world and ShadingPoint::origin_towards. Every
+// comparison keeps its scalar form, so NaNs go the same way.
+template <class F>
+struct BrdfLane {
+  using M = decltype(F(0.f) < F(0.f));
+  V3<F> base, f0;
+  F metallic, alpha, f90;
+
+  static F luminance(const V3<F>& c) {
+    return F(0.2126f) * c.x + F(0.7152f) * c.y + F(0.0722f) * c.z;
+  }
+  static V3<F> normalize(const V3<F>& v) {  // glm::normalize: v · (1 / √(v·v))
+    const F r = F(1.f) / vsqrt(dot(v, v));
+    return {v.x * r, v.y * r, v.z * r};
+  }
+  // std::clamp(x, 0, 1) and std::max(0, x).
+  static F clamp01(F x) { return sel(x < F(0.f), F(0.f), sel(F(1.f) < x, F(1.f), x)); }
+  static F max0(F x) { return sel(F(0.f) < x, x, F(0.f)); }
+
+  F ggx_d(F cos_h) const {
+    const F a2 = alpha * alpha, t = cos_h * cos_h * (a2 - F(1.f)) + F(1.f);
+    return sel(cos_h <= F(0.f), F(0.f), a2 / (F(3.14159265358979323846f) * t * t));
+  }
+  F ggx_lambda(F c) const {
+    const F a2 = alpha * alpha, c2 = c * c;
+    return F(0.5f) * (vsqrt(a2 + (F(1.f) - a2) * c2) / c - F(1.f));
+  }
+  F ggx_visibility(F co, F ci) const {
+    const F a2 = alpha * alpha;
+    const F so = vsqrt(a2 + (F(1.f) - a2) * co * co), si = vsqrt(a2 + (F(1.f) - a2) * ci * ci);
+    return F(0.5f) / (ci * so + co * si);
+  }
+  V3<F> visible_normal(const V3<F>& wo, F u1, F u2) const {
+    const V3<F> v = normalize({alpha * wo.x, alpha * wo.y, wo.z});
+    const F len2 = v.x * v.x + v.y * v.y;
+    const F len = vsqrt(len2);
+    const V3<F> t1 = sel(len2 > F(0.f), V3<F>{-v.y / len, v.x / len, F(0.f) / len},
+                         V3<F>{F(1.f), F(0.f), F(0.f)});
+    const V3<F> t2 = cross(v, t1);
+    const F r = vsqrt(u1), phi = F(6.28318530717958647692f) * u2;
+    F c, s;
+    vcos_sin(phi, c, s);
+    const F p1 = r * c;
+    const F sh = F(0.5f) * (F(1.f) + v.z);
+    const F p2 = (F(1.f) - sh) * vsqrt(max0(F(1.f) - p1 * p1)) + sh * r * s;
+    const F w = vsqrt(max0(F(1.f) - p1 * p1 - p2 * p2));
+    const V3<F> n = (p1 * t1 + p2 * t2) + w * v;
+    return normalize({alpha * n.x, alpha * n.y, max0(n.z)});
+  }
+  struct Fresnel {
+    V3<F> dielectric, metal;
+    F base;
+  };
+  Fresnel fresnel(F cos_theta) const {
+    const F m = F(1.f) - clamp01(cos_theta), m2 = m * m, w = m2 * m2 * m;
+    const V3<F> fd = {f0.x + (f90 - f0.x) * w, f0.y + (f90 - f0.y) * w, f0.z + (f90 - f0.z) * w};
+    const V3<F> fm = {base.x + (F(1.f) - base.x) * w, base.y + (F(1.f) - base.y) * w,
+                      base.z + (F(1.f) - base.z) * w};
+    F largest = fd.x;  // std::max({x, y, z}): the first of the largest
+    largest = sel(largest < fd.y, fd.y, largest);
+    largest = sel(largest < fd.z, fd.z, largest);
+    return {fd, fm, F(1.f) - largest};
+  }
+  struct Lobes {
+    F specular, diffuse, transmission;
+  };
+  Lobes lobes(F wo_z) const {
+    const Fresnel f = fresnel(wo_z);
+    const F specular =
+        (F(1.f) - metallic) * luminance(f.dielectric) + metallic * luminance(f.metal);
+    const F b = (F(1.f) - metallic) * f.base * luminance(base);
+    const F diffuse = (F(1.f) - F(0.f)) * b, transmission = F(0.f) * b;  // (transmission 0)
+    const F total = specular + diffuse + transmission;
+    const M some = total > F(0.f);
+    return {sel(some, specular / total, F(0.5f)), sel(some, diffuse / total, F(0.5f)),
+            sel(some, transmission / total, F(0.f))};
+  }
+  F specular_pdf(const V3<F>& wo, const V3<F>& wi) const {
+    const V3<F> h = normalize(wo + wi);
+    const F g1 = F(1.f) / (F(1.f) + ggx_lambda(wo.z));
+    return sel(dot(wo, h) <= F(0.f), F(0.f), g1 * ggx_d(h.z) / (F(4.f) * wo.z));
+  }
+};
+
+template <class L>
+void brdf_sample(const BrdfIn& in, int k, BrdfOut& out) {
+  using F = typename L::F;
+  using M = decltype(F(0.f) < F(0.f));
+  auto ld = [&](const float* a) { return L::load(a, k); };
+  constexpr float inv_pi = 0.318309886183790671538f;
+  const F zero(0.f), one(1.f);
+  const BrdfLane<F> b{load3<L>(in.base, k), load3<L>(in.f0, k), ld(in.metallic), ld(in.alpha),
+                      ld(in.f90)};
+  const V3<F> wo = load3<L>(in.wo, k);
+  const F u_lobe = ld(in.u_lobe), u1 = ld(in.u[0]), u2 = ld(in.u[1]);
+  M ok = (ld(in.ok) > F(0.5f)) & unmask(wo.z <= zero);
+
+  // base_sample: the lobe, then its direction.
+  const typename BrdfLane<F>::Lobes p = b.lobes(wo.z);
+  const M diffuse = (u_lobe >= p.specular) &
+                    ((u_lobe < p.specular + p.diffuse) | unmask(p.transmission > zero));
+  // materials/sampling.h's sample_cosine_hemisphere.
+  const F sa = F(2.f) * u1 - one, sb = F(2.f) * u2 - one;
+  const M a_major = vabs(sa) > vabs(sb);
+  const F r = sel(a_major, sa, sb), minor = sel(a_major, sb, sa);
+  const F angle = F(0.785398163397448309616f) * (minor / sel(r != zero, r, one));
+  const F x2 = angle * angle;
+  const F cos_psi =
+      one + x2 * (F(-1.f / 2) + x2 * (F(1.f / 24) + x2 * (F(-1.f / 720) + x2 * F(1.f / 40320))));
+  const F sin_psi =
+      angle * (one + x2 * (F(-1.f / 6) +
+                           x2 * (F(1.f / 120) + x2 * (F(-1.f / 5040) + x2 * F(1.f / 362880)))));
+  const F lx = r * sel(a_major, cos_psi, sin_psi), ly = r * sel(a_major, sin_psi, cos_psi);
+  const V3<F> cosine = {lx, ly, vsqrt(b.max0(one - lx * lx - ly * ly))};
+  // The specular reflection of wo about a visible normal.
+  const V3<F> h = b.visible_normal(wo, u1, u2);
+  const F two_cos = F(2.f) * dot(wo, h);
+  const V3<F> reflected = {two_cos * h.x - wo.x, two_cos * h.y - wo.y, two_cos * h.z - wo.z};
+  ok &= diffuse | unmask(reflected.z <= zero);
+  // (No mirroring: without transmission the specular branch is taken only below p.specular.)
+  const V3<F> wi = sel(diffuse, cosine, reflected);
+  ok &= unmask(wi.z == zero);
+
+  // base_pdf (wo.z > 0 and wi.z > 0 here).
+  const F cos_pdf = sel(wi.z > zero, wi.z * F(inv_pi), zero);
+  const F density = p.specular * b.specular_pdf(wo, wi) + p.diffuse * cos_pdf;
+  ok &= (density > zero) & (vabs(density) < F(__builtin_inff()));
+
+  // base_eval.
+  const V3<F> hv = BrdfLane<F>::normalize(wo + wi);
+  const F specular = b.ggx_d(hv.z) * b.ggx_visibility(wo.z, wi.z);
+  const typename BrdfLane<F>::Fresnel f = b.fresnel(dot(wo, hv));
+  const F diffuse_scale = (one - zero) * f.base;
+  auto channel = [&](F base, F fd, F fm) {
+    const F dielectric = diffuse_scale * base * F(inv_pi) + fd * specular;
+    return (one - b.metallic) * dielectric + b.metallic * fm * specular;
+  };
+  const V3<F> eval = {channel(b.base.x, f.dielectric.x, f.metal.x),
+                      channel(b.base.y, f.dielectric.y, f.metal.y),
+                      channel(b.base.z, f.dielectric.z, f.metal.z)};
+  const F scale = vabs(wi.z) / density;
+  const V3<F> weight = {eval.x * scale, eval.y * scale, eval.z * scale};
+
+  // To the world (Frame::to_world), above both normals (ShadingPoint::origin_towards).
+  const V3<F> s = load3<L>(in.frame[0], k), t = load3<L>(in.frame[1], k),
+              n = load3<L>(in.frame[2], k);
+  const V3<F> world = wi.x * s + wi.y * t + wi.z * n;
+  ok &= (wi.z > zero) & (dot(world, load3<L>(in.ng, k)) > zero);
+
+  store3<L>(out.wi, k, world);
+  store3<L>(out.weight, k, weight);
+  L::store(out.pdf, k, density);
+  L::mask(out.sampled, k, ok);
 }
 
 }  // namespace

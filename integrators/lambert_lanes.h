@@ -7,9 +7,10 @@
 // One vertex: Russian roulette; the hit point, its normals and its spawn point; next-event
 // estimation (a uniform point on the emitter's area, weighed against BSDF sampling by the power
 // heuristic; the shadow segment between the two offset points); cosine-weighted BSDF sampling.
-// The same code (integrators/lambert_kernel.h) runs on one lane of floats and, with AVX-512, on
-// sixteen lanes per instruction, with the same IEEE operations in the same order, so the answers
-// are the same bit for bit on every CPU; which lanes it takes is part of those answers.
+// The same code (integrators/lambert_kernel.h) runs on one lane of floats, with AVX2 on eight lanes
+// per instruction (twice) and with AVX-512 on sixteen, with the same IEEE operations in the same
+// order, so the answers are the same bit for bit on every CPU; which lanes it takes is part of
+// those answers.
 #pragma once
 
 #include <cstdint>
@@ -69,12 +70,56 @@ struct LambertScene {
   float roulette_scale;  // 1 / PathTracer::roulette_floor: p = min(1, max(β) × roulette_scale)
 };
 
-// True if this CPU runs the AVX-512 lanes (AVX512F and AVX512DQ).
+// The kernel's instances: one float at a time (any CPU), eight lanes with AVX2, sixteen with
+// AVX-512 (AVX512F and AVX512DQ).
+enum class LambertLanes { one, avx2, avx512 };
+inline constexpr LambertLanes lambert_instances[] = {LambertLanes::one, LambertLanes::avx2,
+                                                     LambertLanes::avx512};
+const char* name(LambertLanes instance);
+// True if this CPU runs that instance.
+bool lambert_available(LambertLanes instance);
 bool lambert_avx512_available();
-// Shades the lanes [0, lanes) of `in`: with AVX-512 all at once, else one by one (the same bits).
+// The widest instance this CPU runs (what shade_lambert uses).
+LambertLanes lambert_widest();
+// Shades the lanes [0, lanes) of `in` by the widest instance this CPU runs (the same bits as any).
 void shade_lambert(const LambertScene& scene, const LambertIn& in, int lanes, LambertOut& out);
-// The same, one lane at a time whatever the CPU (for the tests).
+// The same by one instance, which the CPU must run (for the tests).
+void shade_lambert(LambertLanes instance, const LambertScene& scene, const LambertIn& in,
+                   int lanes, LambertOut& out);
+// The same, one lane at a time whatever the CPU.
 void shade_lambert_scalar(const LambertScene& scene, const LambertIn& in, int lanes,
                           LambertOut& out);
+
+// BRDF lanes: the BSDF sampling of the general glTF BRDF (materials/gltf_brdf.h) for sixteen
+// vertices at once, where the BRDF is plain: not Lambert's, no coat or sheen, isotropic, no
+// transmission, no iridescence (GltfBrdf::plain). The path tracer prepares each vertex one at a
+// time (its hit record, textures, next-event estimation) and leaves the direction to these lanes:
+// GltfBrdf::sample's lobe choice, cosine or visible-normal direction, pdf and weight, the world
+// direction by the shading frame, and whether it leaves on the viewer's side of the geometric
+// normal. The same operations in the same order as GltfBrdf's, so the same bits, on every lane type
+// (the visible normal's cos and sin are std::cos and std::sin, called per lane).
+struct BrdfIn {
+  static constexpr int lanes = 16;
+  alignas(64) float ok[lanes];  // 1: the lane is taken
+  alignas(64) float wo[3][lanes];   // towards the viewer, in the shading frame
+  alignas(64) float u_lobe[lanes], u[2][lanes];
+  // GltfBrdf's base colour, metallic, α, dielectric F0 and F90.
+  alignas(64) float base[3][lanes], metallic[lanes], alpha[lanes], f0[3][lanes], f90[lanes];
+  alignas(64) float frame[3][3][lanes];  // the shading frame's s, t and n, by axis
+  alignas(64) float ng[3][lanes];        // the geometric normal, on the viewer's side
+};
+
+struct BrdfOut {
+  static constexpr int lanes = BrdfIn::lanes;
+  alignas(64) float wi[3][lanes];      // the sampled direction, in the world
+  alignas(64) float weight[3][lanes];  // eval · cos θi / pdf
+  alignas(64) float pdf[lanes];
+  uint32_t sampled;  // lanes with a direction that leaves above both normals
+};
+
+// Samples the lanes [0, lanes) of `in` by the widest instance this CPU runs (AVX2 or one float).
+void sample_brdf(const BrdfIn& in, int lanes, BrdfOut& out);
+// The same by one instance (LambertLanes::one or avx2, which the CPU must run; for the tests).
+void sample_brdf(LambertLanes instance, const BrdfIn& in, int lanes, BrdfOut& out);
 
 }  // namespace dacrt

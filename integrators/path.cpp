@@ -143,6 +143,7 @@ PathTracer::PathTracer(const Scene& scene, const Shot& shot, Backend& backend,
     lambert_albedo_.push_back(ours ? brdf->base() : glm::vec3(0.f));
     lambert_ |= ours;
   }
+  brdf_lanes_ = s_.lambert_lanes;
   lambert_scene_ = {!scene.normals.empty(), !lights_.empty(), lights_.solid_angle(),
                     float(LightSampling::min_solid_angle), 1.f / roulette_floor};
 }
@@ -240,6 +241,7 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
     VertexNumbers numbers[sampler_lanes];
     LambertIn in{};
     LambertOut out;
+    std::unique_ptr<BrdfGroup> group = brdf_lanes_ ? std::make_unique<BrdfGroup>() : nullptr;
     for (size_t first = range.begin(); first < range.end(); first += sampler_lanes) {
       const size_t lanes = std::min(sampler_lanes, range.end() - first);
       if (media_.any())
@@ -248,6 +250,7 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
       draw(rays, first, lanes, dims_, numbers);
       const uint32_t taken =
           lambert_ ? shade_lambert_lanes(rays, hits, first, lanes, numbers, in, out) : 0;
+      if (group) group->deferred = 0;
       for (size_t k = 0; k < lanes; ++k) {
         if (taken >> k & 1) continue;
         const size_t i = first + k;
@@ -257,8 +260,10 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
         }
         if (emitters_) emitted(rays, hits, uint32_t(i));
         const VertexDraw random{*this, rays.path[i], drawn_, numbers[k]};
-        if (survives(rays.path[i], random)) material(rays, hits, uint32_t(i), i, random);
+        if (survives(rays.path[i], random))
+          material(rays, hits, uint32_t(i), i, random, group.get(), int(k));
       }
+      if (group && group->deferred) sample_brdf_lanes(rays, first, lanes, *group);
     }
   });
   push_rays(rays, nullptr);
@@ -335,7 +340,7 @@ bool PathTracer::survives(uint32_t path, const VertexDraw& random) {
 // Stage 6: the material at a surviving hit; next-event estimation writes a shadow ray, BSDF
 // sampling a bounce ray, each in the ray's slot q of the scratch queues.
 void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q,
-                          const VertexDraw& random) {
+                          const VertexDraw& random, BrdfGroup* group, int k) {
   const uint32_t path = rays.path[i], tri = hits.prim[i], mat = scene_.geometry.material[tri];
   const glm::vec3 d = rays.direction(i);
   const Hit h = hit_at(rays, hits, i);
@@ -385,6 +390,21 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   const auto [u1, u2] = random.pair(bsdf_u);
   // (A Lambert surface has one lobe: its number is not drawn.)
   const float u_lobe = x.brdf.lambertian() ? 0.f : random(bsdf_lobe);
+  if (group && !stack && !transmits && !x.brdf.dielectric() && x.brdf.gltf().plain()) {
+    // The BRDF lanes sample it with the group's others (sample_brdf_lanes).
+    BrdfIn& in = group->in;
+    const GltfBrdf& brdf = x.brdf.gltf();
+    for (int a = 0; a < 3; ++a) {
+      in.wo[a][k] = x.wo[a], in.base[a][k] = brdf.base()[a], in.f0[a][k] = brdf.f0()[a];
+      in.frame[0][a][k] = x.frame.s[a], in.frame[1][a][k] = x.frame.t[a];
+      in.frame[2][a][k] = x.frame.n[a], in.ng[a][k] = ng[a];
+    }
+    in.u_lobe[k] = u_lobe, in.u[0][k] = u1, in.u[1][k] = u2;
+    in.metallic[k] = brdf.metallic(), in.alpha[k] = brdf.alpha(), in.f90[k] = brdf.f90();
+    group->above[k] = x.above;
+    group->deferred |= 1u << k;
+    return;
+  }
   const auto s = x.brdf.sample(x.wo, u_lobe, u1, u2);
   if (!s) return;
   const glm::vec3 wi = x.frame.to_world(s->wi);
@@ -398,6 +418,28 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   scratch_next_[q].direction = wi;
   has_next_[q] = 1;
   ended_[path] = 0;
+}
+
+// The BSDF sampling material() left to the BRDF lanes, for the group's rays [first, first + lanes):
+// what material() does after x.brdf.sample, lane by lane.
+void PathTracer::sample_brdf_lanes(const RayBatch& rays, size_t first, size_t lanes,
+                                   BrdfGroup& group) {
+  for (size_t k = 0; k < lanes; ++k) group.in.ok[k] = group.deferred >> k & 1;
+  sample_brdf(group.in, int(lanes), group.out);
+  const BrdfOut& out = group.out;
+  for (uint32_t left = out.sampled & group.deferred; left; left &= left - 1) {
+    const int k = std::countr_zero(left);
+    const size_t i = first + size_t(k);
+    const uint32_t path = rays.path[i];
+    glm::vec3& beta = paths_.throughput[path];
+    beta *= glm::vec3(out.weight[0][k], out.weight[1][k], out.weight[2][k]);
+    if (!carries_light(beta)) continue;
+    paths_.bsdf_pdf[path] = out.pdf[k];
+    scratch_next_[i].origin = group.above[k];
+    scratch_next_[i].direction = glm::vec3(out.wi[0][k], out.wi[1][k], out.wi[2][k]);
+    has_next_[i] = 1;
+    ended_[path] = 0;
+  }
 }
 
 const Integrator::Registration registration{

@@ -17,8 +17,18 @@ class PathTracer final : public Wavefront {
   void escaped(const RayBatch& rays, uint32_t i);
   void emitted(const RayBatch& rays, const HitBatch& hits, uint32_t i);
   bool survives(uint32_t path, const VertexDraw& random);
+  // A group's vertices whose BSDF sampling the BRDF lanes do (integrators/lambert_lanes.h):
+  // material fills lane k and sets its bit in `deferred`; shade then samples them all and writes
+  // their bounce rays (from above[k]).
+  struct BrdfGroup {
+    BrdfIn in;
+    BrdfOut out;
+    glm::vec3 above[BrdfIn::lanes];
+    uint32_t deferred;
+  };
   void material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q,
-                const VertexDraw& random);
+                const VertexDraw& random, BrdfGroup* group = nullptr, int k = 0);
+  void sample_brdf_lanes(const RayBatch& rays, size_t first, size_t lanes, BrdfGroup& group);
   // Before the stages: a path at depth 0 starts outside every volume; one inside an absorbing
   // volume loses what the medium absorbed over the segment it just travelled (Beer–Lambert).
   void attenuate(const RayBatch& rays, const HitBatch& hits, uint32_t i);
@@ -35,6 +45,7 @@ class PathTracer final : public Wavefront {
   // Lambert lanes (integrators/lambert_lanes.h): by material, whether they shade its hits, and
   // its albedo; lambert_ says if they run at all (some material is theirs, no environment map).
   bool lambert_ = false;
+  bool brdf_lanes_ = false;  // the BRDF lanes run (RenderSettings::lambert_lanes)
   LambertScene lambert_scene_{};
   std::vector<uint8_t> lambert_material_;
   std::vector<glm::vec3> lambert_albedo_;

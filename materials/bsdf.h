@@ -42,6 +42,8 @@ class Bsdf {
   bool lambertian() const { return !dielectric_ && brdf_.lambertian(); }
   // The refractive interface, if the material is a volume's.
   const std::optional<RoughDielectric>& dielectric() const { return dielectric_; }
+  // The glTF BRDF (all of the BSDF when there is no interface).
+  const GltfBrdf& gltf() const { return brdf_; }
 
  private:
   Bsdf(const GltfBrdf& brdf, const RoughDielectric& dielectric, float q,

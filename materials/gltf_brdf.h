@@ -102,6 +102,16 @@ class GltfBrdf {
   const MaterialLayers& layers() const { return layers_; }
   // True when the specular lobe is anisotropic (strength > 0, α < 1, and not Lambert's).
   bool anisotropic() const { return anisotropic_; }
+  // True when sample() is the metallic-roughness base alone, with its specular lobe: not Lambert's,
+  // no coat or sheen, isotropic, no transmission, no iridescence (the BRDF lanes' case,
+  // integrators/lambert_lanes.h). What they take of it: metallic, F0 and F90 (and base, alpha).
+  bool plain() const {
+    return !lambertian_ && !layered_ && !anisotropic_ && transmission_ == 0.f &&
+           iridescence_ == 0.f;
+  }
+  float metallic() const { return metallic_; }
+  const glm::vec3& f0() const { return f0_; }
+  float f90() const { return f90_; }
 
  private:
   // The base (metallic-roughness with transmission), without the layers.

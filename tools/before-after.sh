@@ -7,7 +7,8 @@
 # The last run's two images are compared too: "same" when every pixel is equal (dacrt diff).
 #   BEFORE=/path/to/old/dacrt tools/before-after.sh [WIDTH] [SPP] [RUNS]   (default 1024 64 3)
 # BIN (default build/dacrt), THREADS (default 2), SCENES (default ../shared/scenes beside the
-# checkout), OUT (default /tmp/dacrt-before-after: the images and statistics stay there).
+# checkout), OUT (default /tmp/dacrt-before-after: the images and statistics stay there); FILES
+# (glTF files, separated by spaces) renders those instead of the two scenes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 W=${1:-1024}; SPP=${2:-64}; RUNS=${3:-3}
@@ -17,10 +18,11 @@ OUT=${OUT:-/tmp/dacrt-before-after}; mkdir -p "$OUT"
 [ -n "${BEFORE:-}" ] && [ -x "$BEFORE" ] || { echo "before-after: set BEFORE to an older dacrt binary" >&2; exit 2; }
 [ -x "$BIN" ] || { echo "before-after: $BIN not built" >&2; exit 1; }
 scenes=("$S/khronos/DamagedHelmet/DamagedHelmet.glb" "$S/mcguire/dabrovic-sponza/sponza.glb")
+[ -n "${FILES:-}" ] && read -ra scenes <<< "$FILES"
 echo "| scene, ${W}², $SPP spp, $THREADS threads | before render s | after render s | after / before | before user s | after user s | after / before (user) | images |"
 echo "|---|---|---|---|---|---|---|---|"
 for scene in "${scenes[@]}"; do
-  name=$(basename "$scene" .glb)
+  name=$(basename "$scene"); name=${name%.*}
   for run in $(seq "$RUNS"); do
     for which in before after; do
       bin=$BIN; [ $which = before ] && bin=$BEFORE
