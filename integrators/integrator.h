@@ -64,8 +64,9 @@ struct RenderSettings {
   double adaptive = 0.0;
   int adaptive_min = 0;
   SamplerKind sampler = SamplerKind::sobol;  // where the paths' numbers come from
-  // The path tracer shades Lambert vertices sixteen at a time (integrators/lambert_lanes.h);
-  // false: one at a time, the general way (for the tests, and to measure what the lanes save).
+  // The path tracer shades Lambert vertices sixteen at a time, and samples plain
+  // metallic-roughness BRDFs in lanes (integrators/lambert_lanes.h); false: one at a time, the
+  // general way (for the tests, and to measure what the lanes save).
   bool lambert_lanes = true;
   float ao_distance = 0.f;  // ao: how far occluders count (0: the scene's bounding-box diagonal)
   AovSet aovs;              // the first-hit values and statistics the film keeps
