@@ -88,7 +88,7 @@ TEST_CASE("film: check_sums refuses counts and sums no samples can make (films r
   auto forged = [&](size_t pixel, size_t k, Fixed value) {
     Film f = film;
     REQUIRE(f.sums_per_pixel() == 17);
-    f.sums()[17 * pixel + k] = value;
+    REQUIRE(f.set_sum(pixel, int(k), value));
     return f.check_sums(0, 8);
   };
   const Fixed one = Fixed(1) << 64;
@@ -97,7 +97,13 @@ TEST_CASE("film: check_sums refuses counts and sums no samples can make (films r
   CHECK(forged(0, 0, 1).find("pixel (0, 0) has sums") != std::string::npos);  // no samples
   CHECK(forged(4, 4, -1).find("pixel (1, 1)") != std::string::npos);
   CHECK(forged(4, 6, -1).find("pixel (1, 1)") != std::string::npos);
-  CHECK(forged(4, 7, 3 * (one << 30)).find("pixel (1, 1)") != std::string::npos);
+  CHECK(forged(4, 13, 2 * (one << 30)) == "");
+  CHECK(forged(4, 13, 3 * (one << 30)).find("pixel (1, 1)") != std::string::npos);
+  // Albedo and normal: two samples of at most 2^10 each.
+  CHECK(forged(4, 7, 2 * (one << 10)) == "");
+  CHECK(forged(4, 12, -2 * (one << 10)) == "");
+  CHECK(forged(4, 7, 2 * (one << 10) + 1).find("pixel (1, 1) has sums") != std::string::npos);
+  CHECK(forged(4, 12, -2 * (one << 10) - 1).find("pixel (1, 1) has sums") != std::string::npos);
   Film more = film;
   for (const Film::CountArray& a : more.count_arrays())
     if (std::string(a.name) == "count") (*a.values)[2] = 1;  // kept one of none taken
