@@ -86,8 +86,10 @@ class Film {
   // sorted into ranges of pixels (a counting sort), one task per range, so no two tasks add to
   // one pixel (the sums are exact, so the order they add in never shows). first_of returns a
   // const FirstHit* (null when the film keeps no first-hit values). The sort gathers each
-  // sample's pixel and radiance beside its place, so that the adding pass reads them in order
-  // and can fetch the pixels' sums ahead of use (the pass waits on memory, not on arithmetic).
+  // sample's pixel, radiance and first-hit values beside its place (reading the first hits in
+  // the order the caller holds them, not the pixels'), so that the adding pass reads them in
+  // order and can fetch the pixels' sums ahead of use (the pass waits on memory, not on
+  // arithmetic).
   template <class PixelOf, class RadianceOf, class FirstOf>
   void add_in_order(size_t n, PixelOf pixel_of, RadianceOf radiance_of, FirstOf first_of) {
     constexpr size_t block = 8192;
@@ -103,12 +105,16 @@ class Film {
     });
     for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
     order_.resize(n);
+    const bool firsts = stride_ > at_first;
+    if (firsts) firsts_.resize(n);
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       std::vector<uint32_t> next(ranges);
       for (size_t r = 0; r < ranges; ++r) next[r] = start[r * blocks + b];
       for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i) {
-        const size_t pixel = pixel_of(i);
-        order_[next[range_of(pixel)]++] = {first_of(i), radiance_of(i), uint32_t(pixel)};
+        const size_t pixel = pixel_of(i), at = next[range_of(pixel)]++;
+        const FirstHit* first = firsts ? first_of(i) : nullptr;
+        order_[at] = {radiance_of(i), uint32_t(pixel), first != nullptr};
+        if (first) firsts_[at] = *first;
       }
     });
     std::atomic<uint64_t> dropped_now{0}, clamped_now{0};
@@ -118,11 +124,19 @@ class Film {
       for (uint32_t k = start[r * blocks], end = start[(r + 1) * blocks]; k < end; ++k) {
         if (k + ahead < end) fetch(order_[k + ahead]);
         const Sample& s = order_[k];
-        ++own[int(accumulate(s.pixel, s.radiance, s.first))];
+        ++own[int(accumulate(s.pixel, s.radiance, s.first ? &firsts_[k] : nullptr))];
       }
       dropped_now += own[int(Added::dropped)], clamped_now += own[int(Added::clamped)];
     });
     dropped_ += dropped_now, clamped_ += clamped_now;
+  }
+
+  // Frees what add_in_order keeps between calls (the sorted samples; it makes them again when
+  // called again): writing a film needs memory beside it, rendering into it no more.
+  void release_scratch() const {
+    std::vector<Sample>().swap(order_);
+    std::vector<FirstHit>().swap(firsts_);
+    std::vector<uint32_t>().swap(start_);
   }
 
   // Adds another film's samples (same size and outputs, else Error).
@@ -310,9 +324,9 @@ class Film {
 
   // A sample as add_in_order sorted it.
   struct Sample {
-    const FirstHit* first;
     glm::vec3 radiance;
     uint32_t pixel;
+    uint32_t first;  // whether it has first-hit values (in firsts_, at the same place)
   };
   // Asks for the memory adding s will touch.
   void fetch(const Sample& s) const {
@@ -321,16 +335,15 @@ class Film {
     for (uintptr_t line = sums & ~uintptr_t(63); line < end; line += 64)
       __builtin_prefetch(reinterpret_cast<const void*>(line));
     __builtin_prefetch(&count_[s.pixel]), __builtin_prefetch(&taken_[s.pixel]);
-    if (s.first && stride_ > at_first) {
-      __builtin_prefetch(s.first), __builtin_prefetch(&s.first->hit);
-      __builtin_prefetch(&hits_[s.pixel]);
-    }
+    if (s.first) __builtin_prefetch(&hits_[s.pixel]);
   }
 
   int width_, height_;
   AovSet aovs_;
-  std::vector<Sample> order_;    // add_in_order's scratch
-  std::vector<uint32_t> start_;  // add_in_order's scratch
+  // add_in_order's scratch (mutable: release_scratch).
+  mutable std::vector<Sample> order_;
+  mutable std::vector<FirstHit> firsts_;
+  mutable std::vector<uint32_t> start_;
   int stride_;                           // sums per pixel: at_first, or more with first hits
   size_t record_;                        // bytes of a pixel's sums: record_bytes()
   std::vector<uint64_t> data_;           // record_ bytes per pixel

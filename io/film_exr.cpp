@@ -56,6 +56,7 @@ void write_film_exr(const std::string& path, const Film& film, ExrMetadata metad
   if (exact) metadata.extra.push_back({"exactSums", exact_sums_format});
   // A band of rows at a time: the float channels of a whole film of every AOV would hold
   // 68 bytes a pixel beside the film's sums.
+  film.release_scratch();  // the sorted samples of the last pass, no longer needed
   const bool counts = film.min_count() != film.max_count();
   const std::vector<WordChannel> words = exact ? film_words(film) : std::vector<WordChannel>{};
   ExrRows rows{film.channel_names(counts), {}, {}};
