@@ -3,7 +3,8 @@
 // or continued (`render --resume`) bit for bit. Each 128-bit sum is four 32-bit integer (UINT)
 // channels, lowest word first: "exact.sums.0.w0" … "exact.sums.0.w3" is the red sum (the order
 // of a pixel's sums is the film's); the counts are "exact.count", "exact.taken" and
-// "exact.hits". The header's exactSums names the format.
+// "exact.hits". The header's exactSums names the format. Albedo and normal sums, which the film
+// keeps in 96 bits, are written sign-extended to four words, as earlier versions wrote them.
 #pragma once
 
 #include <string>
