@@ -165,8 +165,9 @@ glm::dvec2 Film::mean_and_error(size_t pixel) const {
       from_fixed<value_bits>(sum(pixel, at_sum) + sum(pixel, at_sum + 1) + sum(pixel, at_sum + 2)) /
       (3.0 * n);
   const double var =
-      n > 1 ? std::max(0.0, (from_fixed<square_bits>(sum(pixel, at_mean_square)) - n * mean * mean) /
-                                (n - 1))
+      n > 1 ? std::max(0.0,
+                       (from_fixed<square_bits>(sum(pixel, at_mean_square)) - n * mean * mean) /
+                           (n - 1))
             : 0.0;
   return {mean, std::sqrt(var / n)};
 }
@@ -176,7 +177,8 @@ double Film::variance_of_mean(size_t pixel, int c) const {
   if (n < 2) return 0.0;
   const double total = from_fixed<value_bits>(sum(pixel, at_sum + c));
   const double s2 =
-      std::max(0.0, (from_fixed<square_bits>(sum(pixel, at_square + c)) - total * total / n) / (n - 1));
+      std::max(0.0, (from_fixed<square_bits>(sum(pixel, at_square + c)) - total * total / n) /
+                        (n - 1));
   return s2 / n;
 }
 

@@ -280,7 +280,8 @@ class Film {
   // A pixel's sums, side by side in one record of record_ bytes (a sample touches one run of
   // memory, not one array each), in the order of k: 16 bytes each, but 12 for the bounded ones
   // (albedo and normal, 7-12), whose sums of up to max_samples values of at most bounded_limit
-  // stay below 2^94. A 96-bit sum is its low 64 bits, then the next 32 (two's complement).
+  // are at most 2^94 in size. A 96-bit sum is its low 64 bits, then the next 32 (two's
+  // complement).
   static constexpr int at_sum = 0, at_square = 3, at_mean_square = 6, at_first = 7,
                        first_count = 10, bounded_count = 6;
   static constexpr size_t offset(int k) {

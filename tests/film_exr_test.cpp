@@ -59,7 +59,7 @@ TEST_CASE("film exr: a film of several bands of rows reads back channel for chan
   }
 }
 
-TEST_CASE("film exr: a sum the film keeps in 96 bits whose fourth word is not its sign is refused") {
+TEST_CASE("film exr: a 96-bit sum of the film whose fourth word is not its sign is refused") {
   const AovSet aovs = AovSet::parse("albedo,normal");
   Film film(3, 2, aovs);
   FirstHit first;
@@ -68,7 +68,8 @@ TEST_CASE("film exr: a sum the film keeps in 96 bits whose fourth word is not it
   first.hit = true;
   for (size_t p = 0; p < film.pixels(); ++p) film.add(p, glm::vec3(1.f), &first);
   ExrMetadata metadata;
-  metadata.extra = {{"exactSums", exact_sums_format}, {"samplesDropped", "0"}, {"samplesClamped", "0"}};
+  metadata.extra = {
+      {"exactSums", exact_sums_format}, {"samplesDropped", "0"}, {"samplesClamped", "0"}};
   test::TempDir dir("film-exr-high");
   // The fourth words of the 6 bounded sums a pixel: the signs, then one forged (pixel (2, 1)'s
   // normal.Y, negative, whose fourth word is all ones).
