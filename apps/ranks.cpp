@@ -112,8 +112,8 @@ Ranks::~Ranks() {
 
 void Ranks::reduce(Film& film, size_t chunk) const {
   if (!mpi_ || size_ == 1) return;
-  std::vector<Fixed>& sums = film.sums();
   std::vector<Film::CountArray> counts = film.count_arrays();
+  const size_t per_pixel = size_t(film.sums_per_pixel());
   // Every rank must send arrays of the same lengths, or the reduction would mix up pixels or
   // wait forever: first the films' shapes, their largest and (as the largest of the bitwise
   // complements) smallest values over the ranks, so that all ranks agree and all throw.
@@ -124,7 +124,7 @@ void Ranks::reduce(Film& film, size_t chunk) const {
                                               uint64_t(film.height()),
                                               uint64_t(film.sums_per_pixel()),
                                               counts.size(),
-                                              sums.size(),
+                                              per_pixel * film.pixels(),
                                               count_size};
   std::array<uint64_t, 2 * fields> most;
   for (int i = 0; i < fields; ++i) most[i] = shape[i], most[fields + i] = ~shape[i];
@@ -137,12 +137,30 @@ void Ranks::reduce(Film& film, size_t chunk) const {
 
   chunk = std::clamp<size_t>(chunk, 1, INT_MAX);
   const FixedSum fixed;
-  reduce_array(sums.data(), sums.size(), fixed.type, fixed.op, chunk, root());
+  // The sums as 128-bit words (the film keeps some in 96 bits), a chunk of pixels at a time.
+  // Rank 0 sets the reduced sums back; one that does not fit (more samples than a film can hold)
+  // throws there, after every rank took part in every reduction.
+  const size_t pixels_per_chunk = std::max<size_t>(1, chunk / per_pixel);
+  std::vector<Fixed> sums(std::min(pixels_per_chunk, film.pixels()) * per_pixel);
+  size_t wrapped = film.pixels();
+  for (size_t first = 0; first < film.pixels(); first += pixels_per_chunk) {
+    const size_t n = std::min(pixels_per_chunk, film.pixels() - first);
+    for (size_t p = 0; p < n; ++p) film.pixel_sums(first + p, &sums[per_pixel * p]);
+    reduce_array(sums.data(), n * per_pixel, fixed.type, fixed.op, chunk, root());
+    if (root())
+      for (size_t p = 0; p < n; ++p)
+        for (size_t k = 0; k < per_pixel; ++k)
+          if (!film.set_sum(first + p, int(k), sums[per_pixel * p + k])) wrapped = first + p;
+  }
   for (const Film::CountArray& a : counts)
     reduce_array(a.values->data(), a.values->size(), MPI_UINT32_T, MPI_SUM, chunk, root());
   uint64_t tallies[2] = {film.dropped(), film.clamped()};
   reduce_array(tallies, 2, MPI_UINT64_T, MPI_SUM, chunk, root());
   if (root()) film.set_tallies(tallies[0], tallies[1]);
+  if (wrapped != film.pixels())
+    throw Error("the ranks' films add up to more albedo or normal at pixel " +
+                std::to_string(wrapped) + " than " + std::to_string(max_samples) +
+                " samples can");
 }
 
 std::string Ranks::first_error(const std::string& mine) const {

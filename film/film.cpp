@@ -36,15 +36,18 @@ Film::Film(int width, int height, AovSet aovs)
       height_(height),
       aovs_(aovs),
       stride_(at_first + (aovs.first_hit() ? first_count : 0)),
-      fixed_(stride_ * size_t(width) * height, 0),
+      record_(record_bytes(aovs.first_hit())),
+      data_(record_ / 8 * size_t(width) * height, 0),
       count_(size_t(width) * height, 0),
       taken_(size_t(width) * height, 0) {
+  // Records of whole 64-bit words: 112 bytes a pixel, 248 with the first-hit sums.
+  static_assert(record_bytes(false) == 112 && record_bytes(true) == 248);
   if (aovs.first_hit()) hits_.assign(pixels(), 0);
 }
 
 uint64_t Film::bytes(int width, int height, AovSet aovs) {
-  const uint64_t per_pixel = at_first * sizeof(Fixed) + 2 * sizeof(uint32_t) +
-                             (aovs.first_hit() ? first_count * sizeof(Fixed) + 4 : 0);
+  const uint64_t per_pixel =
+      record_bytes(aovs.first_hit()) + 2 * sizeof(uint32_t) + (aovs.first_hit() ? 4 : 0);
   return uint64_t(width) * uint64_t(height) * per_pixel;
 }
 
@@ -56,12 +59,37 @@ void Film::merge(const Film& other) {
   auto add = [](auto& to, const auto& from) {
     tbb::parallel_for(size_t(0), to.size(), [&](size_t i) { to[i] += from[i]; });
   };
-  add(fixed_, other.fixed_);
+  // The bounded sums of films of up to max_samples samples together stay within 96 bits; more
+  // could wrap them, so each is checked.
+  std::atomic<size_t> wrapped{pixels()};
+  tbb::parallel_for(size_t(0), pixels(), [&](size_t p) {
+    for (int k = 0; k < stride_; ++k)
+      if (!set_sum(p, k, sum(p, k) + other.sum(p, k))) wrapped = p;
+  });
+  if (wrapped != pixels())
+    throw Error("cannot merge the films: pixel (" + std::to_string(wrapped % size_t(width_)) +
+                ", " + std::to_string(wrapped / size_t(width_)) +
+                ") would hold more albedo or normal than " + std::to_string(max_samples) +
+                " samples can add up to");
   add(count_, other.count_);
   add(taken_, other.taken_);
   add(hits_, other.hits_);
   dropped_ += other.dropped_;
   clamped_ += other.clamped_;
+}
+
+bool Film::set_sum(size_t pixel, int k, Fixed value) {
+  char* at = record(pixel) + offset(k);
+  if (!bounded(k)) return store128(at, value), true;
+  if (!fits96(value)) return false;
+  store96(at, value);
+  return true;
+}
+
+std::vector<Fixed> Film::sums() const {
+  std::vector<Fixed> out(size_t(stride_) * pixels());
+  for (size_t p = 0; p < pixels(); ++p) pixel_sums(p, &out[size_t(stride_) * p]);
+  return out;
 }
 
 std::vector<Film::CountArray> Film::count_arrays() {
@@ -73,7 +101,8 @@ std::vector<Film::CountArray> Film::count_arrays() {
 std::string Film::check_sums(uint32_t least, uint32_t most) const {
   most = std::min(most, max_samples);
   // The largest sum n samples can make, in each scale.
-  const Fixed value_most = Fixed(1) << (64 + 30), square_most = Fixed(1) << (46 + 60);
+  const Fixed value_most = Fixed(1) << (64 + 30), square_most = Fixed(1) << (46 + 60),
+              bounded_most = Fixed(1) << (64 + 10);
   for (size_t p = 0; p < pixels(); ++p) {
     const uint32_t n = count_[p], took = taken_[p];
     auto where = [&] {
@@ -90,13 +119,15 @@ std::string Film::check_sums(uint32_t least, uint32_t most) const {
     if (!hits_.empty() && hits_[p] > n)
       return where() + " has more first hits than samples";
     auto within = [&](Fixed v, Fixed limit) { return v <= n * limit && v >= -(n * limit); };
-    const Fixed* f = &fixed_[stride_ * p];
+    Fixed f[at_first + first_count] = {};
+    pixel_sums(p, f);
     bool ok = true;
     for (int c = 0; c < 3; ++c)
       ok = ok && within(f[at_sum + c], value_most) && f[at_square + c] >= 0 &&
            within(f[at_square + c], square_most);
     ok = ok && f[at_mean_square] >= 0 && within(f[at_mean_square], square_most);
-    for (size_t k = at_first; k < stride_; ++k) ok = ok && within(f[k], value_most);
+    for (int k = at_first; k < stride_; ++k)
+      ok = ok && within(f[k], bounded(k) ? bounded_most : value_most);
     if (!ok) return where() + " has sums its " + std::to_string(n) + " samples cannot add up to";
   }
   return "";
@@ -121,7 +152,7 @@ Image Film::resolve() const {
   tbb::parallel_for(size_t(0), pixels(), [&](size_t p) {
     for (int c = 0; c < 3; ++c)
       img.rgb[3 * p + c] =
-          count_[p] ? float(from_fixed<value_bits>(fixed_[stride_ * p + at_sum + c]) / count_[p])
+          count_[p] ? float(from_fixed<value_bits>(sum(p, at_sum + c)) / count_[p])
                     : 0.f;
   });
   return img;
@@ -130,10 +161,13 @@ Image Film::resolve() const {
 glm::dvec2 Film::mean_and_error(size_t pixel) const {
   const double n = count_[pixel];
   if (n < 1) return {0.0, 0.0};
-  const Fixed* f = &fixed_[stride_ * pixel];
-  const double mean = from_fixed<value_bits>(f[at_sum] + f[at_sum + 1] + f[at_sum + 2]) / (3.0 * n);
+  const double mean =
+      from_fixed<value_bits>(sum(pixel, at_sum) + sum(pixel, at_sum + 1) + sum(pixel, at_sum + 2)) /
+      (3.0 * n);
   const double var =
-      n > 1 ? std::max(0.0, (from_fixed<square_bits>(f[at_mean_square]) - n * mean * mean) / (n - 1))
+      n > 1 ? std::max(0.0,
+                       (from_fixed<square_bits>(sum(pixel, at_mean_square)) - n * mean * mean) /
+                           (n - 1))
             : 0.0;
   return {mean, std::sqrt(var / n)};
 }
@@ -141,10 +175,10 @@ glm::dvec2 Film::mean_and_error(size_t pixel) const {
 double Film::variance_of_mean(size_t pixel, int c) const {
   const double n = count_[pixel];
   if (n < 2) return 0.0;
-  const Fixed* f = &fixed_[stride_ * pixel];
-  const double sum = from_fixed<value_bits>(f[at_sum + c]);
+  const double total = from_fixed<value_bits>(sum(pixel, at_sum + c));
   const double s2 =
-      std::max(0.0, (from_fixed<square_bits>(f[at_square + c]) - sum * sum / n) / (n - 1));
+      std::max(0.0, (from_fixed<square_bits>(sum(pixel, at_square + c)) - total * total / n) /
+                        (n - 1));
   return s2 / n;
 }
 
@@ -211,8 +245,8 @@ std::vector<Film::Source> Film::sources(bool counts) const {
   const char* xyz[3] = {"X", "Y", "Z"};
   for (int c = 0; c < 3; ++c)
     channel(rgb[c],
-            [this, mean, c](size_t p) { return mean(p, fixed_[stride_ * p + at_sum + c]); });
-  auto first = [this](size_t p, int k) { return fixed_[stride_ * p + at_first + k]; };
+            [this, mean, c](size_t p) { return mean(p, sum(p, at_sum + c)); });
+  auto first = [this](size_t p, int k) { return sum(p, at_first + k); };
   auto over_hits = [this, first](size_t p, int k, double none) {
     return hits_[p] ? from_fixed<value_bits>(first(p, k)) / hits_[p] : none;
   };

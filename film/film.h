@@ -1,10 +1,10 @@
 // Film: per-pixel sums of a render's samples, in named channels. The colour (radiance) is always
 // kept, with its sums of squares for error and variance estimates; the first-hit values (AOVs:
 // albedo, normal, depth, position) only when asked. Samples that are not finite are dropped and
-// counted, never averaged in; values beyond ±value_limit are clamped and counted. The sums are
-// fixed point (film/fixed.h), exact: films of the same size and channels merge by adding their
-// sums, so samples [0, a) and [a, b) rendered apart (other processes, other machines, a resumed
-// render) make the film of [0, b) bit for bit.
+// counted, never averaged in; values beyond ±value_limit (albedo and normal: ±bounded_limit) are
+// clamped and counted. The sums are fixed point (film/fixed.h), exact: films of the same size and
+// channels merge by adding their sums, so samples [0, a) and [a, b) rendered apart (other
+// processes, other machines, a resumed render) make the film of [0, b) bit for bit.
 #pragma once
 
 #include <tbb/parallel_for.h>
@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <glm/glm.hpp>
 #include <string>
@@ -85,8 +86,10 @@ class Film {
   // sorted into ranges of pixels (a counting sort), one task per range, so no two tasks add to
   // one pixel (the sums are exact, so the order they add in never shows). first_of returns a
   // const FirstHit* (null when the film keeps no first-hit values). The sort gathers each
-  // sample's pixel and radiance beside its place, so that the adding pass reads them in order
-  // and can fetch the pixels' sums ahead of use (the pass waits on memory, not on arithmetic).
+  // sample's pixel, radiance and first-hit values beside its place (reading the first hits in
+  // the order the caller holds them, not the pixels'), so that the adding pass reads them in
+  // order and can fetch the pixels' sums ahead of use (the pass waits on memory, not on
+  // arithmetic).
   template <class PixelOf, class RadianceOf, class FirstOf>
   void add_in_order(size_t n, PixelOf pixel_of, RadianceOf radiance_of, FirstOf first_of) {
     constexpr size_t block = 8192;
@@ -102,12 +105,16 @@ class Film {
     });
     for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
     order_.resize(n);
+    const bool firsts = stride_ > at_first;
+    if (firsts) firsts_.resize(n);
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       std::vector<uint32_t> next(ranges);
       for (size_t r = 0; r < ranges; ++r) next[r] = start[r * blocks + b];
       for (size_t i = b * block, end = std::min(n, (b + 1) * block); i < end; ++i) {
-        const size_t pixel = pixel_of(i);
-        order_[next[range_of(pixel)]++] = {first_of(i), radiance_of(i), uint32_t(pixel)};
+        const size_t pixel = pixel_of(i), at = next[range_of(pixel)]++;
+        const FirstHit* first = firsts ? first_of(i) : nullptr;
+        order_[at] = {radiance_of(i), uint32_t(pixel), first != nullptr};
+        if (first) firsts_[at] = *first;
       }
     });
     std::atomic<uint64_t> dropped_now{0}, clamped_now{0};
@@ -117,21 +124,55 @@ class Film {
       for (uint32_t k = start[r * blocks], end = start[(r + 1) * blocks]; k < end; ++k) {
         if (k + ahead < end) fetch(order_[k + ahead]);
         const Sample& s = order_[k];
-        ++own[int(accumulate(s.pixel, s.radiance, s.first))];
+        ++own[int(accumulate(s.pixel, s.radiance, s.first ? &firsts_[k] : nullptr))];
       }
       dropped_now += own[int(Added::dropped)], clamped_now += own[int(Added::clamped)];
     });
     dropped_ += dropped_now, clamped_ += clamped_now;
   }
 
+  // Frees what add_in_order keeps between calls (the sorted samples; it makes them again when
+  // called again): writing a film needs memory beside it, rendering into it no more.
+  void release_scratch() const {
+    std::vector<Sample>().swap(order_);
+    std::vector<FirstHit>().swap(firsts_);
+    std::vector<uint32_t>().swap(start_);
+  }
+
   // Adds another film's samples (same size and outputs, else Error).
   void merge(const Film& other);
 
-  // The film's state as arrays, to send or store it exactly and add it back (merge, MPI, parts
-  // in EXR files): the fixed-point sums (sums_per_pixel() side by side for each pixel), then the
-  // counts, each with a name.
-  std::vector<Fixed>& sums() { return fixed_; }
-  int sums_per_pixel() const { return int(stride_); }
+  // The film's state, to send or store it exactly and add it back (merge, MPI, parts in EXR
+  // files): sums_per_pixel() fixed-point sums a pixel, numbered k as the files number them
+  // (colour 0-2, squares 3-5, square of the channel average 6, with first-hit outputs albedo
+  // 7-9, normal 10-12, depth 13, position 14-16), then the counts, each with a name. Albedo and
+  // normal sums are kept in 96 bits (bounded(k)), the others in 128.
+  int sums_per_pixel() const { return stride_; }
+  static constexpr bool bounded(int k) { return k >= at_first && k < at_first + bounded_count; }
+  Fixed sum(size_t pixel, int k) const {
+    const char* at = record(pixel) + offset(k);
+    return bounded(k) ? load96(at) : load128(at);
+  }
+  // Sets sum k of the pixel; false (nothing set) when it is bounded and the value does not fit
+  // in 96 bits.
+  bool set_sum(size_t pixel, int k, Fixed value);
+  // The pixel's sums_per_pixel() sums into out.
+  void pixel_sums(size_t pixel, Fixed* out) const {
+    for (int k = 0; k < stride_; ++k) out[k] = sum(pixel, k);
+  }
+  // Every pixel's sums, sums_per_pixel() side by side for each (a copy).
+  std::vector<Fixed> sums() const;
+  // Where sum k of every pixel lies, to read files straight into the film: the address of pixel
+  // 0's, the bytes from one pixel's to the next's, and the 32-bit words kept there, lowest first
+  // (4; 3 for a bounded sum: its fourth word is the third's sign).
+  struct SumPlace {
+    char* base;
+    size_t stride;
+    int words;
+  };
+  SumPlace sum_place(int k) {
+    return {reinterpret_cast<char*>(data_.data()) + offset(k), record_, bounded(k) ? 3 : 4};
+  }
   struct CountArray {
     const char* name;
     std::vector<uint32_t>* values;
@@ -208,59 +249,105 @@ class Film {
       return c;
     };
     const glm::dvec3 r(value(radiance.x), value(radiance.y), value(radiance.z));
-    Fixed* f = &fixed_[stride_ * pixel];
+    char* f = record(pixel);
     for (int c = 0; c < 3; ++c) {
-      f[at_sum + c] += to_fixed<value_bits>(r[c]);
-      f[at_square + c] += to_fixed<square_bits>(r[c] * r[c]);
+      add128(f + offset(at_sum + c), to_fixed<value_bits>(r[c]));
+      add128(f + offset(at_square + c), to_fixed<square_bits>(r[c] * r[c]));
     }
     const double m = (r.x + r.y + r.z) / 3.0;
-    f[at_mean_square] += to_fixed<square_bits>(m * m);
+    add128(f + offset(at_mean_square), to_fixed<square_bits>(m * m));
     ++count_[pixel];
     if (first && stride_ > at_first) {
+      auto bounded_value = [&](float v) {
+        const double c = std::clamp(double(v), -bounded_limit, bounded_limit);
+        cut |= c != double(v);
+        return c;
+      };
       for (int c = 0; c < 3; ++c)
-        f[at_first + c] += to_fixed<value_bits>(value(first->albedo[c])),
-            f[at_first + 3 + c] += to_fixed<value_bits>(value(first->normal[c]));
+        add96(f + offset(at_first + c), to_fixed<value_bits>(bounded_value(first->albedo[c]))),
+            add96(f + offset(at_first + 3 + c),
+                  to_fixed<value_bits>(bounded_value(first->normal[c])));
       if (first->hit) {
-        f[at_first + 6] += to_fixed<value_bits>(value(first->depth));
+        add128(f + offset(at_first + 6), to_fixed<value_bits>(value(first->depth)));
         for (int c = 0; c < 3; ++c)
-          f[at_first + 7 + c] += to_fixed<value_bits>(value(first->position[c]));
+          add128(f + offset(at_first + 7 + c), to_fixed<value_bits>(value(first->position[c])));
         ++hits_[pixel];
       }
     }
     return cut ? Added::clamped : Added::added;
   }
 
-  // A pixel's sums, side by side (a sample touches one run of memory, not one array each): the
-  // colour (3), its squares (3), the square of the channel average (1), then with first-hit
-  // outputs albedo (3), normal (3), depth (1), position (3).
-  static constexpr size_t at_sum = 0, at_square = 3, at_mean_square = 6, at_first = 7,
-                          first_count = 10;
+  // A pixel's sums, side by side in one record of record_ bytes (a sample touches one run of
+  // memory, not one array each), in the order of k: 16 bytes each, but 12 for the bounded ones
+  // (albedo and normal, 7-12), whose sums of up to max_samples values of at most bounded_limit
+  // are at most 2^94 in size. A 96-bit sum is its low 64 bits, then the next 32 (two's
+  // complement).
+  static constexpr int at_sum = 0, at_square = 3, at_mean_square = 6, at_first = 7,
+                       first_count = 10, bounded_count = 6;
+  static constexpr size_t offset(int k) {
+    return k < at_first                   ? 16 * size_t(k)
+           : k < at_first + bounded_count ? 16 * at_first + 12 * size_t(k - at_first)
+                                          : 16 * size_t(k) - 4 * bounded_count;
+  }
+  static constexpr size_t record_bytes(bool first_hits) {
+    return first_hits ? offset(at_first + first_count) : offset(at_first);
+  }
+  __extension__ using Word = unsigned __int128;
+  static Fixed load128(const char* at) {
+    uint64_t w[2];
+    std::memcpy(w, at, 16);
+    return Fixed(Word(w[1]) << 64 | w[0]);
+  }
+  static void store128(char* at, Fixed v) {
+    const uint64_t w[2] = {uint64_t(Word(v)), uint64_t(Word(v) >> 64)};
+    std::memcpy(at, w, 16);
+  }
+  static Fixed load96(const char* at) {
+    uint64_t low;
+    int32_t high;
+    std::memcpy(&low, at, 8);
+    std::memcpy(&high, at + 8, 4);
+    return Fixed(Word(Fixed(high)) << 64 | low);
+  }
+  static void store96(char* at, Fixed v) {
+    const uint64_t low = uint64_t(Word(v));
+    const uint32_t high = uint32_t(uint64_t(Word(v) >> 64));
+    std::memcpy(at, &low, 8);
+    std::memcpy(at + 8, &high, 4);
+  }
+  static bool fits96(Fixed v) { return v >= -(Fixed(1) << 95) && v < Fixed(1) << 95; }
+  static void add128(char* at, Fixed v) { store128(at, load128(at) + v); }
+  static void add96(char* at, Fixed v) { store96(at, load96(at) + v); }
+  char* record(size_t pixel) { return reinterpret_cast<char*>(data_.data()) + record_ * pixel; }
+  const char* record(size_t pixel) const {
+    return reinterpret_cast<const char*>(data_.data()) + record_ * pixel;
+  }
 
   // A sample as add_in_order sorted it.
   struct Sample {
-    const FirstHit* first;
     glm::vec3 radiance;
     uint32_t pixel;
+    uint32_t first;  // whether it has first-hit values (in firsts_, at the same place)
   };
   // Asks for the memory adding s will touch.
   void fetch(const Sample& s) const {
-    const uintptr_t sums = uintptr_t(&fixed_[stride_ * s.pixel]);
-    const uintptr_t end = sums + stride_ * sizeof(Fixed);
+    const uintptr_t sums = uintptr_t(record(s.pixel));
+    const uintptr_t end = sums + record_;
     for (uintptr_t line = sums & ~uintptr_t(63); line < end; line += 64)
       __builtin_prefetch(reinterpret_cast<const void*>(line));
     __builtin_prefetch(&count_[s.pixel]), __builtin_prefetch(&taken_[s.pixel]);
-    if (s.first && stride_ > at_first) {
-      __builtin_prefetch(s.first), __builtin_prefetch(&s.first->hit);
-      __builtin_prefetch(&hits_[s.pixel]);
-    }
+    if (s.first) __builtin_prefetch(&hits_[s.pixel]);
   }
 
   int width_, height_;
   AovSet aovs_;
-  std::vector<Sample> order_;    // add_in_order's scratch
-  std::vector<uint32_t> start_;  // add_in_order's scratch
-  size_t stride_;                        // sums per pixel: at_first, or more with first hits
-  std::vector<Fixed> fixed_;             // stride_ per pixel
+  // add_in_order's scratch (mutable: release_scratch).
+  mutable std::vector<Sample> order_;
+  mutable std::vector<FirstHit> firsts_;
+  mutable std::vector<uint32_t> start_;
+  int stride_;                           // sums per pixel: at_first, or more with first hits
+  size_t record_;                        // bytes of a pixel's sums: record_bytes()
+  std::vector<uint64_t> data_;           // record_ bytes per pixel
   std::vector<uint32_t> count_, taken_;  // samples added, samples taken (dropped ones too)
   std::vector<uint32_t> hits_;  // samples whose camera ray hit something (with first hits)
   uint64_t dropped_ = 0, clamped_ = 0;

@@ -7,6 +7,8 @@
 // Two scales: values (radiance, first-hit values) in 2^-64 steps, squares (for variance
 // estimates) in 2^-46 steps. Values are clamped to ±value_limit = 2^30 (about 1.07e9), where a
 // square still fits: 2^60 × 2^46 × max_samples (2^20) < 2^127, so no sum can overflow.
+// Values known to be small (a surface's albedo, in [0, 1], and unit normals) are clamped to
+// ±bounded_limit = 2^10 instead, so that their sums, below 2^(64 + 10 + 20), fit in 96 bits.
 #pragma once
 
 #include <cmath>
@@ -19,6 +21,7 @@ __extension__ using Fixed = __int128;
 inline constexpr int value_bits = 64;   // fraction bits of a value
 inline constexpr int square_bits = 46;  // fraction bits of a square
 inline constexpr double value_limit = 0x1p30;
+inline constexpr double bounded_limit = 0x1p10;  // albedo and normal values (Film::bounded)
 inline constexpr uint32_t max_samples = 1u << 20;  // per pixel: the most --spp allows
 
 constexpr double pow2(int e) {

@@ -8,15 +8,36 @@
 
 namespace dacrt {
 
-std::vector<WordChannel> film_words(const Film& film) {
-  // The channels only point into the film; reading into them is read_film_words' business.
+namespace {
+
+// How many of a pixel's sums are bounded (kept in 96 bits).
+int bounded_count(const Film& film) {
+  int n = 0;
+  for (int c = 0; c < film.sums_per_pixel(); ++c) n += Film::bounded(c);
+  return n;
+}
+
+}  // namespace
+
+std::vector<WordChannel> film_words(const Film& film, std::vector<uint32_t>* high) {
+  // The channels only point into the film; reading into them is read_film_state's business.
   Film& f = const_cast<Film&>(film);
   std::vector<WordChannel> out;
   const int n = f.sums_per_pixel();
-  for (int c = 0; c < n; ++c)
-    for (int w = 0; w < 4; ++w)
-      out.push_back({"exact.sums." + std::to_string(c) + ".w" + std::to_string(w),
-                     reinterpret_cast<char*>(f.sums().data() + c) + 4 * w, sizeof(Fixed) * size_t(n)});
+  const int bounded_sums = bounded_count(film);
+  int bounded = 0;  // the bounded sums before sum c
+  for (int c = 0; c < n; ++c) {
+    const Film::SumPlace place = f.sum_place(c);
+    for (int w = 0; w < 4; ++w) {
+      WordChannel word{"exact.sums." + std::to_string(c) + ".w" + std::to_string(w),
+                       place.base + 4 * w, place.stride};
+      if (w >= place.words)
+        word.base = high ? reinterpret_cast<char*>(high->data() + bounded) : nullptr,
+        word.stride = sizeof(uint32_t) * bounded_sums;
+      out.push_back(word);
+    }
+    bounded += place.words < 4;
+  }
   for (const Film::CountArray& a : f.count_arrays())
     out.push_back({"exact." + std::string(a.name), reinterpret_cast<char*>(a.values->data()),
                    sizeof(uint32_t)});
@@ -35,16 +56,26 @@ void write_film_exr(const std::string& path, const Film& film, ExrMetadata metad
   if (exact) metadata.extra.push_back({"exactSums", exact_sums_format});
   // A band of rows at a time: the float channels of a whole film of every AOV would hold
   // 68 bytes a pixel beside the film's sums.
+  film.release_scratch();  // the sorted samples of the last pass, no longer needed
   const bool counts = film.min_count() != film.max_count();
   const std::vector<WordChannel> words = exact ? film_words(film) : std::vector<WordChannel>{};
   ExrRows rows{film.channel_names(counts), {}, {}};
   for (const WordChannel& w : words) rows.words.push_back(w.name);
-  const size_t width = size_t(film.width());
+  const size_t width = size_t(film.width()), sums = size_t(film.sums_per_pixel());
   rows.fill = [&](int y0, int y1, const std::vector<float*>& floats,
                   const std::vector<uint32_t*>& out) {
     const size_t first = size_t(y0) * width, n = size_t(y1 - y0) * width;
     film.channel_values(counts, first, n, floats);
-    for (size_t c = 0; c < words.size(); ++c)
+    if (!exact) return;
+    // Each sum's four words, from its 96 or 128 bits (sign-extended).
+    __extension__ using Word = unsigned __int128;
+    Fixed pixel[32];
+    for (size_t k = 0; k < n; ++k) {
+      film.pixel_sums(first + k, pixel);
+      for (size_t c = 0; c < sums; ++c)
+        for (size_t w = 0; w < 4; ++w) out[4 * c + w][k] = uint32_t(Word(pixel[c]) >> (32 * w));
+    }
+    for (size_t c = 4 * sums; c < words.size(); ++c)
       for (size_t k = 0; k < n; ++k)
         std::memcpy(&out[c][k], words[c].base + (first + k) * words[c].stride, sizeof(uint32_t));
   };
@@ -64,7 +95,20 @@ ExrHeader read_sums_header(const std::string& path, const std::string& purpose) 
 
 void read_film_state(const std::string& path, const ExrHeader& header, Film& film, uint32_t least,
                      uint32_t most) {
-  read_exr_words(path, film.width(), film.height(), film_words(film));
+  // The bounded sums' fourth words go beside the film, and must be the sign of the 96 bits
+  // it keeps (as this version writes them), else the sum is more than samples can add up to.
+  std::vector<uint32_t> high(size_t(bounded_count(film)) * film.pixels());
+  read_exr_words(path, film.width(), film.height(), film_words(film, &high));
+  for (size_t p = 0, j = 0; j < high.size(); ++p)
+    for (int c = 0; c < film.sums_per_pixel(); ++c)
+      if (Film::bounded(c)) {
+        __extension__ using Word = unsigned __int128;
+        if (uint32_t(Word(film.sum(p, c)) >> 96) != high[j++])
+          throw Error(path + ": pixel (" + std::to_string(p % size_t(film.width())) + ", " +
+                      std::to_string(p / size_t(film.width())) +
+                      ") has sums its " + std::to_string(film.count(p)) +
+                      " samples cannot add up to");
+      }
   // The tallies as decimal counts, nothing else (strtoull would take "-1" for 2^64 - 1, "5x" for
   // 5, and wrap where parts are added).
   auto tally = [&](const char* name) {

@@ -3,7 +3,8 @@
 // or continued (`render --resume`) bit for bit. Each 128-bit sum is four 32-bit integer (UINT)
 // channels, lowest word first: "exact.sums.0.w0" … "exact.sums.0.w3" is the red sum (the order
 // of a pixel's sums is the film's); the counts are "exact.count", "exact.taken" and
-// "exact.hits". The header's exactSums names the format.
+// "exact.hits". The header's exactSums names the format. Albedo and normal sums, which the film
+// keeps in 96 bits, are written sign-extended to four words, as earlier versions wrote them.
 #pragma once
 
 #include <string>
@@ -19,7 +20,9 @@ inline constexpr const char* exact_sums_format =
     "fixed128 v2: values in 2^-64, squares in 2^-46, clamped at 2^30, toward zero";
 
 // The film's word channels, pointing into it (valid while the film lives and is not resized).
-std::vector<WordChannel> film_words(const Film& film);
+// The film keeps albedo and normal sums in 96 bits (Film::bounded): their fourth words point
+// into `high` (resized by the caller to that many words a pixel), or nowhere without it.
+std::vector<WordChannel> film_words(const Film& film, std::vector<uint32_t>* high = nullptr);
 
 // The samplesPerPixel attribute: "every pixel N", or "from A to B (the samples.X channel)".
 std::string samples_per_pixel_text(uint32_t least, uint32_t most);
@@ -37,7 +40,7 @@ ExrHeader read_sums_header(const std::string& path, const std::string& purpose);
 // file's size and outputs): the word channels, and the tallies from samplesDropped and
 // samplesClamped. Then checks it: every pixel took between `least` and `most` samples, has no
 // more hits than samples and no sums its samples cannot add up to. Error naming the file (and
-// the pixel) otherwise.
+// the pixel) otherwise, also when an albedo or normal sum does not fit in 96 bits.
 void read_film_state(const std::string& path, const ExrHeader& header, Film& film, uint32_t least,
                      uint32_t most);
 

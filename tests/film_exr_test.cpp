@@ -8,6 +8,7 @@
 
 #include "dacrt/film/film.h"
 #include "dacrt/io/film_exr.h"
+#include "dacrt/util/error.h"
 #include "temp_dir.h"
 
 using namespace dacrt;
@@ -23,8 +24,10 @@ TEST_CASE("film exr: a film of several bands of rows reads back channel for chan
     for (size_t s = 0; s < 1 + p % 3; ++s) {
       const float v = float(p) * 0.37f + float(s);
       FirstHit first;
-      first.albedo = glm::vec3(v * 0.001f, 0.5f, 0.25f);
-      first.normal = glm::vec3(0.f, 1.f, 0.f);
+      // Albedo and normal sums of both signs, some near their 2^10 limit (kept in 96 bits, written
+      // in four words).
+      first.albedo = glm::vec3(v * 0.001f, 0.5f, p % 5 == 0 ? 1000.f : 0.25f);
+      first.normal = glm::vec3(-0.6f, p % 2 ? 0.8f : -0.8f, -v);
       first.position = glm::vec3(v, -v, 2.f * v);
       first.depth = v + 1.f;
       first.hit = p % 7 != 0;
@@ -53,5 +56,40 @@ TEST_CASE("film exr: a film of several bands of rows reads back channel for chan
     INFO(p);
     REQUIRE(back.count(p) == film.count(p));
     REQUIRE(back.taken(p) == film.taken(p));
+  }
+}
+
+TEST_CASE("film exr: a 96-bit sum of the film whose fourth word is not its sign is refused") {
+  const AovSet aovs = AovSet::parse("albedo,normal");
+  Film film(3, 2, aovs);
+  FirstHit first;
+  first.albedo = glm::vec3(0.5f);
+  first.normal = glm::vec3(0.f, -1.f, 0.f);
+  first.hit = true;
+  for (size_t p = 0; p < film.pixels(); ++p) film.add(p, glm::vec3(1.f), &first);
+  ExrMetadata metadata;
+  metadata.extra = {
+      {"exactSums", exact_sums_format}, {"samplesDropped", "0"}, {"samplesClamped", "0"}};
+  test::TempDir dir("film-exr-high");
+  // The fourth words of the 6 bounded sums a pixel: the signs, then one forged (pixel (2, 1)'s
+  // normal.Y, negative, whose fourth word is all ones).
+  const size_t forged = 6 * 5 + 4;
+  for (const uint32_t word : {0xffffffffu, 0u, 1u}) {
+    CAPTURE(word);
+    std::vector<uint32_t> high(6 * film.pixels());
+    for (size_t p = 0; p < film.pixels(); ++p)
+      for (int j = 0; j < 6; ++j) high[6 * p + j] = film.sum(p, 7 + j) < 0 ? 0xffffffffu : 0u;
+    high[forged] = word;
+    const std::string path = dir / "forged.exr";
+    write_exr(path, film.width(), film.height(), film.channels(), metadata,
+              film_words(film, &high));
+    Film back(3, 2, aovs);
+    if (word == 0xffffffffu) {
+      read_film_state(path, read_sums_header(path, "to read"), back, 1, 1);
+      CHECK(back.sums() == film.sums());
+    } else {
+      CHECK_THROWS_WITH_AS(read_film_state(path, read_sums_header(path, "to read"), back, 1, 1),
+                           doctest::Contains("pixel (2, 1) has sums its 1 samples cannot"), Error);
+    }
   }
 }

@@ -9,6 +9,7 @@
 
 #include "dacrt/film/film.h"
 #include "dacrt/film/fixed.h"
+#include "dacrt/util/error.h"
 
 using namespace dacrt;
 
@@ -88,7 +89,7 @@ TEST_CASE("film: check_sums refuses counts and sums no samples can make (films r
   auto forged = [&](size_t pixel, size_t k, Fixed value) {
     Film f = film;
     REQUIRE(f.sums_per_pixel() == 17);
-    f.sums()[17 * pixel + k] = value;
+    REQUIRE(f.set_sum(pixel, int(k), value));
     return f.check_sums(0, 8);
   };
   const Fixed one = Fixed(1) << 64;
@@ -97,9 +98,89 @@ TEST_CASE("film: check_sums refuses counts and sums no samples can make (films r
   CHECK(forged(0, 0, 1).find("pixel (0, 0) has sums") != std::string::npos);  // no samples
   CHECK(forged(4, 4, -1).find("pixel (1, 1)") != std::string::npos);
   CHECK(forged(4, 6, -1).find("pixel (1, 1)") != std::string::npos);
-  CHECK(forged(4, 7, 3 * (one << 30)).find("pixel (1, 1)") != std::string::npos);
+  CHECK(forged(4, 13, 2 * (one << 30)) == "");
+  CHECK(forged(4, 13, 3 * (one << 30)).find("pixel (1, 1)") != std::string::npos);
+  // Albedo and normal: two samples of at most 2^10 each.
+  CHECK(forged(4, 7, 2 * (one << 10)) == "");
+  CHECK(forged(4, 12, -2 * (one << 10)) == "");
+  CHECK(forged(4, 7, 2 * (one << 10) + 1).find("pixel (1, 1) has sums") != std::string::npos);
+  CHECK(forged(4, 12, -2 * (one << 10) - 1).find("pixel (1, 1) has sums") != std::string::npos);
   Film more = film;
   for (const Film::CountArray& a : more.count_arrays())
     if (std::string(a.name) == "count") (*a.values)[2] = 1;  // kept one of none taken
   CHECK(more.check_sums(0, 8).find("pixel (2, 0) took 0 samples and kept 1") != std::string::npos);
+}
+
+TEST_CASE("film: albedo and normal sums in 96 bits carry, borrow and clamp as 128-bit sums would") {
+  // Pixel 0 takes values of both signs around whole numbers (each 0.75 + 0.75 carries into the
+  // sum's upper word, a negative one borrows from it), pixel 1 negative ones only, both past the
+  // ±2^10 limit now and then.
+  Film film(2, 1, AovSet::parse("albedo,normal"));
+  Fixed expected[2][6] = {};
+  uint64_t clamped = 0;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.5f, 1.5f);
+  const float special[] = {0.75f, 0.75f, 1.f, -1.f, -0.75f, 1024.f, -1024.f, 5000.f, -3000.f,
+                           1e-30f, -0x1p-64f, 0.999999f};
+  for (int s = 0; s < 400; ++s)
+    for (size_t p = 0; p < 2; ++p) {
+      FirstHit first;
+      bool cut = false;
+      for (int c = 0; c < 6; ++c) {
+        float v = s < 12 ? special[(s + c) % 12] : u(rng) * (s % 50 == 0 ? 2000.f : 1.f);
+        if (p == 1) v = -std::abs(v);
+        (c < 3 ? first.albedo[c] : first.normal[c - 3]) = v;
+        const double kept = std::clamp(double(v), -bounded_limit, bounded_limit);
+        cut |= kept != double(v);
+        expected[p][c] += to_fixed<value_bits>(kept);
+      }
+      first.hit = s % 3 != 0;
+      clamped += cut;
+      film.add(p, glm::vec3(1.f), &first);
+    }
+  REQUIRE(clamped > 2);
+  CHECK(film.clamped() == clamped);
+  for (size_t p = 0; p < 2; ++p)
+    for (int c = 0; c < 6; ++c) {
+      CAPTURE(p);
+      CAPTURE(c);
+      CHECK(film.sum(p, 7 + c) == expected[p][c]);
+    }
+  // Pixel 1's sums went below -2^64, so their upper words were borrowed from.
+  CHECK(expected[1][0] < -(Fixed(1) << 64));
+
+  // A 96-bit sum holds [-2^95, 2^95): the ends set and read back, past them nothing is set.
+  const Fixed top = (Fixed(1) << 95) - 1, bottom = -(Fixed(1) << 95);
+  Film ends(1, 1, AovSet::parse("normal"));
+  CHECK(ends.set_sum(0, 7, top));
+  CHECK(ends.set_sum(0, 8, bottom));
+  CHECK_FALSE(ends.set_sum(0, 9, top + 1));
+  CHECK_FALSE(ends.set_sum(0, 10, bottom - 1));
+  CHECK(ends.sum(0, 7) == top);
+  CHECK(ends.sum(0, 8) == bottom);
+  CHECK(ends.sum(0, 9) == 0);
+  CHECK(ends.sum(0, 10) == 0);
+  CHECK(ends.set_sum(0, 13, top + 1));  // depth: 128 bits
+  CHECK(ends.sum(0, 13) == top + 1);
+}
+
+TEST_CASE("film: a merge adds 96-bit sums across their words, and refuses sums that would wrap") {
+  const Fixed top = (Fixed(1) << 95) - 1;
+  Film a(2, 1, AovSet::parse("albedo")), b(2, 1, AovSet::parse("albedo"));
+  REQUIRE(a.set_sum(0, 7, (Fixed(1) << 64) - 1));
+  REQUIRE(b.set_sum(0, 7, 1));  // carries into the upper word
+  REQUIRE(a.set_sum(0, 8, -(Fixed(1) << 64)));
+  REQUIRE(b.set_sum(0, 8, -1));  // borrows from it
+  REQUIRE(a.set_sum(1, 12, top - 1));
+  REQUIRE(b.set_sum(1, 12, 1));  // just fits
+  a.merge(b);
+  CHECK(a.sum(0, 7) == Fixed(1) << 64);
+  CHECK(a.sum(0, 8) == -(Fixed(1) << 64) - 1);
+  CHECK(a.sum(1, 12) == top);
+  Film over = a;
+  CHECK_THROWS_WITH_AS(over.merge(b), doctest::Contains("pixel (1, 0)"), Error);
+  Film under(2, 1, AovSet::parse("albedo"));
+  REQUIRE(under.set_sum(0, 9, -(Fixed(1) << 95)));
+  REQUIRE(b.set_sum(0, 9, -1));
+  CHECK_THROWS_WITH_AS(under.merge(b), doctest::Contains("pixel (0, 0)"), Error);
 }

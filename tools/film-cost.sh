@@ -5,7 +5,8 @@
 #  - the share of the process's CPU samples (perf record) in adding samples to the film
 #    (Film::accumulate and Film::add_in_order's passes), on DamagedHelmet without AOVs and the
 #    Cornell box with every AOV, at 1024² and 1920×1080, SPP samples a pixel;
-#  - the peak resident memory (/usr/bin/time -v) of the Cornell box at 1920×1080, every AOV, 1 spp.
+#  - the peak resident memory (/usr/bin/time -v, in MiB) of the Cornell box at 1920×1080, every
+#    AOV, 1 spp.
 # Prints one line per measurement and the medians. Needs perf and GNU time.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -26,7 +27,7 @@ share() {  # share BIN ARGS...: percent of perf samples in the film's adding
   perf report -i "$OUT/perf.data" --no-children --sort symbol --stdio 2>/dev/null |
     grep -E 'Film::accumulate|Film::add_in_order' | awk '{s += $1} END {printf "%.2f", s}'
 }
-peak() {  # peak BIN: MB
+peak() {  # peak BIN: MiB
   /usr/bin/time -v "$1" render "$CORNELL" -o "$OUT/p.exr" --spp 1 --width 1920 --height 1080 \
     --aov $AOVS --threads 2 --quiet 2>&1 >/dev/null |
     awk '/Maximum resident/ {printf "%.0f", $6 / 1024}'
@@ -50,12 +51,12 @@ for round in $(seq "$ROUNDS"); do
     done
     p=$(peak "$bin")
     results[$which/peak]+="$p "
-    echo "round $round $which peak 1080p every AOV ${p} MB"
+    echo "round $round $which peak 1080p every AOV ${p} MiB"
   done
 done
 uptime
 median() { tr ' ' '\n' | grep -v '^$' | sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
-echo "medians (film share %, peak MB): before | after"
+echo "medians (film share %, peak MiB): before | after"
 for name in helmet-1024 helmet-1080p cornell-aov-1024 cornell-aov-1080p peak; do
   echo "$name $(echo "${results[before/$name]}" | median) | $(echo "${results[after/$name]}" | median)"
 done
