@@ -223,7 +223,13 @@ RenderJob::RenderJob(const Scene& scene, Backend& backend, RenderSettings settin
 RenderJob::~RenderJob() = default;
 
 const RenderStats& RenderJob::stats() const {
-  return integrator_->stats();
+  return released_stats_ ? *released_stats_ : integrator_->stats();
+}
+
+void RenderJob::release() {
+  if (!integrator_) return;
+  released_stats_ = integrator_->stats();
+  integrator_.reset();
 }
 
 uint32_t RenderJob::pass_size(const PassOptions& options) const {

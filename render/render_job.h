@@ -117,10 +117,16 @@ class RenderJob {
   RenderOutcome resume(Film& film, uint32_t first, uint32_t last, Progress& progress,
                        const PassOptions& options = {}, const Checkpoint& checkpoint = {});
 
+  // Frees the integrator and its working memory (the path state, the queues, the batches) once
+  // the samples are taken, so that writing the film's outputs does not hold them too. stats()
+  // stays valid; run and resume may not be called after.
+  void release();
+
  private:
   const RenderSettings settings_;
   const Shot shot_;
   std::unique_ptr<Integrator> integrator_;
+  std::optional<RenderStats> released_stats_;  // the integrator's, kept by release()
   std::optional<AdaptiveSampling> adaptive_;  // with settings_.adaptive > 0
 };
 

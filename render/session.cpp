@@ -447,6 +447,7 @@ bool RenderSession::State::render_backend(BackendRun& run, size_t index, const S
                               : job.run(film, from, to, progress, r.passes, checkpoint);
   if (spread && !gather_film(*hooks.ranks, film, outcome, first, last)) return false;
   run.stats = job.stats();
+  job.release();  // the path state is not needed to write the outputs
   run.backend_stats = backend->stats();
   run.seconds = seconds_since(t0);
   run.spp = outcome.spp();

@@ -55,6 +55,10 @@ AllocationWatch::AllocationWatch() : base_(current.load()) {
   highest.store(base_);
 }
 
+uint64_t AllocationWatch::live() {
+  return current.load();
+}
+
 uint64_t AllocationWatch::peak() const {
   const uint64_t h = highest.load();
   return h > base_ ? h - base_ : 0;

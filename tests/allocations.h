@@ -13,6 +13,8 @@ class AllocationWatch {
  public:
   AllocationWatch();
   uint64_t peak() const;
+  // The bytes allocated and not yet freed, by the whole program, now.
+  static uint64_t live();
 
  private:
   uint64_t base_;
