@@ -107,6 +107,24 @@ M carries(const V3<F>& c) {
   return (c.x > F(0.f)) | (c.y > F(0.f)) | (c.z > F(0.f));
 }
 
+// materials/sampling.h's sample_cosine_hemisphere up to its z: the concentric map of (u1, u2) to
+// the unit disk, (x, y).
+template <class F>
+void concentric_disk(F u1, F u2, F& x, F& y) {
+  const F one = F(1.f), zero = F(0.f);
+  const F sa = F(2.f) * u1 - one, sb = F(2.f) * u2 - one;
+  const auto a_major = vabs(sa) > vabs(sb);
+  const F r = sel(a_major, sa, sb), minor = sel(a_major, sb, sa);
+  const F angle = F(0.785398163397448309616f) * (minor / sel(r != zero, r, one));
+  const F x2 = angle * angle;
+  const F cos_psi =
+      one + x2 * (F(-1.f / 2) + x2 * (F(1.f / 24) + x2 * (F(-1.f / 720) + x2 * F(1.f / 40320))));
+  const F sin_psi =
+      angle * (one + x2 * (F(-1.f / 6) +
+                           x2 * (F(1.f / 120) + x2 * (F(-1.f / 5040) + x2 * F(1.f / 362880)))));
+  x = r * sel(a_major, cos_psi, sin_psi), y = r * sel(a_major, sin_psi, cos_psi);
+}
+
 template <class L>
 V3<typename L::F> load3(const float (&a)[3][LambertIn::lanes], int k) {
   return {L::load(a[0], k), L::load(a[1], k), L::load(a[2], k)};
@@ -247,17 +265,8 @@ void lambert_vertex(const LambertScene& scene, const LambertIn& in, int k, Lambe
   }
 
   // Cosine-weighted BSDF sampling (materials/sampling.h's sample_cosine_hemisphere).
-  const F sa = F(2.f) * ld(in.u_bsdf[0]) - one, sb = F(2.f) * ld(in.u_bsdf[1]) - one;
-  const M a_major = vabs(sa) > vabs(sb);
-  const F r = sel(a_major, sa, sb), minor = sel(a_major, sb, sa);
-  const F angle = F(0.785398163397448309616f) * (minor / sel(r != zero, r, one));
-  const F x2 = angle * angle;
-  const F cos_psi =
-      one + x2 * (F(-1.f / 2) + x2 * (F(1.f / 24) + x2 * (F(-1.f / 720) + x2 * F(1.f / 40320))));
-  const F sin_psi =
-      angle * (one + x2 * (F(-1.f / 6) +
-                           x2 * (F(1.f / 120) + x2 * (F(-1.f / 5040) + x2 * F(1.f / 362880)))));
-  const F lx = r * sel(a_major, cos_psi, sin_psi), ly = r * sel(a_major, sin_psi, cos_psi);
+  F lx, ly;
+  concentric_disk(ld(in.u_bsdf[0]), ld(in.u_bsdf[1]), lx, ly);
   const F lz = vsqrt(vmax(zero, one - lx * lx - ly * ly));
   // To the world around ns (materials/sampling.h's Frame).
   const F sign = sel(ns.z < zero, F(-1.f), one);
@@ -384,17 +393,8 @@ void brdf_sample(const BrdfIn& in, int k, BrdfOut& out) {
   const M diffuse = (u_lobe >= p.specular) &
                     ((u_lobe < p.specular + p.diffuse) | unmask(p.transmission > zero));
   // materials/sampling.h's sample_cosine_hemisphere.
-  const F sa = F(2.f) * u1 - one, sb = F(2.f) * u2 - one;
-  const M a_major = vabs(sa) > vabs(sb);
-  const F r = sel(a_major, sa, sb), minor = sel(a_major, sb, sa);
-  const F angle = F(0.785398163397448309616f) * (minor / sel(r != zero, r, one));
-  const F x2 = angle * angle;
-  const F cos_psi =
-      one + x2 * (F(-1.f / 2) + x2 * (F(1.f / 24) + x2 * (F(-1.f / 720) + x2 * F(1.f / 40320))));
-  const F sin_psi =
-      angle * (one + x2 * (F(-1.f / 6) +
-                           x2 * (F(1.f / 120) + x2 * (F(-1.f / 5040) + x2 * F(1.f / 362880)))));
-  const F lx = r * sel(a_major, cos_psi, sin_psi), ly = r * sel(a_major, sin_psi, cos_psi);
+  F lx, ly;
+  concentric_disk(u1, u2, lx, ly);
   const V3<F> cosine = {lx, ly, vsqrt(b.max0(one - lx * lx - ly * ly))};
   // The specular reflection of wo about a visible normal.
   const V3<F> h = b.visible_normal(wo, u1, u2);
