@@ -51,8 +51,10 @@ void print_summary(const BackendRun& run, const Shot& shot, const RenderSettings
     std::fprintf(stderr, "  warning: %llu samples were NaN or inf and were dropped\n",
                  (unsigned long long)stats.dropped_samples);
   if (stats.clamped_samples)
-    std::fprintf(stderr, "  warning: %llu samples had values beyond ±%.3g and were clamped to it\n",
-                 (unsigned long long)stats.clamped_samples, value_limit);
+    std::fprintf(stderr,
+                 "  warning: %llu samples had values beyond ±%.3g (albedo and normal: ±%.0f) and "
+                 "were clamped to it\n",
+                 (unsigned long long)stats.clamped_samples, value_limit, bounded_limit);
 }
 
 }  // namespace dacrt
