@@ -274,16 +274,13 @@ TEST_CASE(
     Geometry thin = slivers(400, 95);
     cases.push_back({"slivers", thin, surface_rays(thin, 3000, 96, true)});
   }
-  // The AVX2 candidates (a filter), and the lanes' answers with AVX2 and with AVX-512.
-  enum Test { candidates_avx2, hits_avx2, hits_avx512 };
+  // The lanes' answers with AVX2 and with AVX-512.
   for (const Case& c : cases)
     for (const int width : {8, 16})
-      for (const Test test : {candidates_avx2, hits_avx2, hits_avx512}) {
-        const bool wide = test == hits_avx512, hits = test != candidates_avx2;
+      for (const bool wide : {false, true}) {
         if (wide && (width == 8 || !avx512_available())) continue;
         if (!wide && !avx2_available()) continue;
-        INFO(std::string(c.name) << ", blocks of " << width
-                                 << (wide ? ", AVX-512" : hits ? ", AVX2 hits" : ", AVX2"));
+        INFO(std::string(c.name) << ", blocks of " << width << (wide ? ", AVX-512" : ", AVX2"));
         size_t accepted = 0, candidates = 0, dropped = 0, tested = 0, sure = 0, wrong_sure = 0;
         size_t exact = 0, wrong_exact = 0;
         for (size_t j0 = 0; j0 < c.g.size(); j0 += width) {
@@ -295,21 +292,16 @@ TEST_CASE(
           for (size_t i = 0; i < c.rays.size(); ++i) {
             const Ray ray = Ray::shear(c.rays, i);
             BlockHits bh{};
-            uint32_t mask;
-            if (hits) {
-              if (wide)
-                block_hits_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i], bh);
-              else
-                block_hits_avx2(block, ray, c.rays.tmin[i], c.rays.tmax[i], bh);
-              CHECK((bh.sure & bh.unsure) == 0u);
-              CHECK((bh.sure & bh.exact) == 0u);
-              CHECK((bh.exact & bh.unsure) == 0u);
-              mask = bh.sure | bh.exact | bh.unsure;
-              if (wide)
-                CHECK(block_candidates_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i]) == mask);
-            } else {
-              mask = block_candidates(block, ray, c.rays.tmin[i], c.rays.tmax[i]);
-            }
+            if (wide)
+              block_hits_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i], bh);
+            else
+              block_hits_avx2(block, ray, c.rays.tmin[i], c.rays.tmax[i], bh);
+            CHECK((bh.sure & bh.unsure) == 0u);
+            CHECK((bh.sure & bh.exact) == 0u);
+            CHECK((bh.exact & bh.unsure) == 0u);
+            const uint32_t mask = bh.sure | bh.exact | bh.unsure;
+            if (wide)
+              CHECK(block_candidates_avx512(block, ray, c.rays.tmin[i], c.rays.tmax[i]) == mask);
             for (int l = 0; l < n; ++l) {
               TriangleHit h;
               const bool hit =
@@ -348,10 +340,9 @@ TEST_CASE(
         CHECK(wrong_exact == 0);
         // Rays leaving a surface meet their own triangle at t within its error of 0: exact lanes.
         const std::string name = c.name;
-        if (hits && (name == "grid, from the surface" || name == "grid, near the surface"))
-          CHECK(exact > 0);
+        if (name == "grid, from the surface" || name == "grid, near the surface") CHECK(exact > 0);
         // On general triangles most hits skip the scalar test.
-        if (hits && std::string(c.name) == "soup") CHECK(sure > accepted * 9 / 10);
+        if (std::string(c.name) == "soup") CHECK(sure > accepted * 9 / 10);
         INFO("accepted " << accepted << ", candidates " << candidates << ", tested " << tested);
         // A filter, not a pass-through: on general triangles almost every candidate is a hit.
         // (Rays in the grid's plane see every triangle edge-on, all edge functions zero: all

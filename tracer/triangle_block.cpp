@@ -29,76 +29,6 @@ __attribute__((target("avx2"))) inline __m256 max3(const __m256* v) {
   return _mm256_max_ps(_mm256_max_ps(abs8(v[0]), abs8(v[1])), abs8(v[2]));
 }
 
-// Mirrors intersect_triangle line by line; -ffp-contract=off keeps every multiply and add apart.
-// Lanes [base, base + 8) of the block, as bits 0..7.
-__attribute__((target("avx2"))) uint32_t candidates8(const TriangleBlock& b, int base, const Ray& r,
-                                                     float tmin, float tmax) {
-  const __m256 ox = _mm256_set1_ps(r.o[r.kx]), oy = _mm256_set1_ps(r.o[r.ky]),
-               oz = _mm256_set1_ps(r.o[r.kz]);
-  const __m256 sx = _mm256_set1_ps(r.sx), sy = _mm256_set1_ps(r.sy), sz = _mm256_set1_ps(r.sz);
-  __m256 x[3], y[3], z[3];  // corners translated to the origin and sheared
-  for (int c = 0; c < 3; ++c) {
-    const __m256 ax = _mm256_sub_ps(_mm256_load_ps(b.p[c][r.kx] + base), ox);
-    const __m256 ay = _mm256_sub_ps(_mm256_load_ps(b.p[c][r.ky] + base), oy);
-    const __m256 az = _mm256_sub_ps(_mm256_load_ps(b.p[c][r.kz] + base), oz);
-    x[c] = _mm256_sub_ps(ax, _mm256_mul_ps(sx, az));
-    y[c] = _mm256_sub_ps(ay, _mm256_mul_ps(sy, az));
-    z[c] = _mm256_mul_ps(sz, az);
-  }
-  // e_k = p·q' − p'·q over the other two corners, as in intersect_triangle.
-  const __m256 e0 =
-      _mm256_sub_ps(_mm256_mul_ps(x[2], y[1]), _mm256_mul_ps(y[2], x[1]));  // cx·by − cy·bx
-  const __m256 e1 =
-      _mm256_sub_ps(_mm256_mul_ps(x[0], y[2]), _mm256_mul_ps(y[0], x[2]));  // ax·cy − ay·cx
-  const __m256 e2 =
-      _mm256_sub_ps(_mm256_mul_ps(x[1], y[0]), _mm256_mul_ps(y[1], x[0]));  // bx·ay − by·ax
-  const __m256 zero = _mm256_setzero_ps();
-  const __m256 any_zero = _mm256_or_ps(
-      _mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_EQ_OQ), _mm256_cmp_ps(e1, zero, _CMP_EQ_OQ)),
-      _mm256_cmp_ps(e2, zero, _CMP_EQ_OQ));
-  const __m256 any_neg = _mm256_or_ps(
-      _mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_LT_OQ), _mm256_cmp_ps(e1, zero, _CMP_LT_OQ)),
-      _mm256_cmp_ps(e2, zero, _CMP_LT_OQ));
-  const __m256 any_pos = _mm256_or_ps(
-      _mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_GT_OQ), _mm256_cmp_ps(e1, zero, _CMP_GT_OQ)),
-      _mm256_cmp_ps(e2, zero, _CMP_GT_OQ));
-  const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
-  const __m256 abs_det = _mm256_andnot_ps(_mm256_set1_ps(-0.f), det);
-  // As intersect_triangle: a det out of [2^-80, inf) is for its double test (a candidate).
-  const __m256 det_ok = _mm256_and_ps(_mm256_cmp_ps(abs_det, _mm256_set1_ps(0x1p-80f), _CMP_GE_OQ),
-                                      _mm256_cmp_ps(abs_det, _mm256_set1_ps(INFINITY), _CMP_LT_OQ));
-  const __m256 t =
-      _mm256_div_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])),
-                                  _mm256_mul_ps(e2, z[2])),
-                    det);
-  // In range, or not finite, or within a bound of 0 that is at least intersect_triangle's error
-  // bound delta_t (the scalar test then decides with t in double, whatever the range). The bound
-  // is cruder than the scalar one: with M the largest |x|, |y| or |z| of the sheared corners,
-  // delta_t <= 3 (2 gamma(3) max|e| M + 2 (gamma(2) + 4 gamma(5)) M^3) / |det|; the constants
-  // here are more than twice those, so that rounding cannot take the bound below delta_t.
-  const __m256 m = _mm256_max_ps(_mm256_max_ps(max3(x), max3(y)), max3(z));
-  const __m256 max_e = _mm256_max_ps(_mm256_max_ps(abs8(e0), abs8(e1)), abs8(e2));
-  const __m256 bound = _mm256_div_ps(
-      _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(3e-6f), max_e), m),
-                    _mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(2e-5f), m), m), m)),
-      abs_det);
-  const __m256 t_ok =
-      _mm256_or_ps(_mm256_or_ps(_mm256_and_ps(_mm256_cmp_ps(t, _mm256_set1_ps(tmin), _CMP_GE_OQ),
-                                              _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LE_OQ)),
-                                _mm256_cmp_ps(abs8(t), _mm256_set1_ps(INFINITY), _CMP_NLT_UQ)),
-                   _mm256_cmp_ps(abs8(t), bound, _CMP_NGT_UQ));
-  const __m256 accept =
-      _mm256_and_ps(_mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), det_ok), t_ok);
-  const __m256 wide = _mm256_xor_ps(det_ok, _mm256_castsi256_ps(_mm256_set1_epi32(-1)));
-  return uint32_t(_mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(accept, any_zero), wide)));
-}
-
-uint32_t block_candidates(const TriangleBlock& b, const Ray& r, float tmin, float tmax) {
-  uint32_t mask = candidates8(b, 0, r, tmin, tmax);
-  if (b.n > 8) mask |= candidates8(b, 8, r, tmin, tmax) << 8;
-  return mask & ((1u << b.n) - 1u);
-}
-
 // decide16 on eight lanes (AVX2): the same operations in the same order, so the same t, e1, e2,
 // det and the same sure, exact and unsure lanes (bits 0..7).
 struct Lanes8 {
@@ -349,7 +279,7 @@ __attribute__((target("avx512f"))) inline Lanes16 decide16(const __m512* x, cons
   return {t, e1, e2, det, sure, exact, unsure};
 }
 
-// One ray against the sixteen triangles of a block (candidates8's operations on 16-wide
+// One ray against the sixteen triangles of a block (intersect_triangle's operations on 16-wide
 // registers), with the lanes whose answer is known without the scalar test (BlockHits).
 __attribute__((target("avx512f"))) void block_hits_avx512(const TriangleBlock& b, const Ray& r,
                                                           float tmin, float tmax, BlockHits& out) {
@@ -458,9 +388,6 @@ bool avx2_available() {
 }
 bool avx512_available() {
   return false;
-}
-uint32_t block_candidates(const TriangleBlock& b, const Ray&, float, float) {
-  return (1u << b.n) - 1u;  // never called; every lane is a candidate
 }
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray&, float, float) {
   return (1u << b.n) - 1u;  // never called; every lane is a candidate

@@ -1,7 +1,7 @@
 // TriangleBlock: up to sixteen triangles in structure-of-arrays form, so that one ray is tested
 // against all of them with vector instructions: sixteen lanes at once with AVX-512, eight at a
-// time with AVX2. RayGroup is the transpose, sixteen rays against one triangle at a time
-// (AVX-512), for leaves of many rays.
+// time with AVX2. RayGroup is the transpose, sixteen rays (eight with AVX2) against one triangle
+// at a time, for leaves of many rays.
 //
 // The vector test is a filter in front of the scalar one, not a second implementation: it performs
 // intersect_triangle's float operations in the same order (IEEE results are the same in a vector
@@ -37,16 +37,14 @@ struct TriangleBlock {
   }
 };
 
-// True if this CPU runs the AVX2 kernels: block_candidates here and the DACRT box test.
+// True if this CPU runs the AVX2 kernels: block_hits_avx2, group_hits_avx2 and the DACRT box test.
 bool avx2_available();
 // True if this CPU runs the DACRT box test's AVX-512 (AVX512F) variant.
 bool avx512_available();
 
 // Bit l set: lane l's triangle may be accepted by intersect_triangle(r, ..., tmin, tmax), or has an
 // edge function of exactly zero, or a t that is not finite or within its error bound of 0. Only
-// call when avx2_available() (eight lanes per instruction).
-uint32_t block_candidates(const TriangleBlock& b, const Ray& r, float tmin, float tmax);
-// The same mask, sixteen lanes per instruction. Only call when avx512_available().
+// call when avx512_available() (sixteen lanes per instruction).
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray& r, float tmin, float tmax);
 
 // block_candidates_avx512's mask in three parts, by what intersect_triangle(r, ..., tmin, tmax)
