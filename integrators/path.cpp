@@ -143,7 +143,6 @@ PathTracer::PathTracer(const Scene& scene, const Shot& shot, Backend& backend,
     lambert_albedo_.push_back(ours ? brdf->base() : glm::vec3(0.f));
     lambert_ |= ours;
   }
-  brdf_lanes_ = s_.lambert_lanes;
   lambert_scene_ = {!scene.normals.empty(), !lights_.empty(), lights_.solid_angle(),
                     float(LightSampling::min_solid_angle), 1.f / roulette_floor};
 }
@@ -241,7 +240,8 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
     VertexNumbers numbers[sampler_lanes];
     LambertIn in{};
     LambertOut out;
-    std::unique_ptr<BrdfGroup> group = brdf_lanes_ ? std::make_unique<BrdfGroup>() : nullptr;
+    std::unique_ptr<BrdfGroup> group =
+        s_.lambert_lanes ? std::make_unique<BrdfGroup>() : nullptr;
     for (size_t first = range.begin(); first < range.end(); first += sampler_lanes) {
       const size_t lanes = std::min(sampler_lanes, range.end() - first);
       if (media_.any())
@@ -413,9 +413,14 @@ void PathTracer::material(const RayBatch& rays, const HitBatch& hits, uint32_t i
   beta *= s->weight;
   if (!carries_light(beta)) return;
   if (stack && s->wi.z < 0.f) Media::cross(*stack, mat, front);
-  paths_.bsdf_pdf[path] = s->pdf;
-  scratch_next_[q].origin = *origin;
-  scratch_next_[q].direction = wi;
+  bounce(q, path, *origin, wi, s->pdf);
+}
+
+void PathTracer::bounce(size_t q, uint32_t path, const glm::vec3& origin,
+                        const glm::vec3& direction, float pdf) {
+  paths_.bsdf_pdf[path] = pdf;
+  scratch_next_[q].origin = origin;
+  scratch_next_[q].direction = direction;
   has_next_[q] = 1;
   ended_[path] = 0;
 }
@@ -434,11 +439,8 @@ void PathTracer::sample_brdf_lanes(const RayBatch& rays, size_t first, size_t la
     glm::vec3& beta = paths_.throughput[path];
     beta *= glm::vec3(out.weight[0][k], out.weight[1][k], out.weight[2][k]);
     if (!carries_light(beta)) continue;
-    paths_.bsdf_pdf[path] = out.pdf[k];
-    scratch_next_[i].origin = group.above[k];
-    scratch_next_[i].direction = glm::vec3(out.wi[0][k], out.wi[1][k], out.wi[2][k]);
-    has_next_[i] = 1;
-    ended_[path] = 0;
+    bounce(i, path, group.above[k], glm::vec3(out.wi[0][k], out.wi[1][k], out.wi[2][k]),
+           out.pdf[k]);
   }
 }
 

@@ -29,6 +29,10 @@ class PathTracer final : public Wavefront {
   void material(const RayBatch& rays, const HitBatch& hits, uint32_t i, size_t q,
                 const VertexDraw& random, BrdfGroup* group = nullptr, int k = 0);
   void sample_brdf_lanes(const RayBatch& rays, size_t first, size_t lanes, BrdfGroup& group);
+  // Slot q's bounce ray (of path `path`): the ray in the scratch queue, its pdf for MIS, the
+  // path going on.
+  void bounce(size_t q, uint32_t path, const glm::vec3& origin, const glm::vec3& direction,
+              float pdf);
   // Before the stages: a path at depth 0 starts outside every volume; one inside an absorbing
   // volume loses what the medium absorbed over the segment it just travelled (Beer–Lambert).
   void attenuate(const RayBatch& rays, const HitBatch& hits, uint32_t i);
@@ -45,7 +49,6 @@ class PathTracer final : public Wavefront {
   // Lambert lanes (integrators/lambert_lanes.h): by material, whether they shade its hits, and
   // its albedo; lambert_ says if they run at all (some material is theirs, no environment map).
   bool lambert_ = false;
-  bool brdf_lanes_ = false;  // the BRDF lanes run (RenderSettings::lambert_lanes)
   LambertScene lambert_scene_{};
   std::vector<uint8_t> lambert_material_;
   std::vector<glm::vec3> lambert_albedo_;
