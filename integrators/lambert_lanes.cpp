@@ -1,11 +1,11 @@
 #include "dacrt/integrators/lambert_lanes.h"
 
 #include "dacrt/integrators/lambert_kernel.h"
+#include "dacrt/util/cpu.h"
 
 namespace dacrt {
 
 // Defined in lambert_lanes_avx2.cpp and lambert_lanes_avx512.cpp.
-bool lambert_avx2_available();
 void shade_lambert_avx2(const LambertScene& scene, const LambertIn& in, int lanes,
                         LambertOut& out);
 void shade_lambert_avx512(const LambertScene& scene, const LambertIn& in, LambertOut& out);
@@ -34,7 +34,7 @@ const char* name(LambertLanes instance) {
 bool lambert_available(LambertLanes instance) {
   switch (instance) {
     case LambertLanes::one: return true;
-    case LambertLanes::avx2: return lambert_avx2_available();
+    case LambertLanes::avx2: return avx2_available();
     case LambertLanes::avx512: return lambert_avx512_available();
   }
   return false;
@@ -42,7 +42,7 @@ bool lambert_available(LambertLanes instance) {
 
 LambertLanes lambert_widest() {
   static const LambertLanes widest = lambert_avx512_available() ? LambertLanes::avx512
-                                     : lambert_avx2_available() ? LambertLanes::avx2
+                                     : avx2_available() ? LambertLanes::avx2
                                                                 : LambertLanes::one;
   return widest;
 }
@@ -80,7 +80,7 @@ void sample_brdf(LambertLanes instance, const BrdfIn& in, int lanes, BrdfOut& ou
 
 void sample_brdf(const BrdfIn& in, int lanes, BrdfOut& out) {
   static const LambertLanes widest =
-      lambert_avx2_available() ? LambertLanes::avx2 : LambertLanes::one;
+      avx2_available() ? LambertLanes::avx2 : LambertLanes::one;
   sample_brdf(widest, in, lanes, out);
 }
 

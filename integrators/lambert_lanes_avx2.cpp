@@ -12,11 +12,6 @@
 
 namespace dacrt {
 
-bool lambert_avx2_available() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-}
-
 #pragma GCC push_options
 #pragma GCC target("avx2")
 

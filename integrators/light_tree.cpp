@@ -9,6 +9,8 @@
 #include <bit>
 #include <numeric>
 
+#include "dacrt/util/cpu.h"
+
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
 #define DACRT_LIGHT_TREE_X86 1
@@ -189,11 +191,6 @@ void split_lanes(const float* importance, uint32_t count, uint32_t range, uint32
 #ifdef DACRT_LIGHT_TREE_X86
 #define DACRT_AVX2 __attribute__((target("avx2")))
 
-bool avx2_available() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-}
-
 DACRT_AVX2 inline __m256 sine8(__m256 cos) {
   const __m256 one = _mm256_set1_ps(1.f);
   return _mm256_sqrt_ps(_mm256_max_ps(_mm256_sub_ps(one, _mm256_mul_ps(cos, cos)),
@@ -309,7 +306,6 @@ DACRT_AVX2 void level_avx2(const LightTree::Node& n, const LightContext& at, uin
   if (!split_avx2(importance8(n, at), range, bound)) split_equally(n.count, range, bound);
 }
 #else
-bool avx2_available() { return false; }
 void importances_avx2(const LightTree::Node&, const LightContext&, float*) {}
 void level_avx2(const LightTree::Node&, const LightContext&, uint32_t, uint32_t*) {}
 #endif

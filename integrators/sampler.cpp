@@ -4,6 +4,8 @@
 
 #include <array>
 
+#include "dacrt/util/cpu.h"
+
 namespace dacrt {
 
 namespace {
@@ -265,11 +267,6 @@ DACRT_AVX512_SOBOL void sobol_numbers16(uint64_t seed_key, const uint32_t* pixel
 // ones, and the nibble tables by two eight-entry permutes. Again the same integer operations.
 #define DACRT_AVX2_SOBOL __attribute__((target("avx2")))
 
-bool avx2_sobol_available() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-}
-
 DACRT_AVX2_SOBOL inline __m256i reverse_bits8(__m256i x) {
   const __m256i bytes = _mm256_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3,
                                          2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12);
@@ -412,7 +409,7 @@ void Sampler::numbers(const uint32_t* pixel, const uint32_t* index, const uint32
                       std::min(sampler_lanes, lanes - first), dims, out + first);
     return;
   }
-  if (kind == SamplerKind::sobol && avx2_sobol_available()) {
+  if (kind == SamplerKind::sobol && avx2_available()) {
     for (size_t first = 0; first < lanes; first += 8)
       sobol_numbers8(key, pixel + first, index + first, depth + first,
                      std::min(size_t(8), lanes - first), dims, out + first);

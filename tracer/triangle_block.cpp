@@ -12,16 +12,6 @@ namespace dacrt {
 
 #ifdef DACRT_X86
 
-bool avx2_available() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-}
-
-bool avx512_available() {
-  static const bool yes = __builtin_cpu_supports("avx512f");
-  return yes;
-}
-
 __attribute__((target("avx2"))) inline __m256 abs8(__m256 v) {
   return _mm256_andnot_ps(_mm256_set1_ps(-0.f), v);
 }
@@ -383,12 +373,6 @@ uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray& r, float tmi
 
 #else
 
-bool avx2_available() {
-  return false;
-}
-bool avx512_available() {
-  return false;
-}
 uint32_t block_candidates_avx512(const TriangleBlock& b, const Ray&, float, float) {
   return (1u << b.n) - 1u;  // never called; every lane is a candidate
 }

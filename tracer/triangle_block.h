@@ -16,6 +16,7 @@
 #include "dacrt/tracer/geometry.h"
 #include "dacrt/tracer/ray.h"
 #include "dacrt/tracer/triangle.h"
+#include "dacrt/util/cpu.h"
 
 namespace dacrt {
 
@@ -36,11 +37,6 @@ struct TriangleBlock {
     }
   }
 };
-
-// True if this CPU runs the AVX2 kernels: block_hits_avx2, group_hits_avx2 and the DACRT box test.
-bool avx2_available();
-// True if this CPU runs the DACRT box test's AVX-512 (AVX512F) variant.
-bool avx512_available();
 
 // Bit l set: lane l's triangle may be accepted by intersect_triangle(r, ..., tmin, tmax), or has an
 // edge function of exactly zero, or a t that is not finite or within its error bound of 0. Only
