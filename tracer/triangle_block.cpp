@@ -51,6 +51,10 @@ __attribute__((target("avx2"))) inline Lanes8 decide8(const __m256* x, const __m
       bits(_mm256_and_ps(_mm256_cmp_ps(abs_det, _mm256_set1_ps(0x1p-80f), _CMP_GE_OQ),
                          _mm256_cmp_ps(abs_det, inf, _CMP_LT_OQ)));
   const uint32_t inside = ~(any_neg & any_pos) & det_ok;
+  const uint32_t unsure = (any_zero | (~det_ok & 0xffu)) & used;
+  const uint32_t plain = inside & ~any_zero & used;
+  // Most lanes of a leaf miss: when none is left, t and its error bound are not needed.
+  if (!(plain | unsure)) return {zero, zero, zero, zero, 0, 0, 0};
   const __m256 t =
       _mm256_div_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])),
                                   _mm256_mul_ps(e2, z[2])),
@@ -79,10 +83,8 @@ __attribute__((target("avx2"))) inline Lanes8 decide8(const __m256* x, const __m
   const uint32_t finite = bits(_mm256_cmp_ps(abs_t, inf, _CMP_LT_OQ));
   const uint32_t beyond_error =
       bits(_mm256_cmp_ps(_mm256_mul_ps(abs_t, abs_det), bound, _CMP_GT_OQ));
-  const uint32_t plain = inside & ~any_zero & used;
   const uint32_t sure = plain & finite & beyond_error & in_range;
   const uint32_t exact = plain & ~(finite & beyond_error);
-  const uint32_t unsure = (any_zero | (~det_ok & 0xffu)) & used;
   return {t, e1, e2, det, sure, exact, unsure};
 }
 
