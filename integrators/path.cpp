@@ -165,7 +165,7 @@ uint32_t PathTracer::shade_lambert_lanes(const RayBatch& rays, const HitBatch& h
                     &albedo = lambert_albedo_[g.material[tri]];
     for (int a = 0; a < 3; ++a) {
       in.d[a][k] = d[a], in.beta[a][k] = beta[a], in.albedo[a][k] = albedo[a];
-      for (int c = 0; c < 3; ++c) in.corner[c][a][k] = g.p[c][a][tri];
+      for (int c = 0; c < 3; ++c) in.corner[c][a][k] = g.corners[tri][size_t(c)][a];
     }
     if (lambert_scene_.normals)
       for (int c = 0; c < 3; ++c)

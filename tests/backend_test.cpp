@@ -402,9 +402,8 @@ TEST_CASE("dacrt stays exact at extreme scales and far from the origin") {
         std::pair{10.f, -3e5f}}) {
     INFO("scale " << scale << ", offset " << offset);
     Geometry g = random_soup(1000, 81);
-    for (auto& corner : g.p)
-      for (auto& axis : corner)
-        for (float& x : axis) x = x * scale + offset;
+    for (auto& corners : g.corners)
+      for (glm::vec3& p : corners) p = p * scale + offset;
     RayBatch rays = random_rays(random_soup(1000, 81), 8000, 82, RayType::bounce);
     for (size_t i = 0; i < rays.size(); ++i)  // the same rays, scaled with the scene
       rays.set(i, rays.origin(i) * scale + glm::vec3(offset), rays.direction(i), 0.f, INFINITY,

@@ -36,8 +36,7 @@ bool same_bytes(const glm::vec3& a, const glm::vec3& b) {
 // What pose() replaces, compared bit for bit.
 void check_same(const Scene& posed, const Scene& loaded) {
   REQUIRE(posed.geometry.size() == loaded.geometry.size());
-  for (int c = 0; c < 3; ++c)
-    for (int k = 0; k < 3; ++k) CHECK(same_bytes(posed.geometry.p[c][k], loaded.geometry.p[c][k]));
+  CHECK(same_bytes(posed.geometry.corners, loaded.geometry.corners));
   CHECK(posed.geometry.material == loaded.geometry.material);
   CHECK(posed.degenerate_triangles == loaded.degenerate_triangles);
   CHECK(same_bytes(posed.normals, loaded.normals));

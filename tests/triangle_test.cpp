@@ -79,7 +79,7 @@ TEST_CASE("a ray spawned from a hit never hits its own triangle again") {
       Geometry g = thin ? slivers(500, 34) : random_soup(500, 31);
       for (size_t i = 0; i < g.size(); ++i)
         for (int c = 0; c < 3; ++c)
-          for (int a = 0; a < 3; ++a) g.p[c][a][i] = g.p[c][a][i] * scale + offset[a];
+          for (int a = 0; a < 3; ++a) g.corners[i][c][a] = g.corners[i][c][a] * scale + offset[a];
       RayBatch rays = surface_rays(g, 20000, 32);
       // Re-derive each origin as a hit: trace towards the surface point, then spawn from it.
       auto b = Backend::create("dacrt", g);

@@ -293,7 +293,7 @@ class Embree final : public Backend {
         for (int corner = 0; corner < 3; ++corner) {
           const size_t vertex = 3 * tri + size_t(corner);
           for (int axis = 0; axis < 3; ++axis)
-            vertices[3 * vertex + size_t(axis)] = g.p[corner][axis][tri];
+            vertices[3 * vertex + size_t(axis)] = g.corners[tri][size_t(corner)][axis];
           if (indices) indices[vertex] = uint32_t(vertex);
         }
     });

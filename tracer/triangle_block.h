@@ -32,8 +32,9 @@ struct TriangleBlock {
     for (int l = 0; l < lanes; ++l) {
       const uint32_t i = ids[l < count ? l : 0];
       id[l] = i;
+      const Geometry::Corners& t = g.corners[i];
       for (int c = 0; c < 3; ++c)
-        for (int a = 0; a < 3; ++a) p[c][a][l] = g.p[c][a][i];
+        for (int a = 0; a < 3; ++a) p[c][a][l] = t[size_t(c)][a];
     }
   }
 };

@@ -98,8 +98,7 @@ void MeshLoader::reuse(Scene& old) {
     return out;
   };
   Geometry& g = scene_.geometry;
-  for (int k = 0; k < 3; ++k)
-    for (int a = 0; a < 3; ++a) g.p[k][a] = emptied(old.geometry.p[k][a]);
+  g.corners = emptied(old.geometry.corners);
   g.material = emptied(old.geometry.material);
   normals_ = emptied(old.normals);
   texcoords_.resize(std::max(texcoords_.size(), old.texcoords.size()));
@@ -599,9 +598,7 @@ void MeshLoader::add_triangles(const Vertices& v,
   degenerate_ += n - kept;
   Geometry& geometry = scene_.geometry;
   const size_t first = geometry.size();
-  for (auto& corner : geometry.p)
-    for (auto& axis : corner) axis.resize(first + kept);
-  geometry.material.resize(first + kept, material);
+  geometry.resize(first + kept, material);
   if (keep_normals_) normals_.resize(3 * (first + kept));
   for (uint32_t slot : kept_texcoords_) texcoords_[slot].data.resize(3 * (first + kept));
   if (colors_.on) colors_.data.resize(3 * (first + kept));
@@ -614,7 +611,7 @@ void MeshLoader::add_triangles(const Vertices& v,
       for (int k = 0; k < 3; ++k) {
         const uint32_t i = c[size_t(k)];
         const size_t corner = 3 * to + size_t(k);
-        for (int axis = 0; axis < 3; ++axis) geometry.p[k][axis][to] = points[i][axis];
+        geometry.corners[to][size_t(k)] = points[i];
         if (keep_normals_) normals_[corner] = corner_normals[3 * t + size_t(k)];
         for (uint32_t slot : kept_texcoords_)
           texcoords_[slot].data[corner] = v.uv[slot].empty() ? glm::vec2(0.f) : v.uv[slot][i];

@@ -54,7 +54,7 @@ struct TriangleRef {
     r.id = i;
     float hi[3], extent = 0.f;
     for (int a = 0; a < 3; ++a) {
-      float p0 = g.p[0][a][i], p1 = g.p[1][a][i], p2 = g.p[2][a][i];
+      float p0 = g.corners[i][0][a], p1 = g.corners[i][1][a], p2 = g.corners[i][2][a];
       r.lo[a] = std::min({p0, p1, p2});
       hi[a] = std::max({p0, p1, p2});
       extent = std::max(extent, hi[a] - r.lo[a]);
