@@ -286,6 +286,26 @@ void Wavefront::prefetch_textures(const HitBatch& hits, size_t first, size_t end
     if (hits.hit(i)) prefetch_surface(scene_, hits.prim[i], hits.u[i], hits.v[i]);
 }
 
+void Wavefront::prefetch_triangles(const HitBatch& hits, size_t first, size_t end) const {
+  const Geometry& g = scene_.geometry;
+  // (Each array's element `tri`; a vertex's three attributes may cross a cache line: both ends.)
+  auto both_ends = [](const auto* p, size_t bytes) {
+    __builtin_prefetch(p);
+    __builtin_prefetch(reinterpret_cast<const char*>(p) + bytes - 1);
+  };
+  for (size_t i = first; i < std::min(end, hits.size()); ++i) {
+    if (!hits.hit(i)) continue;
+    const uint32_t tri = hits.prim[i];
+    __builtin_prefetch(&g.material[tri]);
+    for (int c = 0; c < 3; ++c)
+      for (int a = 0; a < 3; ++a) __builtin_prefetch(&g.p[c][a][tri]);
+    if (!scene_.normals.empty()) both_ends(&scene_.normals[3 * size_t(tri)], 3 * sizeof(glm::vec3));
+    if (!scene_.texcoords.empty() && !scene_.texcoords[0].empty())
+      both_ends(&scene_.texcoords[0][3 * size_t(tri)], 3 * sizeof(glm::vec2));
+    if (!scene_.tangents.empty()) both_ends(&scene_.tangents[3 * size_t(tri)], 3 * sizeof(glm::vec4));
+  }
+}
+
 Wavefront::Hit Wavefront::hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const {
   const glm::vec3 d = rays.direction(i);
   const Geometry& g = scene_.geometry;
