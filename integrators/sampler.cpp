@@ -320,8 +320,7 @@ DACRT_AVX2_SOBOL inline Keys8 pattern_keys8(__m256i pixel, __m256i depth) {
 struct Seeds8 {
   __m256i index, c0;
 };
-DACRT_AVX2_SOBOL inline Seeds8 pattern_seeds8(uint64_t seed_key, const Keys8& keys,
-                                              uint32_t slot) {
+DACRT_AVX2_SOBOL inline Seeds8 pattern_seeds8(uint64_t seed_key, const Keys8& keys, uint32_t slot) {
   const __m256i key_xor = _mm256_set1_epi64x(int64_t(seed_key));
   const __m256i s = _mm256_set1_epi64x(int64_t(slot));
   const __m256 a =
@@ -364,8 +363,8 @@ DACRT_AVX2_SOBOL void sobol_numbers8(uint64_t seed_key, const uint32_t* pixel,
     indices = _mm256_loadu_si256((const __m256i*)index);
     depths = _mm256_loadu_si256((const __m256i*)depth);
   } else {
-    const __m256i live =
-        _mm256_cmpgt_epi32(_mm256_set1_epi32(int(lanes)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256i live = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(lanes)),
+                                            _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
     pixels = _mm256_maskload_epi32((const int*)pixel, live);
     indices = _mm256_maskload_epi32((const int*)index, live);
     depths = _mm256_maskload_epi32((const int*)depth, live);
@@ -382,7 +381,8 @@ DACRT_AVX2_SOBOL void sobol_numbers8(uint64_t seed_key, const uint32_t* pixel,
     if (both || slot.component == 0)
       _mm256_store_ps(c[0], to_float8(laine_karras8(shuffled, k.c0)));
     if (both || slot.component == 1)
-      _mm256_store_ps(c[1], to_float8(laine_karras8(dimension1_reversed8(shuffled), seed1_8(k.c0))));
+      _mm256_store_ps(c[1],
+                      to_float8(laine_karras8(dimension1_reversed8(shuffled), seed1_8(k.c0))));
     for (size_t j = 0; j < lanes; ++j) {
       if (both) {
         out[j][dim] = c[0][j];

@@ -302,7 +302,8 @@ void Wavefront::prefetch_triangles(const HitBatch& hits, size_t first, size_t en
     if (!scene_.normals.empty()) both_ends(&scene_.normals[3 * size_t(tri)], 3 * sizeof(glm::vec3));
     if (!scene_.texcoords.empty() && !scene_.texcoords[0].empty())
       both_ends(&scene_.texcoords[0][3 * size_t(tri)], 3 * sizeof(glm::vec2));
-    if (!scene_.tangents.empty()) both_ends(&scene_.tangents[3 * size_t(tri)], 3 * sizeof(glm::vec4));
+    if (!scene_.tangents.empty())
+      both_ends(&scene_.tangents[3 * size_t(tri)], 3 * sizeof(glm::vec4));
   }
 }
 

@@ -296,7 +296,7 @@ TEST_CASE("sampler: sixteen vertices drawn at once get the numbers drawn one by 
       }
 }
 
-TEST_CASE("sampler: Sobol's second dimension by shifts and XORs is the XOR of its direction numbers") {
+TEST_CASE("sampler: Sobol's second dimension by shifts and XORs is its direction numbers' XOR") {
   // The reference: direction number v_j (v_0 = 2^31, v_j = v_(j-1) ^ v_(j-1) >> 1) for each set
   // bit j of the index, XORed, then the bits reversed. Both are linear over GF(2), so agreeing on
   // the 32 single bits is agreeing everywhere; random indices and the edges are checked as well.
@@ -311,8 +311,8 @@ TEST_CASE("sampler: Sobol's second dimension by shifts and XORs is the XOR of it
     for (int i = 0; i < 32; ++i) reversed |= (x >> i & 1) << (31 - i);
     return reversed;
   };
-  std::vector<uint32_t> indices = {0u, 0xffffffffu, 0x80000000u, 0x7fffffffu, 0x55555555u,
-                                   0xaaaaaaaau};
+  std::vector<uint32_t> indices = {0u,          0xffffffffu, 0x80000000u,
+                                   0x7fffffffu, 0x55555555u, 0xaaaaaaaau};
   for (int j = 0; j < 32; ++j) indices.push_back(1u << j);
   for (uint32_t s = 0; s < 4096; ++s) indices.push_back(s);
   uint64_t state = 51;
