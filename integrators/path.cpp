@@ -246,6 +246,7 @@ void PathTracer::shade(const RayBatch& rays, const HitBatch& hits) {
       const size_t lanes = std::min(sampler_lanes, range.end() - first);
       if (media_.any())
         for (size_t k = 0; k < lanes; ++k) attenuate(rays, hits, uint32_t(first + k));
+      prefetch_triangles(hits, first + 3 * sampler_lanes, first + 4 * sampler_lanes);
       prefetch_textures(hits, first + 2 * sampler_lanes, first + 3 * sampler_lanes);
       draw(rays, first, lanes, dims_, numbers);
       const uint32_t taken =

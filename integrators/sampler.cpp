@@ -35,28 +35,15 @@ constexpr uint32_t laine_karras(uint32_t x, uint32_t seed) {
 //   dimension 0 (van der Corput) of s is reverse(s) = y, so its scramble is reverse(LK(s));
 //   dimension 1 (generator matrix: Pascal's triangle mod 2) of s is linear over GF(2), the XOR of
 //   the direction numbers v_j of s's set bits, and what its scramble needs is that value
-//   reversed: the XOR of reverse(v_(31−k)) over the set bits k of y, from byte tables.
-constexpr std::array<uint32_t, 32> dimension1_directions = [] {
-  std::array<uint32_t, 32> v{};
-  v[0] = 1u << 31;
-  for (int i = 1; i < 32; ++i) v[i] = v[i - 1] ^ (v[i - 1] >> 1);
-  return v;
-}();
-// Tables of 2^bits entries for each group of `bits` bits of y, groups = 32 / bits.
-template <int bits>
-constexpr std::array<std::array<uint32_t, 1 << bits>, 32 / bits> dimension1_tables() {
-  std::array<std::array<uint32_t, 1 << bits>, 32 / bits> t{};
-  for (int k = 0; k < 32 / bits; ++k)
-    for (uint32_t b = 0; b < (1u << bits); ++b)
-      for (int j = 0; j < bits; ++j)
-        if (b >> j & 1) t[k][b] ^= reverse_bits(dimension1_directions[31 - (bits * k + j)]);
-  return t;
-}
-constexpr auto dimension1_reversed = dimension1_tables<8>();
-constexpr auto dimension1_nibbles = dimension1_tables<4>();  // the vector code's: 16 per register
-constexpr uint32_t dimension1_of_reversed(uint32_t r) {
-  return dimension1_reversed[0][r & 0xff] ^ dimension1_reversed[1][r >> 8 & 0xff] ^
-         dimension1_reversed[2][r >> 16 & 0xff] ^ dimension1_reversed[3][r >> 24];
+//   reversed. v_j has bit 31 − m set where the binomial C(j, m) is odd, that is (Lucas) where m's
+//   bits are a subset of j's, so bit m of the reversed value is the XOR of s's bits j ⊇ m: a
+//   superset sum over the five bits of the bit position, one shift-and-XOR step per bit.
+constexpr uint32_t dimension1_reversed(uint32_t s) {
+  s ^= (s >> 1) & 0x55555555u;
+  s ^= (s >> 2) & 0x33333333u;
+  s ^= (s >> 4) & 0x0f0f0f0fu;
+  s ^= (s >> 8) & 0x00ff00ffu;
+  return s ^ s >> 16;
 }
 
 // A pattern's three scramble seeds: the index shuffle's and each component's value scramble.
@@ -91,7 +78,7 @@ inline float component0(uint32_t y, uint32_t seed) {
   return to_float(laine_karras(reverse_bits(y), seed));
 }
 inline float component1(uint32_t y, uint32_t seed) {
-  return to_float(laine_karras(dimension1_of_reversed(y), seed));
+  return to_float(laine_karras(dimension1_reversed(reverse_bits(y)), seed));
 }
 
 }  // namespace
@@ -122,6 +109,10 @@ std::array<float, 2> sobol_pair_keyed(uint64_t seed_key, uint32_t pixel, uint32_
   const PatternSeeds k = pattern_seeds(seed_key, pixel, depth, slot.slot);
   const uint32_t r = laine_karras(reverse_bits(index), k.index);
   return {component0(r, k.component[0]), component1(r, k.component[1])};
+}
+
+uint32_t sobol_dimension1_reversed(uint32_t s) {
+  return dimension1_reversed(s);
 }
 
 namespace {
@@ -222,15 +213,13 @@ DACRT_AVX512_SOBOL inline __m512 to_float16(__m512i reversed) {
   return _mm512_mul_ps(_mm512_cvtepi32_ps(bits), _mm512_set1_ps(0x1p-24f));
 }
 
-DACRT_AVX512_SOBOL inline __m512i dimension1_of_reversed16(__m512i r) {
-  __m512i x = _mm512_setzero_si512();
-  const __m512i low4 = _mm512_set1_epi32(0xf);
-  for (int k = 0; k < 8; ++k) {
-    const __m512i table = _mm512_loadu_si512(dimension1_nibbles[k].data());
-    const __m512i nibble = _mm512_and_si512(_mm512_srli_epi32(r, 4 * k), low4);
-    x = _mm512_xor_si512(x, _mm512_permutexvar_epi32(nibble, table));
-  }
-  return x;
+// dimension1_reversed of each lane.
+DACRT_AVX512_SOBOL inline __m512i dimension1_reversed16(__m512i s) {
+  const uint32_t masks[4] = {0x55555555u, 0x33333333u, 0x0f0f0f0fu, 0x00ff00ffu};
+  for (int k = 0; k < 4; ++k)
+    s = _mm512_xor_si512(
+        s, _mm512_and_si512(_mm512_srli_epi32(s, 1 << k), _mm512_set1_epi32(int(masks[k]))));
+  return _mm512_xor_si512(s, _mm512_srli_epi32(s, 16));
 }
 
 DACRT_AVX512_SOBOL void sobol_numbers16(uint64_t seed_key, const uint32_t* pixel,
@@ -248,10 +237,11 @@ DACRT_AVX512_SOBOL void sobol_numbers16(uint64_t seed_key, const uint32_t* pixel
     const Seeds16 k = pattern_seeds16(seed_key, l, slot.slot);
     const __m512i r = laine_karras16(reversed_index, k.index);
     const bool both = slot.pair;
+    const __m512i shuffled = reverse_bits16(r);  // s
     if (both || slot.component == 0)
-      _mm512_store_ps(c[0], to_float16(laine_karras16(reverse_bits16(r), k.c0)));
+      _mm512_store_ps(c[0], to_float16(laine_karras16(shuffled, k.c0)));
     if (both || slot.component == 1)
-      _mm512_store_ps(c[1], to_float16(laine_karras16(dimension1_of_reversed16(r), k.c1)));
+      _mm512_store_ps(c[1], to_float16(laine_karras16(dimension1_reversed16(shuffled), k.c1)));
     for (size_t j = 0; j < lanes; ++j) {
       if (both) {
         out[j][dim] = c[0][j];
@@ -311,39 +301,42 @@ DACRT_AVX2_SOBOL inline __m256i mix64_4(__m256i x) {
   return _mm256_xor_si256(x, _mm256_srli_epi64(x, 31));
 }
 
-struct Seeds8 {
-  __m256i index, c0, c1;
+// What pattern_seeds8 keeps of a vertex across its dimensions: each lane's pattern key before
+// the slot, pixel << 32 | (depth mod 2^24) << 8, with mix64's additive constant added (the slot
+// fills the key's low byte, which is zero here, so key + constant = this + slot), lanes 0, 1, 4,
+// 5 in `a` and 2, 3, 6, 7 in `b` (the order _mm256_unpack*_epi32 and _mm256_shuffle_ps keep).
+struct Keys8 {
+  __m256i a, b;
 };
-DACRT_AVX2_SOBOL Seeds8 pattern_seeds8(uint64_t seed_key, __m256i pixel, __m256i depth,
-                                       uint32_t slot) {
-  const __m256i key_xor = _mm256_set1_epi64x(int64_t(seed_key));
+DACRT_AVX2_SOBOL inline Keys8 pattern_keys8(__m256i pixel, __m256i depth) {
   const __m256i add = _mm256_set1_epi64x(int64_t(0xd1b54a32d192ed03ull));
-  const __m256i low = _mm256_or_si256(
-      _mm256_slli_epi32(_mm256_and_si256(depth, _mm256_set1_epi32(0xffffff)), 8),
-      _mm256_set1_epi32(int(slot)));
-  // Each half's four 64-bit hashes, their low and high words gathered into one register each.
-  const __m256i evens = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-  __m128i h_lo[2], h_hi[2];
-  for (int half = 0; half < 2; ++half) {
-    const __m128i p = half ? _mm256_extracti128_si256(pixel, 1) : _mm256_castsi256_si128(pixel);
-    const __m128i q = half ? _mm256_extracti128_si256(low, 1) : _mm256_castsi256_si128(low);
-    const __m256i key = _mm256_or_si256(_mm256_slli_epi64(_mm256_cvtepu32_epi64(p), 32),
-                                        _mm256_cvtepu32_epi64(q));
-    const __m256i h = _mm256_permutevar8x32_epi32(
-        mix64_4(_mm256_xor_si256(key_xor, _mm256_add_epi64(key, add))), evens);
-    h_lo[half] = _mm256_castsi256_si128(h);
-    h_hi[half] = _mm256_extracti128_si256(h, 1);
-  }
-  Seeds8 s;
-  s.index = _mm256_set_m128i(h_lo[1], h_lo[0]);
-  s.c0 = _mm256_set_m128i(h_hi[1], h_hi[0]);
-  __m256i c1 = s.c0;
+  const __m256i low = _mm256_slli_epi32(_mm256_and_si256(depth, _mm256_set1_epi32(0xffffff)), 8);
+  return {_mm256_add_epi64(_mm256_unpacklo_epi32(low, pixel), add),
+          _mm256_add_epi64(_mm256_unpackhi_epi32(low, pixel), add)};
+}
+
+// pattern_seeds of the eight lanes for one slot: the index seeds and component 0's; component
+// 1's from component 0's by seed1_8.
+struct Seeds8 {
+  __m256i index, c0;
+};
+DACRT_AVX2_SOBOL inline Seeds8 pattern_seeds8(uint64_t seed_key, const Keys8& keys, uint32_t slot) {
+  const __m256i key_xor = _mm256_set1_epi64x(int64_t(seed_key));
+  const __m256i s = _mm256_set1_epi64x(int64_t(slot));
+  const __m256 a =
+      _mm256_castsi256_ps(mix64_4(_mm256_xor_si256(key_xor, _mm256_add_epi64(keys.a, s))));
+  const __m256 b =
+      _mm256_castsi256_ps(mix64_4(_mm256_xor_si256(key_xor, _mm256_add_epi64(keys.b, s))));
+  // The hashes' low words (the index seeds) and high words (component 0's), lanes in order.
+  return {_mm256_castps_si256(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0))),
+          _mm256_castps_si256(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1)))};
+}
+DACRT_AVX2_SOBOL inline __m256i seed1_8(__m256i c1) {
   c1 = _mm256_xor_si256(c1, _mm256_srli_epi32(c1, 16));
   c1 = mul32_8(c1, 0x7feb352du);
   c1 = _mm256_xor_si256(c1, _mm256_srli_epi32(c1, 15));
   c1 = mul32_8(c1, 0x846ca68bu);
-  s.c1 = _mm256_xor_si256(c1, _mm256_srli_epi32(c1, 16));
-  return s;
+  return _mm256_xor_si256(c1, _mm256_srli_epi32(c1, 16));
 }
 
 DACRT_AVX2_SOBOL inline __m256 to_float8(__m256i reversed) {
@@ -351,41 +344,45 @@ DACRT_AVX2_SOBOL inline __m256 to_float8(__m256i reversed) {
   return _mm256_mul_ps(_mm256_cvtepi32_ps(bits), _mm256_set1_ps(0x1p-24f));
 }
 
-DACRT_AVX2_SOBOL inline __m256i dimension1_of_reversed8(__m256i r) {
-  __m256i x = _mm256_setzero_si256();
-  const __m256i low4 = _mm256_set1_epi32(0xf);
-  for (int k = 0; k < 8; ++k) {
-    const __m256i lower = _mm256_loadu_si256((const __m256i*)dimension1_nibbles[k].data());
-    const __m256i upper = _mm256_loadu_si256((const __m256i*)(dimension1_nibbles[k].data() + 8));
-    const __m256i nibble = _mm256_and_si256(_mm256_srli_epi32(r, 4 * k), low4);
-    // (Entry nibble & 7 of each half; the half by bit 3, moved to the sign bit.)
-    const __m256 pick = _mm256_castsi256_ps(_mm256_slli_epi32(nibble, 28));
-    const __m256i entry = _mm256_castps_si256(
-        _mm256_blendv_ps(_mm256_castsi256_ps(_mm256_permutevar8x32_epi32(lower, nibble)),
-                         _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(upper, nibble)), pick));
-    x = _mm256_xor_si256(x, entry);
-  }
-  return x;
+// dimension1_reversed of each lane.
+DACRT_AVX2_SOBOL inline __m256i dimension1_reversed8(__m256i s) {
+  const uint32_t masks[4] = {0x55555555u, 0x33333333u, 0x0f0f0f0fu, 0x00ff00ffu};
+  for (int k = 0; k < 4; ++k)
+    s = _mm256_xor_si256(
+        s, _mm256_and_si256(_mm256_srli_epi32(s, 1 << k), _mm256_set1_epi32(int(masks[k]))));
+  return _mm256_xor_si256(s, _mm256_srli_epi32(s, 16));
 }
 
 DACRT_AVX2_SOBOL void sobol_numbers8(uint64_t seed_key, const uint32_t* pixel,
                                      const uint32_t* index, const uint32_t* depth, size_t lanes,
                                      std::span<const Dimension> dims, VertexNumbers* out) {
-  alignas(32) uint32_t in[3][8] = {};
-  for (size_t j = 0; j < lanes; ++j) in[0][j] = pixel[j], in[1][j] = index[j], in[2][j] = depth[j];
-  const __m256i pixels = _mm256_load_si256((const __m256i*)in[0]);
-  const __m256i depths = _mm256_load_si256((const __m256i*)in[2]);
-  const __m256i reversed_index = reverse_bits8(_mm256_load_si256((const __m256i*)in[1]));
+  // The lanes past `lanes` read as zero (a masked load touches none of their memory).
+  __m256i pixels, indices, depths;
+  if (lanes == 8) {
+    pixels = _mm256_loadu_si256((const __m256i*)pixel);
+    indices = _mm256_loadu_si256((const __m256i*)index);
+    depths = _mm256_loadu_si256((const __m256i*)depth);
+  } else {
+    const __m256i live = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(lanes)),
+                                            _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    pixels = _mm256_maskload_epi32((const int*)pixel, live);
+    indices = _mm256_maskload_epi32((const int*)index, live);
+    depths = _mm256_maskload_epi32((const int*)depth, live);
+  }
+  const Keys8 keys = pattern_keys8(pixels, depths);
+  const __m256i reversed_index = reverse_bits8(indices);
   alignas(32) float c[2][8];
   for (const Dimension dim : dims) {
     const DimensionSlot slot = dimension_slots[dim];
-    const Seeds8 k = pattern_seeds8(seed_key, pixels, depths, slot.slot);
+    const Seeds8 k = pattern_seeds8(seed_key, keys, slot.slot);
     const __m256i r = laine_karras8(reversed_index, k.index);
     const bool both = slot.pair;
+    const __m256i shuffled = reverse_bits8(r);  // s
     if (both || slot.component == 0)
-      _mm256_store_ps(c[0], to_float8(laine_karras8(reverse_bits8(r), k.c0)));
+      _mm256_store_ps(c[0], to_float8(laine_karras8(shuffled, k.c0)));
     if (both || slot.component == 1)
-      _mm256_store_ps(c[1], to_float8(laine_karras8(dimension1_of_reversed8(r), k.c1)));
+      _mm256_store_ps(c[1],
+                      to_float8(laine_karras8(dimension1_reversed8(shuffled), seed1_8(k.c0))));
     for (size_t j = 0; j < lanes; ++j) {
       if (both) {
         out[j][dim] = c[0][j];

@@ -45,6 +45,10 @@ float sobol_number_keyed(uint64_t seed_key, uint32_t pixel, uint32_t index, uint
 // same as two sobol_number_keyed calls; a pair shares its pattern's seeds and index shuffle.
 std::array<float, 2> sobol_pair_keyed(uint64_t seed_key, uint32_t pixel, uint32_t index,
                                       uint32_t depth, Dimension first);
+// Sobol's second dimension (generator matrix: Pascal's triangle mod 2) of the index s, its 32
+// bits reversed (the most significant at bit 0), unscrambled: the step inside both functions
+// above and Sampler::numbers, for the tests.
+uint32_t sobol_dimension1_reversed(uint32_t s);
 
 // A vertex's numbers, by dimension (only those asked for are written).
 using VertexNumbers = std::array<float, dimension_count>;

@@ -159,9 +159,14 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
   constexpr Dimension jitter[] = {pixel_x}, jitter_lens[] = {pixel_x, lens_u};
   const std::span<const Dimension> dims =
       camera.thin_lens() ? std::span<const Dimension>(jitter_lens) : jitter;
+  // A pinhole's rays are made a group at a time (CameraProjection::pinhole_rays).
+  const bool pinhole = camera.pinhole();
+  const glm::vec3 eye(camera.to_world[3]);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](auto range) {
     uint32_t pixel[sampler_lanes], sample[sampler_lanes], depth[sampler_lanes] = {};
     VertexNumbers numbers[sampler_lanes];
+    static_assert(sampler_lanes % 4 == 0);
+    float xs[sampler_lanes] = {}, ys[sampler_lanes] = {}, d[3][sampler_lanes], tmin[sampler_lanes];
     SampleOrder::Cursor at(order_, first_id + range.begin() - begin_id_);
     for (size_t first = range.begin(); first < range.end(); first += sampler_lanes) {
       const size_t lanes = std::min(sampler_lanes, range.end() - first);
@@ -171,6 +176,11 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
       }
       sampler_.numbers(pixel, sample, depth, lanes, dims, numbers);
       for (size_t k = 0; k < lanes; ++k) {
+        xs[k] = float(pixel[k] % width) + numbers[k][pixel_x];
+        ys[k] = float(pixel[k] / width) + numbers[k][pixel_y];
+      }
+      if (pinhole) camera.pinhole_rays(xs, ys, (lanes + 3) & ~size_t(3), d[0], d[1], d[2], tmin);
+      for (size_t k = 0; k < lanes; ++k) {
         const size_t j = first + k;
         const uint32_t slot = free_[free_.size() - 1 - j];
         paths_.throughput[slot] = glm::vec3(1.f);
@@ -179,13 +189,15 @@ size_t Wavefront::camera_rays(uint64_t first_id, uint64_t end_id) {
         paths_.depth[slot] = 0;
         paths_.pixel[slot] = pixel[k];
         paths_.sample[slot] = sample[k];
-        const float x = float(pixel[k] % width) + numbers[k][pixel_x];
-        const float y = float(pixel[k] / width) + numbers[k][pixel_y];
-        glm::vec3 o, d;
-        const float tmin = camera.thin_lens()
-                               ? camera.ray(x, y, numbers[k][lens_u], numbers[k][lens_v], o, d)
-                               : camera.ray(x, y, o, d);
-        camera_.set(j, o, d, tmin, INFINITY, slot);
+        if (pinhole) {
+          camera_.set(j, eye, {d[0][k], d[1][k], d[2][k]}, tmin[k], INFINITY, slot);
+          continue;
+        }
+        glm::vec3 o, dir;
+        const float t = camera.thin_lens() ? camera.ray(xs[k], ys[k], numbers[k][lens_u],
+                                                        numbers[k][lens_v], o, dir)
+                                           : camera.ray(xs[k], ys[k], o, dir);
+        camera_.set(j, o, dir, t, INFINITY, slot);
       }
     }
   });
@@ -284,6 +296,27 @@ void Wavefront::prefetch_textures(const HitBatch& hits, size_t first, size_t end
   if (!textured_) return;
   for (size_t i = first; i < std::min(end, hits.size()); ++i)
     if (hits.hit(i)) prefetch_surface(scene_, hits.prim[i], hits.u[i], hits.v[i]);
+}
+
+void Wavefront::prefetch_triangles(const HitBatch& hits, size_t first, size_t end) const {
+  const Geometry& g = scene_.geometry;
+  // (Each array's element `tri`; a vertex's three attributes may cross a cache line: both ends.)
+  auto both_ends = [](const auto* p, size_t bytes) {
+    __builtin_prefetch(p);
+    __builtin_prefetch(reinterpret_cast<const char*>(p) + bytes - 1);
+  };
+  for (size_t i = first; i < std::min(end, hits.size()); ++i) {
+    if (!hits.hit(i)) continue;
+    const uint32_t tri = hits.prim[i];
+    __builtin_prefetch(&g.material[tri]);
+    for (int c = 0; c < 3; ++c)
+      for (int a = 0; a < 3; ++a) __builtin_prefetch(&g.p[c][a][tri]);
+    if (!scene_.normals.empty()) both_ends(&scene_.normals[3 * size_t(tri)], 3 * sizeof(glm::vec3));
+    if (!scene_.texcoords.empty() && !scene_.texcoords[0].empty())
+      both_ends(&scene_.texcoords[0][3 * size_t(tri)], 3 * sizeof(glm::vec2));
+    if (!scene_.tangents.empty())
+      both_ends(&scene_.tangents[3 * size_t(tri)], 3 * sizeof(glm::vec4));
+  }
 }
 
 Wavefront::Hit Wavefront::hit_at(const RayBatch& rays, const HitBatch& hits, uint32_t i) const {

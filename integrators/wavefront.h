@@ -73,6 +73,10 @@ class Wavefront : public Integrator {
   // (scene/surface.h: prefetch_surface): a batch's hits are shaded in ray order, a group of
   // sampler_lanes while the texels of a group further on arrive. Nothing in untextured scenes.
   void prefetch_textures(const HitBatch& hits, size_t first, size_t end) const;
+  // Asks the cache for what hit_at reads of the hit triangles among rays [first, end): their
+  // corners (nine arrays), material, normals, first texture coordinates and tangents, each a miss
+  // per hit otherwise. Called a group before prefetch_textures (which reads the coordinates).
+  void prefetch_triangles(const HitBatch& hits, size_t first, size_t end) const;
   static uint32_t drawn(std::span<const Dimension> dims) {
     uint32_t mask = 0;
     for (const Dimension d : dims) mask |= (dimension_slots[d].pair ? 3u : 1u) << d;

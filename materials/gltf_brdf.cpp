@@ -54,7 +54,8 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
       metallic_(std::clamp(p.metallic, 0.f, 1.f)),
       alpha_(std::max(min_alpha,
                       std::clamp(p.roughness, 0.f, 1.f) * std::clamp(p.roughness, 0.f, 1.f))),
-      transmission_(std::clamp(p.transmission, 0.f, 1.f)) {
+      transmission_(std::clamp(p.transmission, 0.f, 1.f)),
+      layers_(p, min_alpha) {  // (made in place: a copy of it cost a store-forwarding stall)
   // KHR_materials_ior's F0 = ((ior − 1) / (ior + 1))², times specularColor (at most 1) and
   // specular; F90 = specular (KHR_materials_specular).
   const float ior = std::min(p.ior, 1e6f);  // "infinite" IORs (spec-gloss conversions): F0 → 1
@@ -69,9 +70,7 @@ GltfBrdf::GltfBrdf(const BrdfParams& p)
   film_thickness_ = p.iridescence_thickness;
   lambertian_ = metallic_ == 0.f && transmission_ == 0.f && f90_ == 0.f && f0_ == glm::vec3(0.f) &&
                 iridescence_ == 0.f;
-  // The layers (materials/layers.h).
-  layers_ = MaterialLayers(p, min_alpha);
-  layered_ = layers_.any();
+  layered_ = layers_.any();  // the layers (materials/layers.h)
   // KHR_materials_anisotropy: α_t = mix(α, 1, strength²) along the direction, α_b = α across
   // (an isotropic material stops at the first test).
   anisotropic_ = false;

@@ -12,8 +12,12 @@ namespace dacrt {
 
 MaterialLayers::MaterialLayers(const BrdfParams& p, float min_alpha) {
   const float coat_roughness = std::clamp(p.clearcoat_roughness, 0.f, 1.f);
+  // (The default normal, (0, 0, 1) on every uncoated hit, is its own normalisation: the same
+  // vector without a square root and a division per hit.)
+  const glm::vec3& n = p.clearcoat_normal;
   coat_ = {std::clamp(p.clearcoat, 0.f, 1.f), std::max(min_alpha, coat_roughness * coat_roughness),
-           p.clearcoat_normal.z > 0.f ? glm::normalize(p.clearcoat_normal) : glm::vec3(0, 0, 1)};
+           n.z > 0.f ? (n.x == 0.f && n.y == 0.f && n.z == 1.f ? n : glm::normalize(n))
+                     : glm::vec3(0, 0, 1)};
   if (!(coat_.weight > 0.f)) coat_.weight = 0.f;  // (NaN too)
   sheen_color_ = glm::clamp(p.sheen_color, 0.f, 1.f);
   sheen_max_ = std::max({sheen_color_.x, sheen_color_.y, sheen_color_.z});

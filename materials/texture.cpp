@@ -6,13 +6,24 @@
 namespace dacrt {
 namespace {
 
-const std::array<float, 256>& srgb_table() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_to_linear(float(i) / 255.f);
-    return t;
-  }();
-  return table;
+// An 8-bit value's float, v / 255, and its sRGB decoding: each texel read is table lookups, no
+// division (the same floats: the tables hold what the divisions give).
+constexpr std::array<float, 256> unorm8 = [] {
+  std::array<float, 256> t{};
+  for (int i = 0; i < 256; ++i) t[size_t(i)] = float(i) / 255.f;
+  return t;
+}();
+// (Filled before main; nothing samples a texture during static initialisation.)
+const std::array<float, 256> srgb8 = [] {
+  std::array<float, 256> t{};
+  for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_to_linear(float(i) / 255.f);
+  return t;
+}();
+
+// Texel i / 4 of an 8-bit image, its colour through `rgb` (unorm8 or srgb8).
+inline glm::vec4 texel8(const uint8_t* rgba, size_t i, const float* rgb) {
+  const uint8_t* p = rgba + i;
+  return {rgb[p[0]], rgb[p[1]], rgb[p[2]], unorm8[p[3]]};
 }
 
 // Reduces a texture coordinate (in texels, already wrapped into a small range) to a texel index.
@@ -57,19 +68,10 @@ float srgb_to_linear(float c) {
 
 glm::vec4 TextureImage::texel(int x, int y, bool srgb) const {
   const size_t i = 4 * (size_t(y) * size_t(width) + size_t(x));
-  glm::vec4 c;
-  if (!rgba8.empty()) {
-    const uint8_t* p = &rgba8[i];
-    if (srgb) {
-      const auto& table = srgb_table();
-      return {table[p[0]], table[p[1]], table[p[2]], float(p[3]) / 255.f};
-    }
-    c = glm::vec4(p[0], p[1], p[2], p[3]) / 255.f;
-  } else {
-    const uint16_t* p = &rgba16[i];
-    c = glm::vec4(p[0], p[1], p[2], p[3]) / 65535.f;
-    if (srgb) c = {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b), c.a};
-  }
+  if (!rgba8.empty()) return texel8(rgba8.data(), i, srgb ? srgb8.data() : unorm8.data());
+  const uint16_t* p = &rgba16[i];
+  glm::vec4 c = glm::vec4(p[0], p[1], p[2], p[3]) / 65535.f;
+  if (srgb) c = {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b), c.a};
   return c;
 }
 
@@ -103,6 +105,19 @@ Footprint footprint(const TextureImage& image, const Texture& texture, glm::vec2
 
 glm::vec4 sample(const TextureImage& image, const Texture& texture, glm::vec2 uv, bool srgb) {
   const Footprint f = footprint(image, texture, uv);
+  if (!image.rgba8.empty()) {
+    // (TextureImage::texel's reads, inline: the image's format and table chosen once.)
+    const uint8_t* rgba = image.rgba8.data();
+    const float* rgb = srgb ? srgb8.data() : unorm8.data();
+    const size_t w = size_t(image.width);
+    auto at = [&](int x, int y) { return 4 * (size_t(y) * w + size_t(x)); };
+    if (texture.nearest) return texel8(rgba, at(f.xa, f.ya), rgb);
+    const glm::vec4 top =
+        glm::mix(texel8(rgba, at(f.xa, f.ya), rgb), texel8(rgba, at(f.xb, f.ya), rgb), f.tx);
+    const glm::vec4 bottom =
+        glm::mix(texel8(rgba, at(f.xa, f.yb), rgb), texel8(rgba, at(f.xb, f.yb), rgb), f.tx);
+    return glm::mix(top, bottom, f.ty);
+  }
   if (texture.nearest) return image.texel(f.xa, f.ya, srgb);
   const glm::vec4 top = glm::mix(image.texel(f.xa, f.ya, srgb), image.texel(f.xb, f.ya, srgb), f.tx);
   const glm::vec4 bottom =

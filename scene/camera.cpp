@@ -1,5 +1,7 @@
 #include "dacrt/scene/camera.h"
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -74,6 +76,37 @@ CameraProjection::CameraProjection(const Camera& camera, int w, int h)
       orthographic(camera.orthographic),
       lens_radius(camera.aperture > 0.f ? 0.5f * camera.aperture : 0.f),
       focus_distance(camera.focus_distance) {}
+
+void CameraProjection::pinhole_rays(const float* x, const float* y, size_t n, float* dx, float* dy,
+                                    float* dz, float* tmin) const {
+  // glm's mat4 × vec4 is (m0·x + m1·y) + (m2·z + m3·w): with the point's z = −1 and w = 0 the
+  // second sum is the same for every ray. glm::normalize is v · (1 / sqrt(dot(v, v))), the dot
+  // product (x·x + y·y) + z·z, glm::length sqrt of it.
+  const glm::vec4 fixed = to_world[2] * -1.f + to_world[3] * 0.f;
+  const __m128 two = _mm_set1_ps(2.f), one = _mm_set1_ps(1.f);
+  for (size_t k = 0; k < n; k += 4) {
+    const __m128 sx =
+        _mm_sub_ps(_mm_div_ps(_mm_mul_ps(two, _mm_loadu_ps(x + k)), _mm_set1_ps(width)), one);
+    const __m128 sy =
+        _mm_sub_ps(one, _mm_div_ps(_mm_mul_ps(two, _mm_loadu_ps(y + k)), _mm_set1_ps(height)));
+    const __m128 lx = _mm_mul_ps(_mm_mul_ps(sx, _mm_set1_ps(tan_half)), _mm_set1_ps(aspect));
+    const __m128 ly = _mm_mul_ps(sy, _mm_set1_ps(tan_half));
+    __m128 v[3];
+    for (int a = 0; a < 3; ++a)
+      v[a] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(to_world[0][a]), lx),
+                                   _mm_mul_ps(_mm_set1_ps(to_world[1][a]), ly)),
+                        _mm_set1_ps(fixed[a]));
+    const __m128 dot = _mm_add_ps(_mm_add_ps(_mm_mul_ps(v[0], v[0]), _mm_mul_ps(v[1], v[1])),
+                                  _mm_mul_ps(v[2], v[2]));
+    const __m128 inv = _mm_div_ps(one, _mm_sqrt_ps(dot));
+    _mm_storeu_ps(dx + k, _mm_mul_ps(v[0], inv));
+    _mm_storeu_ps(dy + k, _mm_mul_ps(v[1], inv));
+    _mm_storeu_ps(dz + k, _mm_mul_ps(v[2], inv));
+    const __m128 local2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(lx, lx), _mm_mul_ps(ly, ly)),
+                                     _mm_mul_ps(_mm_set1_ps(-1.f), _mm_set1_ps(-1.f)));
+    _mm_storeu_ps(tmin + k, _mm_mul_ps(_mm_set1_ps(znear), _mm_sqrt_ps(local2)));
+  }
+}
 
 float CameraProjection::ray(float x, float y, float lens_u, float lens_v, glm::vec3& origin,
                             glm::vec3& direction) const {

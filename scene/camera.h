@@ -137,6 +137,12 @@ struct CameraProjection {
     // The near plane is at depth znear: `local` (depth 1) scaled by znear, |local| · znear away.
     return znear * glm::length(local);
   }
+  // The perspective pinhole rays (not orthographic, no lens) through the image points (x[k],
+  // y[k]) for k < n, n a multiple of 4: each unit direction (dx, dy, dz) and tmin, four rays at a
+  // time with ray()'s operations in ray()'s order (the same bits); the origin is to_world[3].
+  void pinhole_rays(const float* x, const float* y, size_t n, float* dx, float* dy, float* dz,
+                    float* tmin) const;
+  bool pinhole() const { return !orthographic && !thin_lens(); }
   // Whether rays need a lens sample (the four-number ray).
   bool thin_lens() const { return lens_radius > 0.f; }
   // The ray from the lens point (lens_u, lens_v) picks (after pbrt-v4's PerspectiveCamera): it

@@ -200,3 +200,26 @@ TEST_CASE("a clearcoat or sheen of 0 leaves the base BRDF exactly") {
     CHECK(plain.pdf(wo, wi) == zero.pdf(wo, wi));
   }
 }
+
+TEST_CASE("a coat's normal is taken normalised, the default (0, 0, 1) as it is") {
+  // (MaterialLayers skips the normalisation of the default normal: the same vector.)
+  auto coated = [](glm::vec3 n) {
+    BrdfParams p = base(0.2f, 0.5f);
+    p.clearcoat = 1.f, p.clearcoat_roughness = 0.3f, p.clearcoat_normal = n;
+    return GltfBrdf(p);
+  };
+  const GltfBrdf up = coated({0.f, 0.f, 1.f}), long_up = coated({0.f, 0.f, 4.f});
+  const GltfBrdf tilted = coated({3.f, 0.f, 4.f}), unit = coated({0.6f, 0.f, 0.8f});
+  Pcg32 rng(51);
+  int differ = 0, far = 0;
+  for (int k = 0; k < 1000; ++k) {
+    const glm::vec3 wo = sample_cosine_hemisphere(rng.uniform(), rng.uniform());
+    const glm::vec3 wi = sample_cosine_hemisphere(rng.uniform(), rng.uniform());
+    differ += up.eval(wo, wi) != long_up.eval(wo, wi) || up.pdf(wo, wi) != long_up.pdf(wo, wi);
+    const glm::vec3 a = tilted.eval(wo, wi), b = unit.eval(wo, wi);
+    far += glm::length(a - b) > 1e-4f * (1.f + glm::length(b)) ||
+           std::abs(tilted.pdf(wo, wi) - unit.pdf(wo, wi)) > 1e-4f * (1.f + unit.pdf(wo, wi));
+  }
+  CHECK(differ == 0);
+  CHECK(far == 0);
+}

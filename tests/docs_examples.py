@@ -82,6 +82,17 @@ NOT_RUN = {
                       "/tmp/many-lights-bench"): "long: dacrt converge on six scenes, minutes each",
     ("benchmarks.md", "BEFORE=/path/to/old/dacrt tools/peer-compare.sh --view helmet --rounds 3"):
         "another build of dacrt, and Blender",
+    ("benchmarks.md", 'VIEWS="sponza-inside helmet" '
+                      "FILES=../shared/scenes/mcguire/dabrovic-sponza/sponza.glb "
+                      "BEFORE=/path/to/9b9465e/dacrt tools/before-after.sh 384 64 7"):
+        "another build of dacrt, and long: 7 rounds of each view with two binaries",
+    ("benchmarks.md", 'VIEWS="sponza-inside helmet" '
+                      "BEFORE=/path/to/9b9465e/dacrt tools/before-after.sh 384 64 10"):
+        "another build of dacrt, and long: 10 rounds of each view with two binaries",
+    ("benchmarks.md", 'VIEWS="sponza-inside helmet" '
+                      "FILES=../shared/scenes/mcguire/dabrovic-sponza/sponza.glb "
+                      "BEFORE=/path/to/9b9465e/dacrt tools/before-after.sh 384 64 5"):
+        "another build of dacrt, and long: 5 rounds of each view with two binaries",
     ("benchmarks.md", "blender -b -noaudio --python tools/cycles-render.py -- SCENE.gltf OUT.exr "
                       "[--spp N] [--width W --height H] [--seed S] [--max-depth D] [--threads T] "
                       "[--camera INDEX] [--look-from=X,Y,Z --look-at=X,Y,Z --up=X,Y,Z "

@@ -72,3 +72,41 @@ TEST_CASE("texture sampling: nearest and bilinear, sRGB per texel, wrap modes") 
         CHECK((std::isfinite(c.r) && c.r >= 0.f && c.r <= 1.f));
       }
 }
+
+TEST_CASE("texture sampling: an 8-bit image's lookups are the filtered texels, bit for bit") {
+  // A 7 × 5 image of arbitrary bytes: every lookup is the bilinear mix (or the nearest texel) of
+  // texels decoded as v / 255, through the sRGB curve for colour (never alpha).
+  TextureImage image;
+  image.width = 7, image.height = 5;
+  image.rgba8.resize(4 * 7 * 5);
+  uint32_t state = 51;
+  for (uint8_t& b : image.rgba8) b = uint8_t((state = state * 1664525u + 1013904223u) >> 24);
+  auto texel = [&](int x, int y, bool srgb) {
+    const uint8_t* p = &image.rgba8[4 * size_t(y * 7 + x)];
+    glm::vec4 c(float(p[0]) / 255.f, float(p[1]) / 255.f, float(p[2]) / 255.f, float(p[3]) / 255.f);
+    if (srgb) c = {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b), c.a};
+    return c;
+  };
+  int differ = 0, texels_differ = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const glm::vec2 uv(float(k % 41) / 41.f + 0.004f, float(k % 37) / 37.f + 0.007f);
+    for (bool srgb : {false, true}) {
+      for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 7; ++x) texels_differ += image.texel(x, y, srgb) != texel(x, y, srgb);
+      Texture t;
+      t.nearest = true;
+      const int nx = int(std::floor(uv.x * 7.f)), ny = int(std::floor(uv.y * 5.f));
+      differ += sample(image, t, uv, srgb) != texel(nx, ny, srgb);
+      t.nearest = false;  // repeat: the texel before column 0 is column 6
+      const float fx = uv.x * 7.f - 0.5f, fy = uv.y * 5.f - 0.5f;
+      const float x0 = std::floor(fx), y0 = std::floor(fy);
+      const int xa = (int(x0) + 7) % 7, xb = (int(x0) + 8) % 7;
+      const int ya = (int(y0) + 5) % 5, yb = (int(y0) + 6) % 5;
+      const glm::vec4 top = glm::mix(texel(xa, ya, srgb), texel(xb, ya, srgb), fx - x0);
+      const glm::vec4 bottom = glm::mix(texel(xa, yb, srgb), texel(xb, yb, srgb), fx - x0);
+      differ += sample(image, t, uv, srgb) != glm::mix(top, bottom, fy - y0);
+    }
+  }
+  CHECK(texels_differ == 0);
+  CHECK(differ == 0);
+}

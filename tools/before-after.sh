@@ -8,7 +8,10 @@
 #   BEFORE=/path/to/old/dacrt tools/before-after.sh [WIDTH] [SPP] [RUNS]   (default 1024 64 3)
 # BIN (default build/dacrt), THREADS (default 2), SCENES (default ../shared/scenes beside the
 # checkout), OUT (default /tmp/dacrt-before-after: the images and statistics stay there); FILES
-# (glTF files, separated by spaces) renders those instead of the two scenes.
+# (glTF files, separated by spaces) renders those instead of the two scenes; VIEWS (names of
+# tools/peer-compare.sh's views, separated by spaces, e.g. "helmet sponza-inside") renders those
+# views first, each with its own camera, size, spp and sky and peer-compare's depth 64 (WIDTH and
+# SPP are then only for FILES, and the two scenes are left out unless FILES names them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 W=${1:-1024}; SPP=${2:-64}; RUNS=${3:-3}
@@ -18,17 +21,30 @@ OUT=${OUT:-/tmp/dacrt-before-after}; mkdir -p "$OUT"
 [ -n "${BEFORE:-}" ] && [ -x "$BEFORE" ] || { echo "before-after: set BEFORE to an older dacrt binary" >&2; exit 2; }
 [ -x "$BIN" ] || { echo "before-after: $BIN not built" >&2; exit 1; }
 scenes=("$S/khronos/DamagedHelmet/DamagedHelmet.glb" "$S/mcguire/dabrovic-sponza/sponza.glb")
+[ -n "${VIEWS:-}" ] && scenes=()
 [ -n "${FILES:-}" ] && read -ra scenes <<< "$FILES"
-echo "| scene, ${W}², $SPP spp, $THREADS threads | before render s | after render s | after / before | before user s | after user s | after / before (user) | images |"
-echo "|---|---|---|---|---|---|---|---|"
+# Each case: a name and its render options (a view's from peer-compare, a file's from WIDTH, SPP).
+names=(); options=()
+for view in ${VIEWS:-}; do
+  line=$(SCENES=$S tools/peer-compare.sh --views | grep "^$view: ") ||
+    { echo "before-after: no view '$view' (tools/peer-compare.sh --views lists them)" >&2; exit 2; }
+  names+=("$view"); options+=("${line#*: } --max-depth 64")
+done
 for scene in "${scenes[@]}"; do
-  name=$(basename "$scene"); name=${name%.*}
+  name=$(basename "$scene"); names+=("${name%.*}")
+  options+=("$scene --width $W --height $W --spp $SPP")
+done
+what="${W}², $SPP spp"; [ -n "${VIEWS:-}" ] && what="views: their own size and spp; files: $what"
+echo "| scene, $what, $THREADS threads | before render s | after render s | after / before | before user s | after user s | after / before (user) | images |"
+echo "|---|---|---|---|---|---|---|---|"
+for c in "${!names[@]}"; do
+  name=${names[$c]}
+  read -ra opts <<< "${options[$c]}"  # (no spaces inside paths or values)
   for run in $(seq "$RUNS"); do
     for which in before after; do
       bin=$BIN; [ $which = before ] && bin=$BEFORE
-      /usr/bin/time -f %U -o "$OUT/$name.$which.$run.user" "$bin" render "$scene" --width "$W" \
-        --height "$W" --spp "$SPP" --threads "$THREADS" --quiet -o "$OUT/$name.$which.exr" \
-        --stats "$OUT/$name.$which.$run.json"
+      /usr/bin/time -f %U -o "$OUT/$name.$which.$run.user" "$bin" render "${opts[@]}" \
+        --threads "$THREADS" --quiet -o "$OUT/$name.$which.exr" --stats "$OUT/$name.$which.$run.json"
     done
   done
   same=$("$BIN" diff "$OUT/$name.before.exr" "$OUT/$name.after.exr" --json | python3 -c \
