@@ -309,8 +309,7 @@ void Wavefront::prefetch_triangles(const HitBatch& hits, size_t first, size_t en
     if (!hits.hit(i)) continue;
     const uint32_t tri = hits.prim[i];
     __builtin_prefetch(&g.material[tri]);
-    for (int c = 0; c < 3; ++c)
-      for (int a = 0; a < 3; ++a) __builtin_prefetch(&g.p[c][a][tri]);
+    both_ends(&g.corners[tri], sizeof(Geometry::Corners));
     if (!scene_.normals.empty()) both_ends(&scene_.normals[3 * size_t(tri)], 3 * sizeof(glm::vec3));
     if (!scene_.texcoords.empty() && !scene_.texcoords[0].empty())
       both_ends(&scene_.texcoords[0][3 * size_t(tri)], 3 * sizeof(glm::vec2));

@@ -74,7 +74,7 @@ class Wavefront : public Integrator {
   // sampler_lanes while the texels of a group further on arrive. Nothing in untextured scenes.
   void prefetch_textures(const HitBatch& hits, size_t first, size_t end) const;
   // Asks the cache for what hit_at reads of the hit triangles among rays [first, end): their
-  // corners (nine arrays), material, normals, first texture coordinates and tangents, each a miss
+  // corners, material, normals, first texture coordinates and tangents, each a miss
   // per hit otherwise. Called a group before prefetch_textures (which reads the coordinates).
   void prefetch_triangles(const HitBatch& hits, size_t first, size_t end) const;
   static uint32_t drawn(std::span<const Dimension> dims) {
