@@ -81,8 +81,9 @@ TEST_CASE("film exr: a 96-bit sum of the film whose fourth word is not its sign 
       for (int j = 0; j < 6; ++j) high[6 * p + j] = film.sum(p, 7 + j) < 0 ? 0xffffffffu : 0u;
     high[forged] = word;
     const std::string path = dir / "forged.exr";
+    std::vector<uint32_t> counts;
     write_exr(path, film.width(), film.height(), film.channels(), metadata,
-              film_words(film, &high));
+              film_words(film, &high, &counts));
     Film back(3, 2, aovs);
     if (word == 0xffffffffu) {
       read_film_state(path, read_sums_header(path, "to read"), back, 1, 1);
