@@ -278,13 +278,15 @@ class Film {
   enum class Added { dropped, added, clamped, full };
   template <bool Firsts>
   static Added accumulate(char* f, const glm::vec3& radiance, const FirstHit* first) {
+    const bool finite =
+        std::isfinite(radiance.x) && std::isfinite(radiance.y) && std::isfinite(radiance.z);
+    const uint64_t more = !finite                           ? one_taken
+                          : Firsts && first && first->hit ? one_taken + one_count + one_hit
+                                                          : one_taken + one_count;
     char* const counts = f + (Firsts ? counts_at(true) : counts_at(false));
-    uint64_t word;
-    std::memcpy(&word, counts, 8);
-    if ((word >> count_field & count_mask) == count_limit) return Added::full;
-    auto note = [&](uint64_t more) { word += more, std::memcpy(counts, &word, 8); };
-    if (!std::isfinite(radiance.x) || !std::isfinite(radiance.y) || !std::isfinite(radiance.z))
-      return note(one_taken), Added::dropped;
+    if ((add_counts(counts, more) >> count_field & count_mask) == 0)
+      return add_counts(counts, -more), Added::full;  // was at count_limit: taken back
+    if (!finite) return Added::dropped;
     bool cut = false;
     auto value = [&](float v) {
       const double c = std::clamp(double(v), -value_limit, value_limit);
@@ -298,7 +300,6 @@ class Film {
     }
     const double m = (r.x + r.y + r.z) / 3.0;
     add128(f + offset(at_mean_square), to_fixed<square_bits>(m * m));
-    uint64_t more = one_taken + one_count;
     if (Firsts && first) {
       auto bounded_value = [&](float v) {
         const double c = std::clamp(double(v), -bounded_limit, bounded_limit);
@@ -313,10 +314,8 @@ class Film {
         add128(f + offset(at_first + 6), to_fixed<value_bits>(value(first->depth)));
         for (int c = 0; c < 3; ++c)
           add128(f + offset(at_first + 7 + c), to_fixed<value_bits>(value(first->position[c])));
-        more += one_hit;
       }
     }
-    note(more);
     return cut ? Added::clamped : Added::added;
   }
   // "pixel (x, y) took more than count_limit samples".
@@ -344,6 +343,14 @@ class Film {
   static constexpr uint64_t count_mask = count_limit;
   static constexpr uint64_t one_count = 1, one_taken = uint64_t(1) << count_field,
                             one_hit = uint64_t(1) << (2 * count_field);
+  // Adds `more` to the counts word at `at` and returns the sum.
+  static uint64_t add_counts(char* at, uint64_t more) {
+    uint64_t word;
+    std::memcpy(&word, at, 8);
+    word += more;
+    std::memcpy(at, &word, 8);
+    return word;
+  }
   uint64_t counts_word(size_t pixel) const {
     uint64_t word;
     std::memcpy(&word, record(pixel) + record_ - 8, 8);
@@ -405,8 +412,7 @@ class Film {
   mutable std::vector<uint32_t> start_;
   int stride_;    // sums per pixel: at_first, or more with first hits
   size_t record_;  // bytes of a pixel's record: record_bytes()
-  // record_ bytes per pixel, zero until first touched (pages from the system: the film's first
-  // pass over them finds them in the cache, zeroed by the system, not in memory).
+  // record_ bytes per pixel: zero pages from the system, page-aligned.
   std::vector<uint64_t, ZeroPageAllocator<uint64_t>> data_;
   uint64_t dropped_ = 0, clamped_ = 0;
   mutable bool counted_ = false;

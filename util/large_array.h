@@ -51,14 +51,15 @@ bool operator==(const UninitializedAllocator<T>&, const UninitializedAllocator<U
 template <class T>
 using Array = std::vector<T, UninitializedAllocator<T>>;
 
-// Whole pages from the system (mmap), page-aligned and zero, each zeroed when first touched:
-// `bytes` of zeros without writing them. std::bad_alloc when the system has none.
+// Whole pages from the system (mmap), page-aligned and zero, mapped at once (MAP_POPULATE,
+// where there is one): `bytes` of zeros without a pass writing them. std::bad_alloc when the
+// system has none.
 void* allocate_zero_pages(size_t bytes);
 void free_zero_pages(void* p, size_t bytes);
 // An allocator of zero pages whose construct() leaves what it is given as it is (zero): a
-// std::vector<T, ZeroPageAllocator<T>>(n) of plain T is n zeros without a pass over them, its
-// pages zeroed by the system where they are first touched (a film's sums: its first pass then
-// finds them in the cache instead of in memory), and its data() is page-aligned.
+// std::vector<T, ZeroPageAllocator<T>>(n) of plain T is n zeros without a memset over them (a
+// film's sums: the system zeroes its pages as it maps them, in one call instead of a fault a
+// page), and its data() is page-aligned.
 template <class T>
 struct ZeroPageAllocator {
   using value_type = T;
