@@ -100,9 +100,13 @@ class Film {
   template <class PixelOf, class RadianceOf, class FirstOf>
   void add_in_order(size_t n, PixelOf pixel_of, RadianceOf radiance_of, FirstOf first_of) {
     constexpr size_t block = 8192;
-    const size_t ranges = std::clamp<size_t>(pixels() / 64, 1, 1024);
+    // Ranges of 2^shift pixels (at least 64), at most 1024 of them: a shift, not a division, a
+    // sample.
+    int shift = 6;
+    while (pixels() > 0 && (pixels() - 1) >> shift >= 1024) ++shift;
+    const size_t ranges = pixels() > 0 ? ((pixels() - 1) >> shift) + 1 : 1;
     const size_t blocks = (n + block - 1) / block;
-    auto range_of = [&](size_t pixel) { return size_t(uint64_t(pixel) * ranges / pixels()); };
+    auto range_of = [&](size_t pixel) { return pixel >> shift; };
     // start[r * blocks + b]: where block b's samples of range r go.
     std::vector<uint32_t>& start = start_;
     start.assign(ranges * blocks + 1, 0);
@@ -274,7 +278,7 @@ class Film {
   std::vector<Channel> channels(bool counts, std::vector<std::string>* owners) const;
   // Adds a sample to the pixel whose record is f: added, clamped (added with values clamped),
   // dropped (not finite, nothing added but the sample taken) or full (nothing added: the pixel
-  // already took count_limit samples). Firsts: the film keeps first-hit sums.
+  // already counts count_limit samples in a count). Firsts: the film keeps first-hit sums.
   enum class Added { dropped, added, clamped, full };
   template <bool Firsts>
   static Added accumulate(char* f, const glm::vec3& radiance, const FirstHit* first) {
@@ -284,8 +288,14 @@ class Film {
                           : Firsts && first && first->hit ? one_taken + one_count + one_hit
                                                           : one_taken + one_count;
     char* const counts = f + (Firsts ? counts_at(true) : counts_at(false));
-    if ((add_counts(counts, more) >> count_field & count_mask) == 0)
-      return add_counts(counts, -more), Added::full;  // was at count_limit: taken back
+    uint64_t word;
+    std::memcpy(&word, counts, 8);
+    // A field at the limit would carry into the next (each is at most count_limit, but a count
+    // set from elsewhere need not be below its taken).
+    for (int i = 0; i < 3; ++i)
+      if ((word >> (count_field * i) & count_mask) == count_limit) return Added::full;
+    word += more;
+    std::memcpy(counts, &word, 8);
     if (!finite) return Added::dropped;
     bool cut = false;
     auto value = [&](float v) {
@@ -343,14 +353,6 @@ class Film {
   static constexpr uint64_t count_mask = count_limit;
   static constexpr uint64_t one_count = 1, one_taken = uint64_t(1) << count_field,
                             one_hit = uint64_t(1) << (2 * count_field);
-  // Adds `more` to the counts word at `at` and returns the sum.
-  static uint64_t add_counts(char* at, uint64_t more) {
-    uint64_t word;
-    std::memcpy(&word, at, 8);
-    word += more;
-    std::memcpy(at, &word, 8);
-    return word;
-  }
   uint64_t counts_word(size_t pixel) const {
     uint64_t word;
     std::memcpy(&word, record(pixel) + record_ - 8, 8);
