@@ -281,7 +281,8 @@ class Film {
   // already counts count_limit samples in a count). Firsts: the film keeps first-hit sums.
   enum class Added { dropped, added, clamped, full };
   template <bool Firsts>
-  static Added accumulate(char* f, const glm::vec3& radiance, const FirstHit* first) {
+  [[gnu::noinline]] static Added accumulate(char* f, const glm::vec3& radiance,
+                                            const FirstHit* first) {
     const bool finite =
         std::isfinite(radiance.x) && std::isfinite(radiance.y) && std::isfinite(radiance.z);
     const uint64_t more = !finite                           ? one_taken
