@@ -44,7 +44,8 @@ std::vector<WordChannel> film_words(const Film& film, std::vector<uint32_t>* hig
   if (counts) {
     counts->resize(size_t(per_pixel) * film.pixels());
     for (size_t p = 0; p < film.pixels(); ++p)
-      for (int i = 0; i < per_pixel; ++i) (*counts)[size_t(per_pixel) * p + i] = film.count_value(p, i);
+      for (int i = 0; i < per_pixel; ++i)
+        (*counts)[size_t(per_pixel) * p + i] = film.count_value(p, i);
   }
   for (int i = 0; i < per_pixel; ++i)
     out.push_back({"exact." + std::string(Film::count_name(i)),

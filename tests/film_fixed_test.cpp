@@ -224,7 +224,8 @@ TEST_CASE("film: a pixel's counts share a word, and stop at count_limit samples"
 
 TEST_CASE("film: counts past count_limit are refused when set, merged or read") {
   Film a(2, 1), b(2, 1);
-  const uint32_t over[2] = {0, Film::count_limit + 1}, most[2] = {Film::count_limit, Film::count_limit};
+  const uint32_t over[2] = {0, Film::count_limit + 1};
+  const uint32_t most[2] = {Film::count_limit, Film::count_limit};
   CHECK_FALSE(a.set_counts(0, over));
   CHECK(a.taken(0) == 0);
   REQUIRE(a.set_counts(1, most));
