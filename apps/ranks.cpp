@@ -112,18 +112,17 @@ Ranks::~Ranks() {
 
 void Ranks::reduce(Film& film, size_t chunk) const {
   if (!mpi_ || size_ == 1) return;
-  std::vector<Film::CountArray> counts = film.count_arrays();
   const size_t per_pixel = size_t(film.sums_per_pixel());
+  const size_t counts_per_pixel = size_t(film.counts_per_pixel());
   // Every rank must send arrays of the same lengths, or the reduction would mix up pixels or
   // wait forever: first the films' shapes, their largest and (as the largest of the bitwise
   // complements) smallest values over the ranks, so that all ranks agree and all throw.
-  size_t count_size = 0;
-  for (const Film::CountArray& a : counts) count_size += a.values->size();
+  const size_t count_size = counts_per_pixel * film.pixels();
   constexpr int fields = 6;
   const std::array<uint64_t, fields> shape = {uint64_t(film.width()),
                                               uint64_t(film.height()),
                                               uint64_t(film.sums_per_pixel()),
-                                              counts.size(),
+                                              counts_per_pixel,
                                               per_pixel * film.pixels(),
                                               count_size};
   std::array<uint64_t, 2 * fields> most;
@@ -137,26 +136,36 @@ void Ranks::reduce(Film& film, size_t chunk) const {
 
   chunk = std::clamp<size_t>(chunk, 1, INT_MAX);
   const FixedSum fixed;
-  // The sums as 128-bit words (the film keeps some in 96 bits), a chunk of pixels at a time.
-  // Rank 0 sets the reduced sums back; one that does not fit (more samples than a film can hold)
-  // throws there, after every rank took part in every reduction.
+  // The sums as 128-bit words (the film keeps some in 96 bits) and the counts as 32-bit ones
+  // (the film keeps them packed), a chunk of pixels at a time. Rank 0 sets the reduced sums and
+  // counts back; one that does not fit (more samples than a film can hold) throws there, after
+  // every rank took part in every reduction.
   const size_t pixels_per_chunk = std::max<size_t>(1, chunk / per_pixel);
   std::vector<Fixed> sums(std::min(pixels_per_chunk, film.pixels()) * per_pixel);
-  size_t wrapped = film.pixels();
+  std::vector<uint32_t> pixel_counts(std::min(pixels_per_chunk, film.pixels()) * counts_per_pixel);
+  size_t wrapped = film.pixels(), full = film.pixels();
   for (size_t first = 0; first < film.pixels(); first += pixels_per_chunk) {
     const size_t n = std::min(pixels_per_chunk, film.pixels() - first);
-    for (size_t p = 0; p < n; ++p) film.pixel_sums(first + p, &sums[per_pixel * p]);
+    for (size_t p = 0; p < n; ++p) {
+      film.pixel_sums(first + p, &sums[per_pixel * p]);
+      for (size_t i = 0; i < counts_per_pixel; ++i)
+        pixel_counts[counts_per_pixel * p + i] = film.count_value(first + p, int(i));
+    }
     reduce_array(sums.data(), n * per_pixel, fixed.type, fixed.op, chunk, root());
+    reduce_array(pixel_counts.data(), n * counts_per_pixel, MPI_UINT32_T, MPI_SUM, chunk, root());
     if (root())
-      for (size_t p = 0; p < n; ++p)
+      for (size_t p = 0; p < n; ++p) {
         for (size_t k = 0; k < per_pixel; ++k)
           if (!film.set_sum(first + p, int(k), sums[per_pixel * p + k])) wrapped = first + p;
+        if (!film.set_counts(first + p, &pixel_counts[counts_per_pixel * p])) full = first + p;
+      }
   }
-  for (const Film::CountArray& a : counts)
-    reduce_array(a.values->data(), a.values->size(), MPI_UINT32_T, MPI_SUM, chunk, root());
   uint64_t tallies[2] = {film.dropped(), film.clamped()};
   reduce_array(tallies, 2, MPI_UINT64_T, MPI_SUM, chunk, root());
   if (root()) film.set_tallies(tallies[0], tallies[1]);
+  if (full != film.pixels())
+    throw Error("the ranks' films count more than " + std::to_string(Film::count_limit) +
+                " samples at pixel " + std::to_string(full));
   if (wrapped != film.pixels())
     throw Error("the ranks' films add up to more albedo or normal at pixel " +
                 std::to_string(wrapped) + " than " + std::to_string(max_samples) +

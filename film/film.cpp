@@ -1,5 +1,7 @@
 #include "dacrt/film/film.h"
 
+#include <tbb/parallel_reduce.h>
+
 #include "dacrt/util/error.h"
 
 namespace dacrt {
@@ -37,18 +39,21 @@ Film::Film(int width, int height, AovSet aovs)
       aovs_(aovs),
       stride_(at_first + (aovs.first_hit() ? first_count : 0)),
       record_(record_bytes(aovs.first_hit())),
-      data_(record_ / 8 * size_t(width) * height, 0),
-      count_(size_t(width) * height, 0),
-      taken_(size_t(width) * height, 0) {
-  // Records of whole 64-bit words: 112 bytes a pixel, 248 with the first-hit sums.
-  static_assert(record_bytes(false) == 112 && record_bytes(true) == 248);
-  if (aovs.first_hit()) hits_.assign(pixels(), 0);
+      data_(record_ / 8 * size_t(width) * height) {
+  // Records of whole 64-bit words: 120 bytes a pixel, 256 (4 cache lines) with the first-hit
+  // sums; the counts fit in a word (three fields of count_field bits, each up to count_limit).
+  static_assert(record_bytes(false) == 120 && record_bytes(true) == 256);
+  static_assert(3 * count_field <= 64 && max_samples <= count_limit);
 }
 
 uint64_t Film::bytes(int width, int height, AovSet aovs) {
-  const uint64_t per_pixel =
-      record_bytes(aovs.first_hit()) + 2 * sizeof(uint32_t) + (aovs.first_hit() ? 4 : 0);
-  return uint64_t(width) * uint64_t(height) * per_pixel;
+  return uint64_t(width) * uint64_t(height) * record_bytes(aovs.first_hit());
+}
+
+std::string Film::too_many(size_t pixel) const {
+  return "pixel (" + std::to_string(pixel % size_t(width_)) + ", " +
+         std::to_string(pixel / size_t(width_)) + ") took more than " +
+         std::to_string(count_limit) + " samples, the most a film counts";
 }
 
 void Film::merge(const Film& other) {
@@ -56,24 +61,33 @@ void Film::merge(const Film& other) {
     throw Error("cannot merge a " + std::to_string(other.width_) + " x " +
                 std::to_string(other.height_) + " film into a " + std::to_string(width_) + " x " +
                 std::to_string(height_) + " one with other outputs");
-  auto add = [](auto& to, const auto& from) {
-    tbb::parallel_for(size_t(0), to.size(), [&](size_t i) { to[i] += from[i]; });
-  };
   // The bounded sums of films of up to max_samples samples together stay within 96 bits; more
-  // could wrap them, so each is checked.
-  std::atomic<size_t> wrapped{pixels()};
+  // could wrap them, and the counts their fields, so each is checked first.
+  std::atomic<size_t> wrapped{pixels()}, full{pixels()};
   tbb::parallel_for(size_t(0), pixels(), [&](size_t p) {
-    for (int k = 0; k < stride_; ++k)
-      if (!set_sum(p, k, sum(p, k) + other.sum(p, k))) wrapped = p;
+    for (int i = 0; i < counts_per_pixel(); ++i)
+      if (uint64_t(count_value(p, i)) + other.count_value(p, i) > count_limit) full = p;
+    for (int k = at_first; k < at_first + bounded_count && k < stride_; ++k)
+      if (!fits96(sum(p, k) + other.sum(p, k))) wrapped = p;
   });
+  auto where = [&](size_t p) {
+    return "pixel (" + std::to_string(p % size_t(width_)) + ", " +
+           std::to_string(p / size_t(width_)) + ")";
+  };
+  if (full != pixels())
+    throw Error("cannot merge the films: " + where(full) + " would count more than " +
+                std::to_string(count_limit) + " samples");
   if (wrapped != pixels())
-    throw Error("cannot merge the films: pixel (" + std::to_string(wrapped % size_t(width_)) +
-                ", " + std::to_string(wrapped / size_t(width_)) +
-                ") would hold more albedo or normal than " + std::to_string(max_samples) +
+    throw Error("cannot merge the films: " + where(wrapped) +
+                " would hold more albedo or normal than " + std::to_string(max_samples) +
                 " samples can add up to");
-  add(count_, other.count_);
-  add(taken_, other.taken_);
-  add(hits_, other.hits_);
+  tbb::parallel_for(size_t(0), pixels(), [&](size_t p) {
+    for (int k = 0; k < stride_; ++k) set_sum(p, k, sum(p, k) + other.sum(p, k));
+    // Fields of at most count_limit each: the words add field by field.
+    const uint64_t word = counts_word(p) + other.counts_word(p);
+    std::memcpy(record(p) + record_ - 8, &word, 8);
+  });
+  counted_ = false;
   dropped_ += other.dropped_;
   clamped_ += other.clamped_;
 }
@@ -92,10 +106,15 @@ std::vector<Fixed> Film::sums() const {
   return out;
 }
 
-std::vector<Film::CountArray> Film::count_arrays() {
-  std::vector<CountArray> out = {{"count", &count_}, {"taken", &taken_}};
-  if (!hits_.empty()) out.push_back({"hits", &hits_});
-  return out;
+bool Film::set_counts(size_t pixel, const uint32_t* values) {
+  uint64_t word = 0;
+  for (int i = 0; i < counts_per_pixel(); ++i) {
+    if (values[i] > count_limit) return false;
+    word |= uint64_t(values[i]) << (count_field * i);
+  }
+  std::memcpy(record(pixel) + record_ - 8, &word, 8);
+  counted_ = false;
+  return true;
 }
 
 std::string Film::check_sums(uint32_t least, uint32_t most) const {
@@ -104,7 +123,7 @@ std::string Film::check_sums(uint32_t least, uint32_t most) const {
   const Fixed value_most = Fixed(1) << (64 + 30), square_most = Fixed(1) << (46 + 60),
               bounded_most = Fixed(1) << (64 + 10);
   for (size_t p = 0; p < pixels(); ++p) {
-    const uint32_t n = count_[p], took = taken_[p];
+    const uint32_t n = count(p), took = taken(p);
     auto where = [&] {
       return "pixel (" + std::to_string(p % size_t(width_)) + ", " +
              std::to_string(p / size_t(width_)) + ")";
@@ -116,7 +135,7 @@ std::string Film::check_sums(uint32_t least, uint32_t most) const {
               : least > 0   ? " (between " + std::to_string(least) + " and " +
                                   std::to_string(most) + " were to be)"
                             : " (at most " + std::to_string(most) + ")");
-    if (!hits_.empty() && hits_[p] > n)
+    if (hits(p) > n)
       return where() + " has more first hits than samples";
     auto within = [&](Fixed v, Fixed limit) { return v <= n * limit && v >= -(n * limit); };
     Fixed f[at_first + first_count] = {};
@@ -133,18 +152,39 @@ std::string Film::check_sums(uint32_t least, uint32_t most) const {
   return "";
 }
 
+void Film::count_all() const {
+  if (counted_) return;
+  struct Counts {
+    uint32_t least, most;
+    uint64_t total;
+  };
+  const Counts none{~uint32_t(0), 0, 0};
+  const Counts all = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, pixels()), none,
+      [&](const tbb::blocked_range<size_t>& r, Counts c) {
+        for (size_t p = r.begin(); p < r.end(); ++p) {
+          const uint32_t n = count(p);
+          c.least = std::min(c.least, n), c.most = std::max(c.most, n), c.total += n;
+        }
+        return c;
+      },
+      [](Counts a, const Counts& b) {
+        return Counts{std::min(a.least, b.least), std::max(a.most, b.most), a.total + b.total};
+      });
+  least_ = pixels() ? all.least : 0, most_ = all.most, total_ = all.total;
+  counted_ = true;
+}
+
 uint32_t Film::min_count() const {
-  return count_.empty() ? 0 : *std::min_element(count_.begin(), count_.end());
+  return count_all(), least_;
 }
 
 uint32_t Film::max_count() const {
-  return count_.empty() ? 0 : *std::max_element(count_.begin(), count_.end());
+  return count_all(), most_;
 }
 
 uint64_t Film::total_count() const {
-  uint64_t n = 0;
-  for (uint32_t c : count_) n += c;
-  return n;
+  return count_all(), total_;
 }
 
 Image Film::resolve() const {
@@ -152,14 +192,14 @@ Image Film::resolve() const {
   tbb::parallel_for(size_t(0), pixels(), [&](size_t p) {
     for (int c = 0; c < 3; ++c)
       img.rgb[3 * p + c] =
-          count_[p] ? float(from_fixed<value_bits>(sum(p, at_sum + c)) / count_[p])
+          count(p) ? float(from_fixed<value_bits>(sum(p, at_sum + c)) / count(p))
                     : 0.f;
   });
   return img;
 }
 
 glm::dvec2 Film::mean_and_error(size_t pixel) const {
-  const double n = count_[pixel];
+  const double n = count(pixel);
   if (n < 1) return {0.0, 0.0};
   const double mean =
       from_fixed<value_bits>(sum(pixel, at_sum) + sum(pixel, at_sum + 1) + sum(pixel, at_sum + 2)) /
@@ -173,7 +213,7 @@ glm::dvec2 Film::mean_and_error(size_t pixel) const {
 }
 
 double Film::variance_of_mean(size_t pixel, int c) const {
-  const double n = count_[pixel];
+  const double n = count(pixel);
   if (n < 2) return 0.0;
   const double total = from_fixed<value_bits>(sum(pixel, at_sum + c));
   const double s2 =
@@ -239,7 +279,8 @@ std::vector<Film::Source> Film::sources(bool counts) const {
     out.push_back({std::move(name), owner, std::move(value)});
   };
   auto mean = [this](size_t p, Fixed sum) {
-    return count_[p] ? from_fixed<value_bits>(sum) / count_[p] : 0.0;
+    const uint32_t n = count(p);
+    return n ? from_fixed<value_bits>(sum) / n : 0.0;
   };
   const char* rgb[3] = {"R", "G", "B"};
   const char* xyz[3] = {"X", "Y", "Z"};
@@ -248,7 +289,8 @@ std::vector<Film::Source> Film::sources(bool counts) const {
             [this, mean, c](size_t p) { return mean(p, sum(p, at_sum + c)); });
   auto first = [this](size_t p, int k) { return sum(p, at_first + k); };
   auto over_hits = [this, first](size_t p, int k, double none) {
-    return hits_[p] ? from_fixed<value_bits>(first(p, k)) / hits_[p] : none;
+    const uint32_t n = hits(p);
+    return n ? from_fixed<value_bits>(first(p, k)) / n : none;
   };
   if (aovs_.has(Aov::albedo)) {
     owner = AovSet::name(Aov::albedo);
@@ -280,7 +322,7 @@ std::vector<Film::Source> Film::sources(bool counts) const {
   }
   if (counts || aovs_.has(Aov::samples)) {
     owner = AovSet::name(Aov::samples);
-    channel(samples_channel, [this](size_t p) { return double(count_[p]); });
+    channel(samples_channel, [this](size_t p) { return double(count(p)); });
   }
   return out;
 }

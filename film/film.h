@@ -21,7 +21,9 @@
 #include <vector>
 
 #include "dacrt/film/fixed.h"
+#include "dacrt/util/error.h"
 #include "dacrt/util/image.h"
+#include "dacrt/util/large_array.h"
 
 namespace dacrt {
 
@@ -74,12 +76,16 @@ class Film {
 
   int width() const { return width_; }
   int height() const { return height_; }
-  size_t pixels() const { return count_.size(); }
+  size_t pixels() const { return size_t(width_) * size_t(height_); }
   AovSet aovs() const { return aovs_; }
 
+  // Adds a sample. Error when the pixel already took count_limit samples.
   void add(size_t pixel, const glm::vec3& radiance, const FirstHit* first = nullptr) {
-    const Added a = accumulate(pixel, radiance, first);
+    const Added a = stride_ > at_first ? accumulate<true>(record(pixel), radiance, first)
+                                       : accumulate<false>(record(pixel), radiance, first);
+    if (a == Added::full) throw Error(too_many(pixel));
     dropped_ += a == Added::dropped, clamped_ += a == Added::clamped;
+    counted_ = false;
   }
 
   // add(pixel_of(i), radiance_of(i), first_of(i)) for i in [0, n), in parallel: the samples are
@@ -90,12 +96,17 @@ class Film {
   // the order the caller holds them, not the pixels'), so that the adding pass reads them in
   // order and can fetch the pixels' sums ahead of use (the pass waits on memory, not on
   // arithmetic).
+  // Error (after adding the others) when a pixel already took count_limit samples.
   template <class PixelOf, class RadianceOf, class FirstOf>
   void add_in_order(size_t n, PixelOf pixel_of, RadianceOf radiance_of, FirstOf first_of) {
     constexpr size_t block = 8192;
-    const size_t ranges = std::clamp<size_t>(pixels() / 64, 1, 1024);
+    // Ranges of 2^shift pixels (at least 64), at most 1024 of them: a shift, not a division, a
+    // sample.
+    int shift = 6;
+    while (pixels() > 0 && (pixels() - 1) >> shift >= 1024) ++shift;
+    const size_t ranges = pixels() > 0 ? ((pixels() - 1) >> shift) + 1 : 1;
     const size_t blocks = (n + block - 1) / block;
-    auto range_of = [&](size_t pixel) { return size_t(uint64_t(pixel) * ranges / pixels()); };
+    auto range_of = [&](size_t pixel) { return pixel >> shift; };
     // start[r * blocks + b]: where block b's samples of range r go.
     std::vector<uint32_t>& start = start_;
     start.assign(ranges * blocks + 1, 0);
@@ -118,17 +129,29 @@ class Film {
       }
     });
     std::atomic<uint64_t> dropped_now{0}, clamped_now{0};
-    tbb::parallel_for(size_t(0), ranges, [&](size_t r) {
-      uint64_t own[3] = {};
+    std::atomic<size_t> full{pixels()};
+    auto add_range = [&]<bool Firsts>(size_t r) {
+      uint64_t own[4] = {};
       constexpr uint32_t ahead = 12;  // samples whose sums are fetched before they are added
       for (uint32_t k = start[r * blocks], end = start[(r + 1) * blocks]; k < end; ++k) {
-        if (k + ahead < end) fetch(order_[k + ahead]);
+        if (k + ahead < end) fetch(order_[k + ahead].pixel);
         const Sample& s = order_[k];
-        ++own[int(accumulate(s.pixel, s.radiance, s.first ? &firsts_[k] : nullptr))];
+        const Added a = accumulate<Firsts>(record(s.pixel), s.radiance,
+                                           Firsts && s.first ? &firsts_[k] : nullptr);
+        ++own[int(a)];
+        if (a == Added::full) full = s.pixel;
       }
       dropped_now += own[int(Added::dropped)], clamped_now += own[int(Added::clamped)];
+    };
+    tbb::parallel_for(size_t(0), ranges, [&](size_t r) {
+      if (firsts)
+        add_range.template operator()<true>(r);
+      else
+        add_range.template operator()<false>(r);
     });
     dropped_ += dropped_now, clamped_ += clamped_now;
+    counted_ = false;
+    if (full != pixels()) throw Error(too_many(full));
   }
 
   // Frees what add_in_order keeps between calls (the sorted samples; it makes them again when
@@ -139,14 +162,17 @@ class Film {
     std::vector<uint32_t>().swap(start_);
   }
 
-  // Adds another film's samples (same size and outputs, else Error).
+  // Adds another film's samples (same size and outputs, else Error; Error too, with nothing
+  // added, where a pixel would have more than count_limit samples or more albedo or normal than
+  // max_samples samples can add up to).
   void merge(const Film& other);
 
   // The film's state, to send or store it exactly and add it back (merge, MPI, parts in EXR
   // files): sums_per_pixel() fixed-point sums a pixel, numbered k as the files number them
   // (colour 0-2, squares 3-5, square of the channel average 6, with first-hit outputs albedo
-  // 7-9, normal 10-12, depth 13, position 14-16), then the counts, each with a name. Albedo and
-  // normal sums are kept in 96 bits (bounded(k)), the others in 128.
+  // 7-9, normal 10-12, depth 13, position 14-16), then counts_per_pixel() counts, each with a
+  // name (count_name). Albedo and normal sums are kept in 96 bits (bounded(k)), the others in
+  // 128.
   int sums_per_pixel() const { return stride_; }
   static constexpr bool bounded(int k) { return k >= at_first && k < at_first + bounded_count; }
   Fixed sum(size_t pixel, int k) const {
@@ -173,11 +199,20 @@ class Film {
   SumPlace sum_place(int k) {
     return {reinterpret_cast<char*>(data_.data()) + offset(k), record_, bounded(k) ? 3 : 4};
   }
-  struct CountArray {
-    const char* name;
-    std::vector<uint32_t>* values;
-  };
-  std::vector<CountArray> count_arrays();
+  // The counts a pixel: 0 "count" (samples added), 1 "taken" (samples taken, dropped ones too),
+  // and with first-hit outputs 2 "hits" (samples whose camera ray hit something). Each is at
+  // most count_limit.
+  int counts_per_pixel() const { return stride_ > at_first ? 3 : 2; }
+  static const char* count_name(int i) {
+    constexpr const char* names[3] = {"count", "taken", "hits"};
+    return names[i];
+  }
+  uint32_t count_value(size_t pixel, int i) const {
+    return uint32_t(counts_word(pixel) >> (count_field * i) & count_mask);
+  }
+  // Sets the pixel's counts_per_pixel() counts; false (nothing set) when one is above
+  // count_limit.
+  bool set_counts(size_t pixel, const uint32_t* values);
   // "" when every pixel took between `least` and `most` samples, added no more than it took, has
   // no more hits than samples, and sums its samples can add up to (so that adding films cannot
   // overflow); else what is wrong, naming the pixel. For films read from files.
@@ -187,11 +222,17 @@ class Film {
 
   uint64_t dropped() const { return dropped_; }
   uint64_t clamped() const { return clamped_; }
-  uint32_t count(size_t pixel) const { return count_[pixel]; }
+  // The most samples (taken) a pixel can count: its counts are fields of 21 bits. A render takes
+  // at most max_samples.
+  static constexpr uint32_t count_limit = (1u << 21) - 1;
+  uint32_t count(size_t pixel) const { return count_value(pixel, 0); }
   // The samples the pixel took, dropped ones included: it has the render's samples
   // [first, first + taken) of whatever range the film holds.
-  uint32_t taken(size_t pixel) const { return taken_[pixel]; }
-  // The fewest and most samples any pixel has, and all pixels' samples.
+  uint32_t taken(size_t pixel) const { return count_value(pixel, 1); }
+  // The samples whose camera ray hit something (0 without first-hit outputs).
+  uint32_t hits(size_t pixel) const { return stride_ > at_first ? count_value(pixel, 2) : 0; }
+  // The fewest and most samples any pixel has, and all pixels' samples (one pass over the
+  // film, kept until samples are added).
   uint32_t min_count() const;
   uint32_t max_count() const;
   uint64_t total_count() const;
@@ -235,13 +276,28 @@ class Film {
   std::vector<Source> sources(bool counts) const;
   // channels(), and the output each belongs to in `owners` (when given).
   std::vector<Channel> channels(bool counts, std::vector<std::string>* owners) const;
-  // Adds a sample: added, clamped (added with values clamped) or dropped (not finite, nothing
-  // added).
-  enum class Added { dropped, added, clamped };
-  Added accumulate(size_t pixel, const glm::vec3& radiance, const FirstHit* first) {
-    ++taken_[pixel];
-    if (!std::isfinite(radiance.x) || !std::isfinite(radiance.y) || !std::isfinite(radiance.z))
-      return Added::dropped;
+  // Adds a sample to the pixel whose record is f: added, clamped (added with values clamped),
+  // dropped (not finite, nothing added but the sample taken) or full (nothing added: the pixel
+  // already counts count_limit samples in a count). Firsts: the film keeps first-hit sums.
+  enum class Added { dropped, added, clamped, full };
+  template <bool Firsts>
+  [[gnu::noinline]] static Added accumulate(char* f, const glm::vec3& radiance,
+                                            const FirstHit* first) {
+    const bool finite =
+        std::isfinite(radiance.x) && std::isfinite(radiance.y) && std::isfinite(radiance.z);
+    const uint64_t more = !finite                           ? one_taken
+                          : Firsts && first && first->hit ? one_taken + one_count + one_hit
+                                                          : one_taken + one_count;
+    char* const counts = f + (Firsts ? counts_at(true) : counts_at(false));
+    uint64_t word;
+    std::memcpy(&word, counts, 8);
+    // A field at the limit would carry into the next (each is at most count_limit, but a count
+    // set from elsewhere need not be below its taken).
+    for (int i = 0; i < 3; ++i)
+      if ((word >> (count_field * i) & count_mask) == count_limit) return Added::full;
+    word += more;
+    std::memcpy(counts, &word, 8);
+    if (!finite) return Added::dropped;
     bool cut = false;
     auto value = [&](float v) {
       const double c = std::clamp(double(v), -value_limit, value_limit);
@@ -249,15 +305,13 @@ class Film {
       return c;
     };
     const glm::dvec3 r(value(radiance.x), value(radiance.y), value(radiance.z));
-    char* f = record(pixel);
     for (int c = 0; c < 3; ++c) {
       add128(f + offset(at_sum + c), to_fixed<value_bits>(r[c]));
       add128(f + offset(at_square + c), to_fixed<square_bits>(r[c] * r[c]));
     }
     const double m = (r.x + r.y + r.z) / 3.0;
     add128(f + offset(at_mean_square), to_fixed<square_bits>(m * m));
-    ++count_[pixel];
-    if (first && stride_ > at_first) {
+    if (Firsts && first) {
       auto bounded_value = [&](float v) {
         const double c = std::clamp(double(v), -bounded_limit, bounded_limit);
         cut |= c != double(v);
@@ -271,17 +325,20 @@ class Film {
         add128(f + offset(at_first + 6), to_fixed<value_bits>(value(first->depth)));
         for (int c = 0; c < 3; ++c)
           add128(f + offset(at_first + 7 + c), to_fixed<value_bits>(value(first->position[c])));
-        ++hits_[pixel];
       }
     }
     return cut ? Added::clamped : Added::added;
   }
+  // "pixel (x, y) took more than count_limit samples".
+  std::string too_many(size_t pixel) const;
 
-  // A pixel's sums, side by side in one record of record_ bytes (a sample touches one run of
-  // memory, not one array each), in the order of k: 16 bytes each, but 12 for the bounded ones
-  // (albedo and normal, 7-12), whose sums of up to max_samples values of at most bounded_limit
-  // are at most 2^94 in size. A 96-bit sum is its low 64 bits, then the next 32 (two's
-  // complement).
+  // A pixel's record of record_ bytes: its sums side by side (a sample touches one run of
+  // memory, not one array each), in the order of k, then its counts. The sums are 16 bytes
+  // each, but 12 for the bounded ones (albedo and normal, 7-12), whose sums of up to
+  // max_samples values of at most bounded_limit are at most 2^94 in size. A 96-bit sum is its
+  // low 64 bits, then the next 32 (two's complement). The counts are one 64-bit word of three
+  // fields of count_field bits, lowest first: count, taken, hits; adding a sample adds to them
+  // at once (a field cannot carry into the next: each stays at most count_limit).
   static constexpr int at_sum = 0, at_square = 3, at_mean_square = 6, at_first = 7,
                        first_count = 10, bounded_count = 6;
   static constexpr size_t offset(int k) {
@@ -289,8 +346,18 @@ class Film {
            : k < at_first + bounded_count ? 16 * at_first + 12 * size_t(k - at_first)
                                           : 16 * size_t(k) - 4 * bounded_count;
   }
-  static constexpr size_t record_bytes(bool first_hits) {
+  static constexpr size_t counts_at(bool first_hits) {
     return first_hits ? offset(at_first + first_count) : offset(at_first);
+  }
+  static constexpr size_t record_bytes(bool first_hits) { return counts_at(first_hits) + 8; }
+  static constexpr int count_field = 21;
+  static constexpr uint64_t count_mask = count_limit;
+  static constexpr uint64_t one_count = 1, one_taken = uint64_t(1) << count_field,
+                            one_hit = uint64_t(1) << (2 * count_field);
+  uint64_t counts_word(size_t pixel) const {
+    uint64_t word;
+    std::memcpy(&word, record(pixel) + record_ - 8, 8);
+    return word;
   }
   __extension__ using Word = unsigned __int128;
   static Fixed load128(const char* at) {
@@ -329,15 +396,16 @@ class Film {
     uint32_t pixel;
     uint32_t first;  // whether it has first-hit values (in firsts_, at the same place)
   };
-  // Asks for the memory adding s will touch.
-  void fetch(const Sample& s) const {
-    const uintptr_t sums = uintptr_t(record(s.pixel));
+  // Asks for the memory adding a sample to the pixel will touch: its record (4 cache lines with
+  // first-hit sums: records of 256 bytes, from a page boundary).
+  void fetch(size_t pixel) const {
+    const uintptr_t sums = uintptr_t(record(pixel));
     const uintptr_t end = sums + record_;
     for (uintptr_t line = sums & ~uintptr_t(63); line < end; line += 64)
-      __builtin_prefetch(reinterpret_cast<const void*>(line));
-    __builtin_prefetch(&count_[s.pixel]), __builtin_prefetch(&taken_[s.pixel]);
-    if (s.first) __builtin_prefetch(&hits_[s.pixel]);
+      __builtin_prefetch(reinterpret_cast<const void*>(line), 1);
   }
+  // The fewest, most and all samples of the pixels (counted_: up to date).
+  void count_all() const;
 
   int width_, height_;
   AovSet aovs_;
@@ -345,12 +413,14 @@ class Film {
   mutable std::vector<Sample> order_;
   mutable std::vector<FirstHit> firsts_;
   mutable std::vector<uint32_t> start_;
-  int stride_;                           // sums per pixel: at_first, or more with first hits
-  size_t record_;                        // bytes of a pixel's sums: record_bytes()
-  std::vector<uint64_t> data_;           // record_ bytes per pixel
-  std::vector<uint32_t> count_, taken_;  // samples added, samples taken (dropped ones too)
-  std::vector<uint32_t> hits_;  // samples whose camera ray hit something (with first hits)
+  int stride_;    // sums per pixel: at_first, or more with first hits
+  size_t record_;  // bytes of a pixel's record: record_bytes()
+  // record_ bytes per pixel: zero pages from the system, page-aligned.
+  std::vector<uint64_t, ZeroPageAllocator<uint64_t>> data_;
   uint64_t dropped_ = 0, clamped_ = 0;
+  mutable bool counted_ = false;
+  mutable uint32_t least_ = 0, most_ = 0;
+  mutable uint64_t total_ = 0;
 };
 
 }  // namespace dacrt

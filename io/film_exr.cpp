@@ -19,7 +19,8 @@ int bounded_count(const Film& film) {
 
 }  // namespace
 
-std::vector<WordChannel> film_words(const Film& film, std::vector<uint32_t>* high) {
+std::vector<WordChannel> film_words(const Film& film, std::vector<uint32_t>* high,
+                                   std::vector<uint32_t>* counts) {
   // The channels only point into the film; reading into them is read_film_state's business.
   Film& f = const_cast<Film&>(film);
   std::vector<WordChannel> out;
@@ -38,9 +39,18 @@ std::vector<WordChannel> film_words(const Film& film, std::vector<uint32_t>* hig
     }
     bounded += place.words < 4;
   }
-  for (const Film::CountArray& a : f.count_arrays())
-    out.push_back({"exact." + std::string(a.name), reinterpret_cast<char*>(a.values->data()),
-                   sizeof(uint32_t)});
+  // The counts, which the film keeps in one word a pixel, into `counts` (made here).
+  const int per_pixel = film.counts_per_pixel();
+  if (counts) {
+    counts->resize(size_t(per_pixel) * film.pixels());
+    for (size_t p = 0; p < film.pixels(); ++p)
+      for (int i = 0; i < per_pixel; ++i)
+        (*counts)[size_t(per_pixel) * p + i] = film.count_value(p, i);
+  }
+  for (int i = 0; i < per_pixel; ++i)
+    out.push_back({"exact." + std::string(Film::count_name(i)),
+                   counts ? reinterpret_cast<char*>(counts->data() + i) : nullptr,
+                   sizeof(uint32_t) * per_pixel});
   return out;
 }
 
@@ -76,8 +86,7 @@ void write_film_exr(const std::string& path, const Film& film, ExrMetadata metad
         for (size_t w = 0; w < 4; ++w) out[4 * c + w][k] = uint32_t(Word(pixel[c]) >> (32 * w));
     }
     for (size_t c = 4 * sums; c < words.size(); ++c)
-      for (size_t k = 0; k < n; ++k)
-        std::memcpy(&out[c][k], words[c].base + (first + k) * words[c].stride, sizeof(uint32_t));
+      for (size_t k = 0; k < n; ++k) out[c][k] = film.count_value(first + k, int(c - 4 * sums));
   };
   write_exr(path, film.width(), film.height(), rows, metadata);
 }
@@ -97,8 +106,16 @@ void read_film_state(const std::string& path, const ExrHeader& header, Film& fil
                      uint32_t most) {
   // The bounded sums' fourth words go beside the film, and must be the sign of the 96 bits
   // it keeps (as this version writes them), else the sum is more than samples can add up to.
-  std::vector<uint32_t> high(size_t(bounded_count(film)) * film.pixels());
-  read_exr_words(path, film.width(), film.height(), film_words(film, &high));
+  std::vector<uint32_t> high(size_t(bounded_count(film)) * film.pixels()), counts;
+  read_exr_words(path, film.width(), film.height(), film_words(film, &high, &counts));
+  // The counts into the film, each at most what it can count (check_sums then checks them
+  // against the samples the file was to hold).
+  const int per_pixel = film.counts_per_pixel();
+  for (size_t p = 0; p < film.pixels(); ++p)
+    if (!film.set_counts(p, &counts[size_t(per_pixel) * p]))
+      throw Error(path + ": pixel (" + std::to_string(p % size_t(film.width())) + ", " +
+                  std::to_string(p / size_t(film.width())) + ") counts more than " +
+                  std::to_string(Film::count_limit) + " samples");
   for (size_t p = 0, j = 0; j < high.size(); ++p)
     for (int c = 0; c < film.sums_per_pixel(); ++c)
       if (Film::bounded(c)) {

@@ -21,8 +21,11 @@ inline constexpr const char* exact_sums_format =
 
 // The film's word channels, pointing into it (valid while the film lives and is not resized).
 // The film keeps albedo and normal sums in 96 bits (Film::bounded): their fourth words point
-// into `high` (resized by the caller to that many words a pixel), or nowhere without it.
-std::vector<WordChannel> film_words(const Film& film, std::vector<uint32_t>* high = nullptr);
+// into `high` (resized by the caller to that many words a pixel), or nowhere without it. The
+// counts (Film::count_value), which the film keeps packed, point into `counts`, made here with
+// the film's counts (Film::counts_per_pixel() words a pixel), or nowhere without it.
+std::vector<WordChannel> film_words(const Film& film, std::vector<uint32_t>* high = nullptr,
+                                    std::vector<uint32_t>* counts = nullptr);
 
 // The samplesPerPixel attribute: "every pixel N", or "from A to B (the samples.X channel)".
 std::string samples_per_pixel_text(uint32_t least, uint32_t most);

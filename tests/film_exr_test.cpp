@@ -81,8 +81,9 @@ TEST_CASE("film exr: a 96-bit sum of the film whose fourth word is not its sign 
       for (int j = 0; j < 6; ++j) high[6 * p + j] = film.sum(p, 7 + j) < 0 ? 0xffffffffu : 0u;
     high[forged] = word;
     const std::string path = dir / "forged.exr";
+    std::vector<uint32_t> counts;
     write_exr(path, film.width(), film.height(), film.channels(), metadata,
-              film_words(film, &high));
+              film_words(film, &high, &counts));
     Film back(3, 2, aovs);
     if (word == 0xffffffffu) {
       read_film_state(path, read_sums_header(path, "to read"), back, 1, 1);
@@ -90,6 +91,34 @@ TEST_CASE("film exr: a 96-bit sum of the film whose fourth word is not its sign 
     } else {
       CHECK_THROWS_WITH_AS(read_film_state(path, read_sums_header(path, "to read"), back, 1, 1),
                            doctest::Contains("pixel (2, 1) has sums its 1 samples cannot"), Error);
+    }
+  }
+}
+
+TEST_CASE("film exr: counts the film cannot hold are refused, naming the pixel") {
+  // The film keeps each count in 21 bits: a file's count above Film::count_limit would not fit.
+  Film film(2, 2);
+  for (size_t p = 0; p < film.pixels(); ++p) film.add(p, glm::vec3(1.f));
+  ExrMetadata metadata;
+  metadata.extra = {
+      {"exactSums", exact_sums_format}, {"samplesDropped", "0"}, {"samplesClamped", "0"}};
+  test::TempDir dir("film-exr-counts");
+  const std::string path = dir / "counts.exr";
+  for (const uint32_t taken : {1u, Film::count_limit + 1, 0xffffffffu}) {
+    CAPTURE(taken);
+    std::vector<uint32_t> counts;
+    const std::vector<WordChannel> words = film_words(film, nullptr, &counts);
+    REQUIRE(counts.size() == 2 * film.pixels());
+    counts[2 * 3 + 1] = taken;  // pixel (1, 1)'s taken
+    write_exr(path, film.width(), film.height(), film.channels(), metadata, words);
+    Film back(2, 2);
+    if (taken == 1) {
+      read_film_state(path, read_sums_header(path, "to read"), back, 1, 1);
+      CHECK(back.sums() == film.sums());
+      CHECK(back.taken(3) == 1);
+    } else {
+      CHECK_THROWS_WITH_AS(read_film_state(path, read_sums_header(path, "to read"), back, 1, 1),
+                           doctest::Contains("pixel (1, 1) counts more than 2097151"), Error);
     }
   }
 }

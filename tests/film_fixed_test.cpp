@@ -106,8 +106,8 @@ TEST_CASE("film: check_sums refuses counts and sums no samples can make (films r
   CHECK(forged(4, 7, 2 * (one << 10) + 1).find("pixel (1, 1) has sums") != std::string::npos);
   CHECK(forged(4, 12, -2 * (one << 10) - 1).find("pixel (1, 1) has sums") != std::string::npos);
   Film more = film;
-  for (const Film::CountArray& a : more.count_arrays())
-    if (std::string(a.name) == "count") (*a.values)[2] = 1;  // kept one of none taken
+  const uint32_t kept_one[3] = {1, 0, 0};  // kept one of none taken
+  REQUIRE(more.set_counts(2, kept_one));
   CHECK(more.check_sums(0, 8).find("pixel (2, 0) took 0 samples and kept 1") != std::string::npos);
 }
 
@@ -183,4 +183,92 @@ TEST_CASE("film: a merge adds 96-bit sums across their words, and refuses sums t
   REQUIRE(under.set_sum(0, 9, -(Fixed(1) << 95)));
   REQUIRE(b.set_sum(0, 9, -1));
   CHECK_THROWS_WITH_AS(under.merge(b), doctest::Contains("pixel (0, 0)"), Error);
+}
+
+TEST_CASE("film: a pixel's counts share a word, and stop at count_limit samples") {
+  // Each count a field of its own: dropped samples count as taken only, hits only with first
+  // hits, and none carries into the next.
+  Film film(3, 1, AovSet::parse("depth"));
+  FirstHit hit, miss;
+  hit.hit = true;
+  for (int i = 0; i < 5; ++i) film.add(1, glm::vec3(1.f), i % 2 ? &hit : &miss);
+  film.add(1, glm::vec3(NAN, 0.f, 0.f), &hit);
+  CHECK(film.count(1) == 5);
+  CHECK(film.taken(1) == 6);
+  CHECK(film.hits(1) == 2);
+  CHECK(film.counts_per_pixel() == 3);
+  CHECK(Film(3, 1).counts_per_pixel() == 2);
+  // A pixel one sample short of the limit takes one more, then refuses the next, with its
+  // counts and sums as they were; the others still take theirs (add_in_order adds them all).
+  const uint32_t almost[3] = {Film::count_limit - 1, Film::count_limit - 1, 0};
+  REQUIRE(film.set_counts(2, almost));
+  film.add(2, glm::vec3(1.f), &hit);
+  CHECK(film.taken(2) == Film::count_limit);
+  CHECK(film.hits(2) == 1);
+  const Fixed red = film.sum(2, 0);
+  CHECK_THROWS_WITH_AS(film.add(2, glm::vec3(1.f), &hit),
+                       doctest::Contains("pixel (2, 0) took more than 2097151 samples"), Error);
+  const size_t pixels[3] = {0, 2, 1};
+  CHECK_THROWS_WITH_AS(
+      film.add_in_order(
+          3, [&](size_t i) { return pixels[i]; }, [](size_t) { return glm::vec3(1.f); },
+          [&](size_t) { return &hit; }),
+      doctest::Contains("pixel (2, 0)"), Error);
+  CHECK(film.taken(2) == Film::count_limit);
+  CHECK(film.count(2) == Film::count_limit);
+  CHECK(film.hits(2) == 1);
+  CHECK(film.sum(2, 0) == red);
+  CHECK(film.count(0) == 1);
+  CHECK(film.count(1) == 6);
+}
+
+TEST_CASE("film: counts past count_limit are refused when set, merged or read") {
+  Film a(2, 1), b(2, 1);
+  const uint32_t over[2] = {0, Film::count_limit + 1};
+  const uint32_t most[2] = {Film::count_limit, Film::count_limit};
+  CHECK_FALSE(a.set_counts(0, over));
+  CHECK(a.taken(0) == 0);
+  REQUIRE(a.set_counts(1, most));
+  a.add(0, glm::vec3(2.f));
+  b.add(0, glm::vec3(3.f));
+  b.add(1, glm::vec3(3.f));
+  // Pixel 1 would count one more than the limit: nothing is added, not even pixel 0's.
+  const std::vector<Fixed> sums = a.sums();
+  CHECK_THROWS_WITH_AS(a.merge(b), doctest::Contains("pixel (1, 0) would count more than"),
+                       Error);
+  CHECK(a.sums() == sums);
+  CHECK(a.count(0) == 1);
+  CHECK(a.taken(1) == Film::count_limit);
+  // Below the limit the counts add field by field.
+  Film c(2, 1);
+  c.add(0, glm::vec3(1.f));
+  c.add(0, glm::vec3(INFINITY));
+  c.merge(b);
+  CHECK(c.count(0) == 2);
+  CHECK(c.taken(0) == 3);
+  CHECK(c.count(1) == 1);
+}
+
+TEST_CASE("film: the fewest, most and all samples follow adds, merges and counts set") {
+  Film film(2, 2);
+  CHECK(film.min_count() == 0);
+  CHECK(film.max_count() == 0);
+  film.add(3, glm::vec3(1.f));
+  CHECK(film.max_count() == 1);
+  CHECK(film.total_count() == 1);
+  const size_t pixels[4] = {0, 1, 2, 3};
+  film.add_in_order(
+      4, [&](size_t i) { return pixels[i]; }, [](size_t) { return glm::vec3(1.f); },
+      [](size_t) { return static_cast<const FirstHit*>(nullptr); });
+  CHECK(film.min_count() == 1);
+  CHECK(film.max_count() == 2);
+  CHECK(film.total_count() == 5);
+  Film more(2, 2);
+  more.add(0, glm::vec3(1.f));
+  film.merge(more);
+  CHECK(film.total_count() == 6);
+  const uint32_t seven[2] = {7, 7};
+  REQUIRE(film.set_counts(1, seven));
+  CHECK(film.max_count() == 7);
+  CHECK(film.total_count() == 12);
 }

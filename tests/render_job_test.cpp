@@ -299,8 +299,8 @@ namespace {
 std::pair<std::vector<Fixed>, std::vector<uint32_t>> film_state(Film& f) {
   std::vector<Fixed> sums = f.sums();
   std::vector<uint32_t> counts;
-  for (const Film::CountArray& a : f.count_arrays())
-    counts.insert(counts.end(), a.values->begin(), a.values->end());
+  for (size_t p = 0; p < f.pixels(); ++p)
+    for (int i = 0; i < f.counts_per_pixel(); ++i) counts.push_back(f.count_value(p, i));
   return {sums, counts};
 }
 }  // namespace

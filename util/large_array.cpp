@@ -20,4 +20,21 @@ void* allocate_large(size_t bytes) {
   return p;
 }
 
+void* allocate_zero_pages(size_t bytes) {
+  if (bytes == 0) bytes = 1;
+  // Mapped at once where the system can (MAP_POPULATE): faulting them in one at a time cost
+  // this VM twice the system time.
+  int flags = MAP_PRIVATE | MAP_ANONYMOUS;
+#ifdef MAP_POPULATE
+  flags |= MAP_POPULATE;
+#endif
+  void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, flags, -1, 0);
+  if (p == MAP_FAILED) throw std::bad_alloc();
+  return p;
+}
+
+void free_zero_pages(void* p, size_t bytes) {
+  if (p) munmap(p, bytes == 0 ? 1 : bytes);
+}
+
 }  // namespace dacrt

@@ -51,4 +51,34 @@ bool operator==(const UninitializedAllocator<T>&, const UninitializedAllocator<U
 template <class T>
 using Array = std::vector<T, UninitializedAllocator<T>>;
 
+// Whole pages from the system (mmap), page-aligned and zero, mapped at once (MAP_POPULATE,
+// where there is one): `bytes` of zeros without a pass writing them. std::bad_alloc when the
+// system has none.
+void* allocate_zero_pages(size_t bytes);
+void free_zero_pages(void* p, size_t bytes);
+// An allocator of zero pages whose construct() leaves what it is given as it is (zero): a
+// std::vector<T, ZeroPageAllocator<T>>(n) of plain T is n zeros without a memset over them (a
+// film's sums: the system zeroes its pages as it maps them, in one call instead of a fault a
+// page), and its data() is page-aligned.
+template <class T>
+struct ZeroPageAllocator {
+  using value_type = T;
+  ZeroPageAllocator() = default;
+  template <class U>
+  ZeroPageAllocator(const ZeroPageAllocator<U>&) noexcept {}
+  T* allocate(size_t n) { return static_cast<T*>(allocate_zero_pages(n * sizeof(T))); }
+  void deallocate(T* p, size_t n) { free_zero_pages(p, n * sizeof(T)); }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    if constexpr (sizeof...(Args) == 0)
+      ::new (static_cast<void*>(p)) U;
+    else
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T, class U>
+bool operator==(const ZeroPageAllocator<T>&, const ZeroPageAllocator<U>&) {
+  return true;
+}
+
 }  // namespace dacrt

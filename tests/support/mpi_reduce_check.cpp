@@ -37,8 +37,8 @@ struct State {
 };
 State state(Film& film) {
   State s{film.sums(), {}, film.dropped(), film.clamped()};
-  for (const Film::CountArray& a : film.count_arrays())
-    s.counts.insert(s.counts.end(), a.values->begin(), a.values->end());
+  for (size_t p = 0; p < film.pixels(); ++p)
+    for (int i = 0; i < film.counts_per_pixel(); ++i) s.counts.push_back(film.count_value(p, i));
   return s;
 }
 
