@@ -9,6 +9,12 @@ namespace dacrt {
 namespace {
 constexpr const char* aov_names[aov_count] = {"albedo",   "normal",   "depth",
                                               "position", "variance", "samples"};
+
+// "pixel (x, y)" of pixel p in a film `width` pixels wide, for errors.
+std::string pixel_name(size_t p, int width) {
+  return "pixel (" + std::to_string(p % size_t(width)) + ", " + std::to_string(p / size_t(width)) +
+         ")";
+}
 }
 
 const char* AovSet::name(Aov a) {
@@ -51,9 +57,8 @@ uint64_t Film::bytes(int width, int height, AovSet aovs) {
 }
 
 std::string Film::too_many(size_t pixel) const {
-  return "pixel (" + std::to_string(pixel % size_t(width_)) + ", " +
-         std::to_string(pixel / size_t(width_)) + ") took more than " +
-         std::to_string(count_limit) + " samples, the most a film counts";
+  return pixel_name(pixel, width_) + " took more than " + std::to_string(count_limit) +
+         " samples, the most a film counts";
 }
 
 void Film::merge(const Film& other) {
@@ -70,10 +75,7 @@ void Film::merge(const Film& other) {
     for (int k = at_first; k < at_first + bounded_count && k < stride_; ++k)
       if (!fits96(sum(p, k) + other.sum(p, k))) wrapped = p;
   });
-  auto where = [&](size_t p) {
-    return "pixel (" + std::to_string(p % size_t(width_)) + ", " +
-           std::to_string(p / size_t(width_)) + ")";
-  };
+  auto where = [&](size_t p) { return pixel_name(p, width_); };
   if (full != pixels())
     throw Error("cannot merge the films: " + where(full) + " would count more than " +
                 std::to_string(count_limit) + " samples");
@@ -124,10 +126,7 @@ std::string Film::check_sums(uint32_t least, uint32_t most) const {
               bounded_most = Fixed(1) << (64 + 10);
   for (size_t p = 0; p < pixels(); ++p) {
     const uint32_t n = count(p), took = taken(p);
-    auto where = [&] {
-      return "pixel (" + std::to_string(p % size_t(width_)) + ", " +
-             std::to_string(p / size_t(width_)) + ")";
-    };
+    auto where = [&] { return pixel_name(p, width_); };
     if (took < least || took > most || n > took)
       return where() + " took " + std::to_string(took) + " samples and kept " +
              std::to_string(n) +
